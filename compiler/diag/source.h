@@ -1,0 +1,33 @@
+// A source file held in memory, and positions inside it.
+#pragma once
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace sdfc {
+
+struct SourceFile {
+  std::string path;
+  std::string text;
+  std::vector<size_t> line_starts;  // byte offset of each line's first character
+
+  SourceFile(std::string path_, std::string text_);
+  // 1-based line and column of a byte offset (columns count bytes, as gcc's do).
+  std::pair<int, int> lineColumn(size_t offset) const;
+  std::string_view lineText(int line) const;  // without the newline
+};
+
+// A half-open byte range [begin, end) in one file.
+struct SourceRange {
+  const SourceFile* file = nullptr;
+  size_t begin = 0;
+  size_t end = 0;
+  int line() const { return file ? file->lineColumn(begin).first : 0; }
+  SourceRange to(const SourceRange& other) const { return {file, begin, other.end}; }
+};
+
+// Reads a file; nullptr when it cannot be read.
+std::unique_ptr<SourceFile> readSourceFile(const std::string& path);
+
+}  // namespace sdfc

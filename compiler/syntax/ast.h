@@ -1,0 +1,48 @@
+// The syntax tree: exactly what was written, with source ranges. Meaning
+// (names, types, units) is the checker's job.
+#pragma once
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "diag/source.h"
+
+namespace sdfc::ast {
+
+struct Expr;
+using ExprPtr = std::unique_ptr<Expr>;
+
+struct Argument {
+  std::string name;  // empty for a positional argument
+  SourceRange name_range;
+  ExprPtr value;
+};
+
+enum class ExprKind { Number, Name, Vector, Unary, Binary, Member, Call, Error };
+
+struct Expr {
+  ExprKind kind = ExprKind::Error;
+  SourceRange range;
+  double number = 0;                // Number
+  std::string name;                 // Name, Call (callee), Member (field)
+  SourceRange name_range;           // Call: the callee's range
+  char op = 0;                      // Unary ('-'), Binary ('+', '-', '*', '/')
+  std::vector<ExprPtr> operands;    // Vector elements; Unary/Binary/Member operands
+  std::vector<Argument> arguments;  // Call: (...)
+  bool has_block = false;           // Call: { ... } follows
+  std::vector<ExprPtr> children;    // Call: the block's items
+};
+
+struct Statement {
+  bool is_let = false;
+  std::string name;  // let
+  SourceRange name_range;
+  ExprPtr value;     // let: the bound value; otherwise the statement's call
+  SourceRange range;
+};
+
+struct File {
+  std::vector<Statement> statements;
+};
+
+}  // namespace sdfc::ast

@@ -1,0 +1,14 @@
+// The hand-written lexer: source text to tokens. Bad characters and
+// malformed numbers become diagnostics and Invalid tokens; it never stops early.
+#pragma once
+#include <vector>
+
+#include "diag/diagnostics.h"
+#include "syntax/token.h"
+
+namespace sdfc {
+
+// Always ends with an EndOfFile token.
+std::vector<Token> lex(const SourceFile& file, Diagnostics& diags);
+
+}  // namespace sdfc

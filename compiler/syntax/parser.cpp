@@ -1,0 +1,332 @@
+#include "syntax/parser.h"
+
+#include <optional>
+
+#include "syntax/lexer.h"
+
+namespace sdfc {
+namespace {
+
+class Parser {
+ public:
+  Parser(const SourceFile& file, Diagnostics& diags)
+      : tokens_(lex(file, diags)), diags_(diags) {}
+
+  // file : { statement } EOF
+  ast::File parseFile() {
+    ast::File file;
+    while (!at(TokenKind::EndOfFile)) {
+      const size_t before = pos_;
+      if (auto stmt = parseStatement()) file.statements.push_back(std::move(*stmt));
+      if (pos_ == before) advance();  // always make progress
+    }
+    return file;
+  }
+
+ private:
+  std::vector<Token> tokens_;
+  Diagnostics& diags_;
+  size_t pos_ = 0;
+  int depth_ = 0;
+  bool depth_reported_ = false;
+
+  const Token& peek(size_t ahead = 0) const {
+    return tokens_[std::min(pos_ + ahead, tokens_.size() - 1)];
+  }
+  bool at(TokenKind kind) const { return peek().kind == kind; }
+  const Token& advance() {
+    const Token& t = peek();
+    if (pos_ < tokens_.size() - 1) ++pos_;
+    return t;
+  }
+  bool accept(TokenKind kind) {
+    if (!at(kind)) return false;
+    advance();
+    return true;
+  }
+  // Reports "expected X" once at the current token; Invalid tokens were
+  // already reported by the lexer, so they are not reported again.
+  bool expect(TokenKind kind, const char* context) {
+    if (accept(kind)) return true;
+    if (!at(TokenKind::Invalid))
+      diags_.error(peek().range, std::string("expected ") + tokenKindName(kind) + " " + context +
+                                     ", found " + describe(peek()));
+    return false;
+  }
+  static std::string describe(const Token& t) {
+    if (t.kind == TokenKind::EndOfFile) return "end of file";
+    return "'" + std::string(t.text) + "'";
+  }
+
+  // Skip to a token that can start a statement, for recovery.
+  void synchronizeStatement() {
+    int braces = 0;
+    while (!at(TokenKind::EndOfFile)) {
+      if (at(TokenKind::LeftBrace)) ++braces;
+      if (at(TokenKind::RightBrace)) {
+        if (braces == 0) {
+          advance();
+          return;
+        }
+        --braces;
+      }
+      if (braces == 0 && (at(TokenKind::Semicolon))) {
+        advance();
+        return;
+      }
+      if (braces == 0 && at(TokenKind::KeywordLet)) return;
+      advance();
+    }
+  }
+
+  // statement : "let" IDENT "=" expr [";"] | expr [";"]
+  std::optional<ast::Statement> parseStatement() {
+    ast::Statement stmt;
+    const Token& first = peek();
+    const size_t errors_before = diags_.errorCount();
+    if (accept(TokenKind::KeywordLet)) {
+      stmt.is_let = true;
+      if (!at(TokenKind::Identifier)) {
+        expect(TokenKind::Identifier, "after 'let'");
+        synchronizeStatement();
+        return std::nullopt;
+      }
+      const Token& name = advance();
+      stmt.name = std::string(name.text);
+      stmt.name_range = name.range;
+      if (!expect(TokenKind::Equals, "after the name being defined")) {
+        synchronizeStatement();
+        return std::nullopt;
+      }
+    }
+    stmt.value = parseExpr();
+    stmt.range = first.range.to(tokens_[pos_ > 0 ? pos_ - 1 : 0].range);
+    accept(TokenKind::Semicolon);
+    if (diags_.errorCount() > errors_before && !at(TokenKind::EndOfFile) &&
+        stmt.value->kind == ast::ExprKind::Error)
+      synchronizeStatement();
+    return stmt;
+  }
+
+  ast::ExprPtr errorExpr(SourceRange range) {
+    auto e = std::make_unique<ast::Expr>();
+    e->kind = ast::ExprKind::Error;
+    e->range = range;
+    return e;
+  }
+
+  // expr : additive
+  ast::ExprPtr parseExpr() {
+    if (++depth_ > kMaxNestingDepth) {
+      if (!depth_reported_)
+        diags_.error(peek().range, "nesting is deeper than " + std::to_string(kMaxNestingDepth) +
+                                       " levels");
+      depth_reported_ = true;
+      --depth_;
+      // Skip the rest of the file: nothing useful can be said about it.
+      while (!at(TokenKind::EndOfFile)) advance();
+      return errorExpr(peek().range);
+    }
+    auto e = parseAdditive();
+    --depth_;
+    return e;
+  }
+
+  ast::ExprPtr binary(char op, ast::ExprPtr lhs, ast::ExprPtr rhs) {
+    auto e = std::make_unique<ast::Expr>();
+    e->kind = ast::ExprKind::Binary;
+    e->op = op;
+    e->range = lhs->range.to(rhs->range);
+    e->operands.push_back(std::move(lhs));
+    e->operands.push_back(std::move(rhs));
+    return e;
+  }
+
+  // additive : term { ("+" | "-") term }
+  ast::ExprPtr parseAdditive() {
+    auto lhs = parseTerm();
+    while (at(TokenKind::Plus) || at(TokenKind::Minus)) {
+      const char op = advance().text[0];
+      lhs = binary(op, std::move(lhs), parseTerm());
+    }
+    return lhs;
+  }
+
+  // term : unary { ("*" | "/") unary }
+  ast::ExprPtr parseTerm() {
+    auto lhs = parseUnary();
+    while (at(TokenKind::Star) || at(TokenKind::Slash)) {
+      const char op = advance().text[0];
+      lhs = binary(op, std::move(lhs), parseUnary());
+    }
+    return lhs;
+  }
+
+  // unary : "-" unary | postfix
+  ast::ExprPtr parseUnary() {
+    if (at(TokenKind::Minus)) {
+      const Token& minus = advance();
+      if (++depth_ > kMaxNestingDepth) {
+        --depth_;
+        return parseExpr();  // reports the depth error
+      }
+      auto operand = parseUnary();
+      --depth_;
+      auto e = std::make_unique<ast::Expr>();
+      e->kind = ast::ExprKind::Unary;
+      e->op = '-';
+      e->range = minus.range.to(operand->range);
+      e->operands.push_back(std::move(operand));
+      return e;
+    }
+    return parsePostfix();
+  }
+
+  // postfix : primary { "." IDENT }
+  ast::ExprPtr parsePostfix() {
+    auto e = parsePrimary();
+    while (at(TokenKind::Dot)) {
+      advance();
+      if (!at(TokenKind::Identifier)) {
+        expect(TokenKind::Identifier, "after '.'");
+        return e;
+      }
+      const Token& field = advance();
+      auto m = std::make_unique<ast::Expr>();
+      m->kind = ast::ExprKind::Member;
+      m->name = std::string(field.text);
+      m->name_range = field.range;
+      m->range = e->range.to(field.range);
+      m->operands.push_back(std::move(e));
+      e = std::move(m);
+    }
+    return e;
+  }
+
+  // primary : NUMBER | IDENT [ call_tail ] | "[" expr { "," expr } "]" | "(" expr ")"
+  ast::ExprPtr parsePrimary() {
+    const Token& t = peek();
+    switch (t.kind) {
+      case TokenKind::Number: {
+        advance();
+        auto e = std::make_unique<ast::Expr>();
+        e->kind = ast::ExprKind::Number;
+        e->number = t.number;
+        e->range = t.range;
+        return e;
+      }
+      case TokenKind::Identifier: {
+        advance();
+        auto e = std::make_unique<ast::Expr>();
+        e->name = std::string(t.text);
+        e->name_range = t.range;
+        e->range = t.range;
+        if (at(TokenKind::LeftParen) || at(TokenKind::LeftBrace)) {
+          e->kind = ast::ExprKind::Call;
+          parseCallTail(*e);
+        } else {
+          e->kind = ast::ExprKind::Name;
+        }
+        return e;
+      }
+      case TokenKind::LeftBracket: {
+        advance();
+        auto e = std::make_unique<ast::Expr>();
+        e->kind = ast::ExprKind::Vector;
+        if (!at(TokenKind::RightBracket)) {
+          do {
+            if (at(TokenKind::RightBracket)) break;  // trailing comma
+            e->operands.push_back(parseExpr());
+          } while (accept(TokenKind::Comma));
+        }
+        const Token& close = peek();
+        expect(TokenKind::RightBracket, "to close the vector");
+        e->range = t.range.to(close.range);
+        if (e->operands.empty()) diags_.error(e->range, "a vector needs at least one element");
+        return e;
+      }
+      case TokenKind::LeftParen: {
+        advance();
+        auto inner = parseExpr();
+        expect(TokenKind::RightParen, "to close '('");
+        return inner;
+      }
+      case TokenKind::Invalid:
+        advance();
+        return errorExpr(t.range);
+      default:
+        diags_.error(t.range, "expected an expression, found " + describe(t));
+        return errorExpr(t.range);
+    }
+  }
+
+  // call_tail : [ "(" [ argument { "," argument } [","] ] ")" ] [ block ]
+  // argument  : [ IDENT ":" ] expr
+  void parseCallTail(ast::Expr& call) {
+    if (accept(TokenKind::LeftParen)) {
+      while (!at(TokenKind::RightParen) && !at(TokenKind::EndOfFile)) {
+        ast::Argument arg;
+        if (at(TokenKind::Identifier) && peek(1).kind == TokenKind::Colon) {
+          const Token& name = advance();
+          arg.name = std::string(name.text);
+          arg.name_range = name.range;
+          advance();  // ':'
+        }
+        arg.value = parseExpr();
+        if (arg.name_range.file == nullptr) arg.name_range = arg.value->range;
+        const bool was_error = arg.value->kind == ast::ExprKind::Error;
+        call.arguments.push_back(std::move(arg));
+        if (accept(TokenKind::Comma)) continue;
+        if (!at(TokenKind::RightParen)) {
+          if (!was_error) expect(TokenKind::RightParen, "after the arguments");
+          // Recover: skip to the closing parenthesis of this call.
+          int parens = 0;
+          while (!at(TokenKind::EndOfFile)) {
+            if (at(TokenKind::LeftParen)) ++parens;
+            if (at(TokenKind::RightParen) && parens-- == 0) break;
+            if (at(TokenKind::LeftBrace) || at(TokenKind::RightBrace)) break;
+            advance();
+          }
+          break;
+        }
+      }
+      call.range = call.range.to(peek().range);
+      accept(TokenKind::RightParen);
+    }
+    if (at(TokenKind::LeftBrace)) parseBlock(call);
+  }
+
+  // block : "{" { expr [";"] } "}"
+  void parseBlock(ast::Expr& call) {
+    const Token& open = advance();
+    call.has_block = true;
+    while (!at(TokenKind::RightBrace) && !at(TokenKind::EndOfFile)) {
+      const size_t before = pos_;
+      auto child = parseExpr();
+      const bool bad = child->kind == ast::ExprKind::Error;
+      call.children.push_back(std::move(child));
+      accept(TokenKind::Semicolon);
+      if (pos_ == before || bad) {
+        // Skip to the next item or the end of this block.
+        while (!at(TokenKind::EndOfFile) && !at(TokenKind::RightBrace) &&
+               !at(TokenKind::Identifier))
+          advance();
+      }
+    }
+    const Token& close = peek();
+    if (!accept(TokenKind::RightBrace)) {
+      Diagnostic& d = diags_.error(close.range, "expected '}' to close the block");
+      d.notes.push_back({Severity::Note, open.range, "the block opens here", {}});
+    }
+    call.range = call.range.to(close.range);
+  }
+};
+
+}  // namespace
+
+ast::File parse(const SourceFile& file, Diagnostics& diags) {
+  Parser parser(file, diags);
+  return parser.parseFile();
+}
+
+}  // namespace sdfc

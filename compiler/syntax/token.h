@@ -1,0 +1,25 @@
+// Tokens of the .sdf language (grammar/sdf.ebnf lists them).
+#pragma once
+#include <string_view>
+
+#include "diag/source.h"
+
+namespace sdfc {
+
+enum class TokenKind {
+  Identifier, Number, KeywordLet,
+  LeftParen, RightParen, LeftBrace, RightBrace, LeftBracket, RightBracket,
+  Comma, Colon, Semicolon, Equals, Dot, Plus, Minus, Star, Slash,
+  EndOfFile, Invalid,
+};
+
+struct Token {
+  TokenKind kind = TokenKind::Invalid;
+  SourceRange range;
+  std::string_view text;
+  double number = 0;  // for Number
+};
+
+const char* tokenKindName(TokenKind kind);
+
+}  // namespace sdfc
