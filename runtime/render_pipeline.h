@@ -1,0 +1,57 @@
+// The graphics pipeline that runs a scene's fragment shader once per pixel,
+// and the offscreen target it renders into (three RGBA32F attachments read back
+// through one host-visible staging buffer). Plain structs + create/destroy.
+#pragma once
+#include <vulkan/vulkan.h>
+
+#include <cstdint>
+#include <vector>
+
+#include "vulkan_context.h"
+
+namespace sdfc {
+
+constexpr uint32_t kAttachmentCount = 3;  // locations 0..2, see shader_interface.h
+constexpr VkFormat kAttachmentFormat = VK_FORMAT_R32G32B32A32_SFLOAT;
+
+struct RenderPipeline {
+  VkRenderPass render_pass = VK_NULL_HANDLE;
+  VkPipelineLayout layout = VK_NULL_HANDLE;
+  VkPipeline pipeline = VK_NULL_HANDLE;
+  double create_seconds = 0;  // vkCreateGraphicsPipelines alone (LLVM compile on lavapipe)
+};
+
+// Full-screen triangle vertex shader (compiled in process) + `frag_spirv`, push
+// constants = gpu::FrameParams for the fragment stage, dynamic viewport/scissor.
+void createRenderPipeline(RenderPipeline& pipeline, const VulkanContext& context,
+                          const std::vector<uint32_t>& frag_spirv);
+void destroyRenderPipeline(RenderPipeline& pipeline, const VulkanContext& context);
+
+struct RenderTarget {
+  uint32_t width = 0, height = 0;
+  VkImage images[kAttachmentCount]{};
+  VkImageView views[kAttachmentCount]{};
+  VkDeviceMemory image_memory = VK_NULL_HANDLE;
+  VkFramebuffer framebuffer = VK_NULL_HANDLE;
+  VkBuffer staging = VK_NULL_HANDLE;
+  VkDeviceMemory staging_memory = VK_NULL_HANDLE;
+  bool staging_coherent = false;
+  const float* mapped = nullptr;  // kAttachmentCount images of width*height*4 floats, in order
+  VkCommandBuffer command_buffer = VK_NULL_HANDLE;
+  VkFence fence = VK_NULL_HANDLE;
+
+  size_t floatsPerImage() const { return size_t(width) * height * 4; }
+};
+
+void createRenderTarget(RenderTarget& target, const VulkanContext& context,
+                        const RenderPipeline& pipeline, uint32_t width, uint32_t height);
+void destroyRenderTarget(RenderTarget& target, const VulkanContext& context);
+
+// Records, submits and waits for one draw with `push_constants` (sizeof(gpu::FrameParams)
+// bytes) followed by the copy to the staging buffer. Throws RuntimeError when the fence
+// is not signalled within `timeout_seconds`; after that the device may still be busy,
+// so destroy functions wait for idle first.
+void runPass(const VulkanContext& context, const RenderPipeline& pipeline, RenderTarget& target,
+             const void* push_constants, double timeout_seconds);
+
+}  // namespace sdfc

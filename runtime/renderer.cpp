@@ -1,0 +1,162 @@
+#include "renderer.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+
+#include "vk_check.h"
+
+namespace sdfc {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double secondsSince(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+void copyImage(const float* source, uint32_t width, uint32_t height, FloatImage& out) {
+  out.width = width;
+  out.height = height;
+  out.rgba.assign(source, source + size_t(width) * height * 4);
+}
+
+}  // namespace
+
+uint32_t chooseSamplesPerPass(const RenderSettings& settings) {
+  if (settings.view != gpu::kViewBeauty) return 1;
+  uint32_t limit = settings.max_samples_per_pass;
+  if (limit == 0) {
+    const uint64_t pixels = std::max<uint64_t>(1, uint64_t(settings.width) * settings.height);
+    limit = static_cast<uint32_t>(
+        std::clamp<uint64_t>(kAutoPixelSamplesPerPass / pixels, 1, kAutoMaxSamplesPerPass));
+  }
+  if (settings.loop_iterations_per_sample > 0) {
+    const uint32_t loop_limit = gpu::kLavapipeLoopCap / settings.loop_iterations_per_sample;
+    limit = std::min(limit, std::max<uint32_t>(loop_limit, 1));
+  }
+  return std::max<uint32_t>(1, std::min(limit, std::max<uint32_t>(settings.spp, 1)));
+}
+
+RenderOutput mergeRenders(const RenderOutput& a, const RenderOutput& b) {
+  if (a.color.width != b.color.width || a.color.height != b.color.height)
+    throw RuntimeError("mergeRenders: image sizes differ");
+  RenderOutput out = a;
+  out.samples_done = a.samples_done + b.samples_done;
+  out.passes = a.passes + b.passes;
+  out.seconds = a.seconds + b.seconds;
+  out.interrupted = a.interrupted || b.interrupted;
+  if (out.samples_done == 0) return out;
+  const double wa = a.samples_done, wb = b.samples_done, total = out.samples_done;
+  auto merge = [&](const FloatImage& x, const FloatImage& y, FloatImage& result) {
+    for (size_t i = 0; i < result.rgba.size(); ++i)
+      result.rgba[i] = static_cast<float>((double(x.rgba[i]) * wa + double(y.rgba[i]) * wb) / total);
+  };
+  merge(a.color, b.color, out.color);
+  merge(a.normal_depth, b.normal_depth, out.normal_depth);
+  merge(a.albedo_steps, b.albedo_steps, out.albedo_steps);
+  return out;
+}
+
+Renderer::Renderer(const VulkanContext& context, const std::vector<uint32_t>& frag_spirv)
+    : context_(context) {
+  createRenderPipeline(pipeline_, context_, frag_spirv);
+}
+
+Renderer::~Renderer() {
+  destroyRenderTarget(target_, context_);
+  destroyRenderPipeline(pipeline_, context_);
+}
+
+void Renderer::ensureTarget(uint32_t width, uint32_t height) {
+  if (target_.framebuffer && target_.width == width && target_.height == height) return;
+  destroyRenderTarget(target_, context_);
+  createRenderTarget(target_, context_, pipeline_, width, height);
+}
+
+void Renderer::renderPass(const gpu::FrameParams& params, double timeout_seconds,
+                          FloatImage& color, FloatImage& normal_depth, FloatImage& albedo_steps) {
+  ensureTarget(params.width, params.height);
+  runPass(context_, pipeline_, target_, &params, timeout_seconds);
+  const size_t n = target_.floatsPerImage();
+  copyImage(target_.mapped, params.width, params.height, color);
+  copyImage(target_.mapped + n, params.width, params.height, normal_depth);
+  copyImage(target_.mapped + 2 * n, params.width, params.height, albedo_steps);
+}
+
+RenderOutput Renderer::render(const CameraDesc& camera, const RenderSettings& settings,
+                              const ProgressCallback& progress,
+                              const std::atomic<bool>* interrupt) {
+  const auto start = Clock::now();
+  const bool beauty = settings.view == gpu::kViewBeauty;
+  const uint32_t total = beauty ? std::max<uint32_t>(settings.spp, 1) : 1;
+  const uint32_t per_pass = chooseSamplesPerPass(settings);
+  if (settings.loop_iterations_per_sample > gpu::kLavapipeLoopCap)
+    std::fprintf(stderr,
+                 "sdfc: warning: one sample may take %u loop iterations, above lavapipe's cap "
+                 "of %u; some pixels may be cut short\n",
+                 settings.loop_iterations_per_sample, gpu::kLavapipeLoopCap);
+
+  ensureTarget(settings.width, settings.height);
+  gpu::FrameParams params = makeFrameParams(camera, settings.width, settings.height, settings.time);
+  params.seed = settings.seed;
+  params.view = settings.view;
+  params.max_bounces = settings.max_bounces;
+  params.light_samples = settings.light_samples;
+
+  const size_t n = target_.floatsPerImage();
+  // Running sums of pass mean * pass samples, in pass order (deterministic).
+  std::vector<double> sums(n * kAttachmentCount, 0.0);
+
+  RenderOutput out;
+  out.pipeline_seconds = pipeline_.create_seconds;
+  out.samples_per_pass = per_pass;
+  while (out.samples_done < total) {
+    if (interrupt && interrupt->load()) {
+      out.interrupted = true;
+      break;
+    }
+    const uint32_t count = std::min(per_pass, total - out.samples_done);
+    params.sample_base = settings.first_sample + out.samples_done;
+    params.sample_count = count;
+    runPass(context_, pipeline_, target_, &params, settings.pass_timeout_seconds);
+    const float* pass = target_.mapped;
+    const double weight = count;
+    for (size_t i = 0; i < sums.size(); ++i) sums[i] += double(pass[i]) * weight;
+    out.samples_done += count;
+    ++out.passes;
+
+    if (progress && out.samples_done < total) {
+      ProgressInfo info;
+      info.samples_done = out.samples_done;
+      info.samples_total = total;
+      info.passes_done = out.passes;
+      info.elapsed_seconds = secondsSince(start);
+      info.eta_seconds = info.elapsed_seconds / out.samples_done * (total - out.samples_done);
+      progress(info);
+    }
+  }
+
+  FloatImage* images[kAttachmentCount] = {&out.color, &out.normal_depth, &out.albedo_steps};
+  // Divide (not multiply by a reciprocal) so mergeRenders reproduces this exactly.
+  const double count_done = out.samples_done ? double(out.samples_done) : 1.0;
+  for (uint32_t k = 0; k < kAttachmentCount; ++k) {
+    *images[k] = FloatImage(settings.width, settings.height);
+    for (size_t i = 0; i < n; ++i)
+      images[k]->rgba[i] = static_cast<float>(sums[k * n + i] / count_done);
+  }
+  out.seconds = secondsSince(start);
+  if (progress) {
+    ProgressInfo info;
+    info.samples_done = out.samples_done;
+    info.samples_total = total;
+    info.passes_done = out.passes;
+    info.elapsed_seconds = out.seconds;
+    info.eta_seconds = 0;
+    info.finished = true;
+    progress(info);
+  }
+  return out;
+}
+
+}  // namespace sdfc

@@ -1,0 +1,63 @@
+// The Vulkan instance, one physical device, one graphics queue and a command
+// pool. Headless: no surface, no swapchain. Plain struct + create/destroy.
+#pragma once
+#include <vulkan/vulkan.h>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace sdfc {
+
+struct DeviceInfo {
+  uint32_t index = 0;  // position in vkEnumeratePhysicalDevices order
+  std::string name;
+  VkPhysicalDeviceType type = VK_PHYSICAL_DEVICE_TYPE_OTHER;
+  uint32_t api_version = 0;
+  bool usable = false;  // has a graphics queue and Vulkan >= 1.1
+};
+
+const char* deviceTypeName(VkPhysicalDeviceType type);
+
+// All physical devices (creates and destroys a temporary instance).
+std::vector<DeviceInfo> listDevices();
+
+struct ContextOptions {
+  // -1: prefer a discrete GPU, then integrated, virtual, and finally a CPU
+  // device such as lavapipe. Otherwise the index from listDevices().
+  int device_index = -1;
+  // Validation layer + debug messenger; by default on iff env SDFC_VALIDATION=1.
+  bool validation = validationRequestedByEnv();
+
+  static bool validationRequestedByEnv();
+};
+
+struct VulkanContext {
+  VkInstance instance = VK_NULL_HANDLE;
+  VkDebugUtilsMessengerEXT messenger = VK_NULL_HANDLE;
+  VkPhysicalDevice physical_device = VK_NULL_HANDLE;
+  VkPhysicalDeviceProperties properties{};
+  VkPhysicalDeviceMemoryProperties memory_properties{};
+  VkDevice device = VK_NULL_HANDLE;
+  uint32_t queue_family = 0;
+  VkQueue queue = VK_NULL_HANDLE;
+  VkCommandPool command_pool = VK_NULL_HANDLE;
+  bool validation_enabled = false;  // the layer was found and enabled
+
+  std::string deviceName() const { return properties.deviceName; }
+};
+
+// Throws RuntimeError when no usable device exists or the index is invalid.
+void createContext(VulkanContext& context, const ContextOptions& options = {});
+void destroyContext(VulkanContext& context);
+
+// Validation warnings and errors reported since program start (all contexts).
+// Each is also printed to stderr. Tests assert this stays 0.
+int validationMessageCount();
+
+// Index of a memory type allowed by `type_bits` with all `required` flags;
+// prefers one that also has `preferred`. Throws when there is none.
+uint32_t findMemoryType(const VulkanContext& context, uint32_t type_bits,
+                        VkMemoryPropertyFlags required, VkMemoryPropertyFlags preferred = 0);
+
+}  // namespace sdfc
