@@ -1,0 +1,151 @@
+#include "denoise.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace sdfc {
+namespace {
+
+float squaredDistance3(const float* a, const float* b) {
+  const float dx = a[0] - b[0], dy = a[1] - b[1], dz = a[2] - b[2];
+  return dx * dx + dy * dy + dz * dz;
+}
+
+void requireSameSize(const FloatImage& a, const FloatImage& b, const char* what) {
+  if (a.width != b.width || a.height != b.height || a.rgba.size() != b.rgba.size())
+    throw std::invalid_argument(std::string("denoise: ") + what + " size differs from colour");
+}
+
+// Guide values of one pixel, gathered once.
+struct Guide {
+  const float* normal_depth;
+  const float* albedo;
+  bool hit;
+};
+
+}  // namespace
+
+std::optional<Denoiser> parseDenoiser(std::string_view name) {
+  if (name == "none" || name == "off") return Denoiser::None;
+  if (name == "bilateral") return Denoiser::Bilateral;
+  if (name == "atrous" || name == "a-trous" || name == "a_trous") return Denoiser::ATrous;
+  return std::nullopt;
+}
+
+const char* denoiserName(Denoiser denoiser) {
+  switch (denoiser) {
+    case Denoiser::None: return "none";
+    case Denoiser::Bilateral: return "bilateral";
+    case Denoiser::ATrous: return "atrous";
+  }
+  return "?";
+}
+
+FloatImage bilateralFilter(const FloatImage& color, const BilateralParams& params) {
+  FloatImage out = color;
+  const int w = int(color.width), h = int(color.height), r = std::max(params.radius, 0);
+  const float spatial_scale = -0.5f / (params.sigma_spatial * params.sigma_spatial);
+  const float range_scale = -0.5f / (params.sigma_range * params.sigma_range);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const float* centre = color.at(uint32_t(x), uint32_t(y));
+      double sum[3] = {0, 0, 0}, weight_sum = 0;
+      for (int dy = -r; dy <= r; ++dy)
+        for (int dx = -r; dx <= r; ++dx) {
+          const int qx = x + dx, qy = y + dy;
+          if (qx < 0 || qy < 0 || qx >= w || qy >= h) continue;  // renormalised below
+          const float* q = color.at(uint32_t(qx), uint32_t(qy));
+          const float weight = std::exp(spatial_scale * float(dx * dx + dy * dy) +
+                                        range_scale * squaredDistance3(centre, q));
+          for (int c = 0; c < 3; ++c) sum[c] += double(weight) * q[c];
+          weight_sum += weight;
+        }
+      float* o = out.at(uint32_t(x), uint32_t(y));
+      for (int c = 0; c < 3; ++c) o[c] = float(sum[c] / weight_sum);  // centre weight is 1
+    }
+  return out;
+}
+
+FloatImage atrousFilter(const FloatImage& color, const FloatImage& normal_depth,
+                        const FloatImage& albedo_steps, const ATrousParams& params) {
+  requireSameSize(color, normal_depth, "normal/depth");
+  requireSameSize(color, albedo_steps, "albedo");
+  const int w = int(color.width), h = int(color.height);
+  constexpr float kAlbedoFloor = 1e-3f;  // keeps black albedo from dividing by zero
+  auto isHit = [&](size_t i) { return normal_depth.rgba[i * 4 + 3] >= 0.0f; };
+  auto demodulator = [&](size_t i, int c) {
+    if (!params.demodulate_albedo || !isHit(i)) return 1.0f;
+    return std::max(albedo_steps.rgba[i * 4 + c], kAlbedoFloor);
+  };
+
+  // Work on demodulated colour (irradiance): texture detail is not noise.
+  FloatImage current = color;
+  for (size_t i = 0; i < current.pixelCount(); ++i)
+    for (int c = 0; c < 3; ++c) current.rgba[i * 4 + c] /= demodulator(i, c);
+  FloatImage next = current;
+
+  // B3-spline taps (1, 4, 6, 4, 1) / 16, as in Dammertz et al. 2010.
+  constexpr float kKernel[5] = {1.0f / 16, 1.0f / 4, 3.0f / 8, 1.0f / 4, 1.0f / 16};
+  const float inv_normal2 = 1.0f / (params.sigma_normal * params.sigma_normal);
+  const float inv_albedo2 = 1.0f / (params.sigma_albedo * params.sigma_albedo);
+  float sigma_color = params.sigma_color;
+  for (int iteration = 0; iteration < params.iterations; ++iteration) {
+    const int step = 1 << iteration;
+    const float inv_color2 = 1.0f / (sigma_color * sigma_color);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        const size_t p = size_t(y) * w + x;
+        const float* cp = &current.rgba[p * 4];
+        const float* np = &normal_depth.rgba[p * 4];
+        const float* ap = &albedo_steps.rgba[p * 4];
+        const bool hit_p = isHit(p);
+        double sum[3] = {0, 0, 0}, weight_sum = 0;
+        for (int j = -2; j <= 2; ++j)
+          for (int i = -2; i <= 2; ++i) {
+            const int qx = x + i * step, qy = y + j * step;
+            if (qx < 0 || qy < 0 || qx >= w || qy >= h) continue;
+            const size_t q = size_t(qy) * w + qx;
+            if (isHit(q) != hit_p) continue;  // never blur sky into surfaces
+            const float* cq = &current.rgba[q * 4];
+            float exponent = squaredDistance3(cp, cq) * inv_color2;
+            if (hit_p) {
+              const float* nq = &normal_depth.rgba[q * 4];
+              exponent += squaredDistance3(np, nq) * inv_normal2;
+              const float tap_distance = float(step) * std::sqrt(float(i * i + j * j));
+              if (tap_distance > 0) {
+                const float relative = std::fabs(np[3] - nq[3]) /
+                                       (std::max(np[3], 1e-6f) * tap_distance * params.sigma_depth);
+                exponent += relative * relative;
+              }
+              exponent += squaredDistance3(ap, &albedo_steps.rgba[q * 4]) * inv_albedo2;
+            }
+            const float weight = kKernel[i + 2] * kKernel[j + 2] * std::exp(-exponent);
+            for (int c = 0; c < 3; ++c) sum[c] += double(weight) * cq[c];
+            weight_sum += weight;
+          }
+        float* o = &next.rgba[p * 4];
+        for (int c = 0; c < 3; ++c) o[c] = float(sum[c] / weight_sum);  // centre tap always counts
+      }
+    std::swap(current, next);
+    sigma_color *= 0.5f;  // noise shrinks each level (Dammertz et al. 2010, sec. 3)
+  }
+
+  for (size_t i = 0; i < current.pixelCount(); ++i) {
+    for (int c = 0; c < 3; ++c) current.rgba[i * 4 + c] *= demodulator(i, c);
+    current.rgba[i * 4 + 3] = color.rgba[i * 4 + 3];
+  }
+  return current;
+}
+
+FloatImage denoise(Denoiser denoiser, const FloatImage& color, const FloatImage& normal_depth,
+                   const FloatImage& albedo_steps) {
+  switch (denoiser) {
+    case Denoiser::Bilateral: return bilateralFilter(color);
+    case Denoiser::ATrous: return atrousFilter(color, normal_depth, albedo_steps);
+    case Denoiser::None: break;
+  }
+  return color;
+}
+
+}  // namespace sdfc

@@ -1,0 +1,52 @@
+// CPU denoisers for the rendered float images.
+//  - Bilateral: Tomasi & Manduchi 1998, Gaussian spatial and range weights,
+//    the range term on the RGB colour difference (5x5, sigma_s 10, sigma_r 0.06).
+//  - ATrous: edge-avoiding A-Trous wavelet filter, Dammertz et al. 2010,
+//    "Edge-Avoiding A-Trous Wavelet Transform for fast Global Illumination
+//    Filtering": 5x5 B3-spline taps spread 2^i apart, edge-stopping weights on
+//    colour, normal, depth and albedo; the colour is divided by the albedo first
+//    (demodulation) and multiplied back afterwards.
+#pragma once
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include "float_image.h"
+
+namespace sdfc {
+
+enum class Denoiser { None, Bilateral, ATrous };
+
+// "none", "bilateral", "atrous" (also "a-trous"); nullopt otherwise.
+std::optional<Denoiser> parseDenoiser(std::string_view name);
+const char* denoiserName(Denoiser denoiser);
+
+struct BilateralParams {
+  int radius = 2;  // 5x5 window
+  float sigma_spatial = 10.0f;  // pixels
+  float sigma_range = 0.06f;    // linear radiance units, on |rgb_p - rgb_q|
+};
+
+FloatImage bilateralFilter(const FloatImage& color, const BilateralParams& params = {});
+
+struct ATrousParams {
+  int iterations = 5;         // tap spacing 1, 2, 4, 8, 16 -> 61x61 footprint
+  float sigma_color = 0.5f;   // on demodulated colour; halved every iteration (Dammertz 2010)
+  float sigma_normal = 0.3f;  // on |n_p - n_q|
+  // On the depth difference relative to the centre depth, per pixel of tap
+  // distance: planes seen at an angle keep their weight at wide spacings.
+  float sigma_depth = 0.05f;
+  float sigma_albedo = 0.1f;  // on |albedo_p - albedo_q|
+  bool demodulate_albedo = true;
+};
+
+// `normal_depth`, `albedo_steps`: the renderer's attachments 1 and 2 (depth w < 0
+// means the primary ray missed; hits and misses never mix).
+FloatImage atrousFilter(const FloatImage& color, const FloatImage& normal_depth,
+                        const FloatImage& albedo_steps, const ATrousParams& params = {});
+
+// Dispatch with default parameters; None returns `color` unchanged.
+FloatImage denoise(Denoiser denoiser, const FloatImage& color, const FloatImage& normal_depth,
+                   const FloatImage& albedo_steps);
+
+}  // namespace sdfc

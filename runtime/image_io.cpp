@@ -1,0 +1,235 @@
+#include "image_io.h"
+
+#include <stb_image.h>
+#include <stb_image_write.h>
+#include <tinyexr.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <system_error>
+
+namespace sdfc {
+namespace {
+
+std::string lowerExtension(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return ext;
+}
+
+std::vector<float> toRgb(const FloatImage& image) {
+  std::vector<float> rgb(image.pixelCount() * 3);
+  for (size_t i = 0; i < image.pixelCount(); ++i)
+    for (int c = 0; c < 3; ++c) rgb[i * 3 + c] = image.rgba[i * 4 + c];
+  return rgb;
+}
+
+void writePfm(const std::string& path, const FloatImage& image) {
+  std::ofstream file(path, std::ios::binary);
+  if (!file) throw ImageIoError("cannot open " + path + " for writing");
+  // Negative scale = little-endian; rows run bottom to top (PFM convention).
+  file << "PF\n" << image.width << " " << image.height << "\n-1.0\n";
+  const std::vector<float> rgb = toRgb(image);
+  static_assert(sizeof(float) == 4);
+  const uint32_t probe = 1;
+  const bool little_endian = *reinterpret_cast<const uint8_t*>(&probe) == 1;
+  for (uint32_t row = 0; row < image.height; ++row) {
+    const float* line = &rgb[size_t(image.height - 1 - row) * image.width * 3];
+    if (little_endian) {
+      file.write(reinterpret_cast<const char*>(line), std::streamsize(image.width) * 12);
+    } else {
+      for (uint32_t i = 0; i < image.width * 3; ++i) {
+        uint32_t bits;
+        std::memcpy(&bits, &line[i], 4);
+        bits = __builtin_bswap32(bits);
+        file.write(reinterpret_cast<const char*>(&bits), 4);
+      }
+    }
+  }
+  if (!file.flush()) throw ImageIoError("write failed: " + path);
+}
+
+FloatImage readPfm(const std::string& path) {
+  std::ifstream file(path, std::ios::binary);
+  if (!file) throw ImageIoError("cannot open " + path);
+  std::string magic;
+  long width = 0, height = 0;
+  double scale = 0;
+  file >> magic >> width >> height >> scale;
+  file.get();  // the single whitespace after the header
+  const int channels = magic == "PF" ? 3 : magic == "Pf" ? 1 : 0;
+  if (!file || channels == 0 || width <= 0 || height <= 0 || scale == 0)
+    throw ImageIoError(path + ": not a PFM file");
+  const uint32_t probe = 1;
+  const bool host_little = *reinterpret_cast<const uint8_t*>(&probe) == 1;
+  const bool swap = (scale < 0) != host_little;
+  std::vector<float> data(size_t(width) * height * channels);
+  file.read(reinterpret_cast<char*>(data.data()), std::streamsize(data.size() * 4));
+  if (!file) throw ImageIoError(path + ": truncated PFM");
+  FloatImage image(uint32_t(width), uint32_t(height), 1.0f);
+  for (long y = 0; y < height; ++y)
+    for (long x = 0; x < width; ++x)
+      for (int c = 0; c < 3; ++c) {
+        float value = data[(size_t(height - 1 - y) * width + x) * channels + (channels == 3 ? c : 0)];
+        if (swap) {
+          uint32_t bits;
+          std::memcpy(&bits, &value, 4);
+          bits = __builtin_bswap32(bits);
+          std::memcpy(&value, &bits, 4);
+        }
+        image.at(uint32_t(x), uint32_t(y))[c] = value;
+      }
+  return image;
+}
+
+void writeDirect(const std::string& path, ImageFormat format, const FloatImage& image,
+                 const ToneMap& tone_map) {
+  switch (format) {
+    case ImageFormat::Png: {
+      const std::vector<uint8_t> bytes = toSrgb8(image, tone_map);
+      if (!stbi_write_png(path.c_str(), int(image.width), int(image.height), 3, bytes.data(),
+                          int(image.width) * 3))
+        throw ImageIoError("cannot write PNG " + path);
+      return;
+    }
+    case ImageFormat::Exr: {
+      const std::vector<float> rgb = toRgb(image);
+      const char* err = nullptr;
+      if (SaveEXR(rgb.data(), int(image.width), int(image.height), 3, /*save_as_fp16=*/0,
+                  path.c_str(), &err) != TINYEXR_SUCCESS) {
+        const std::string message = err ? err : "unknown error";
+        FreeEXRErrorMessage(err);
+        throw ImageIoError("cannot write EXR " + path + ": " + message);
+      }
+      return;
+    }
+    case ImageFormat::Pfm:
+      writePfm(path, image);
+      return;
+  }
+}
+
+void checkSameSize(const FloatImage& a, const FloatImage& b) {
+  if (a.width != b.width || a.height != b.height || a.rgba.size() != b.rgba.size())
+    throw ImageIoError("image sizes differ: " + std::to_string(a.width) + "x" +
+                       std::to_string(a.height) + " vs " + std::to_string(b.width) + "x" +
+                       std::to_string(b.height));
+}
+
+}  // namespace
+
+ImageFormat imageFormatFromPath(const std::string& path) {
+  const std::string ext = lowerExtension(path);
+  if (ext == ".png") return ImageFormat::Png;
+  if (ext == ".exr") return ImageFormat::Exr;
+  if (ext == ".pfm") return ImageFormat::Pfm;
+  throw ImageIoError("unknown image extension '" + ext + "' (use .png, .exr or .pfm)");
+}
+
+float applyToneCurve(float linear, const ToneMap& tone_map) {
+  float x = linear * std::exp2(tone_map.exposure_stops);
+  if (!(x > 0)) return 0;  // also maps NaN to black
+  if (tone_map.curve == ToneCurve::AcesFit)
+    x = (x * (2.51f * x + 0.03f)) / (x * (2.43f * x + 0.59f) + 0.14f);  // Narkowicz 2015
+  return std::min(x, 1.0f);
+}
+
+float srgbEncode(float linear) {
+  if (!(linear > 0)) return 0;
+  if (linear <= 0.0031308f) return 12.92f * linear;
+  return 1.055f * std::pow(linear, 1.0f / 2.4f) - 0.055f;
+}
+
+float srgbDecode(float encoded) {
+  if (encoded <= 0.04045f) return encoded / 12.92f;
+  return std::pow((encoded + 0.055f) / 1.055f, 2.4f);
+}
+
+std::vector<uint8_t> toSrgb8(const FloatImage& image, const ToneMap& tone_map) {
+  std::vector<uint8_t> bytes(image.pixelCount() * 3);
+  for (size_t i = 0; i < image.pixelCount(); ++i)
+    for (int c = 0; c < 3; ++c) {
+      const float v = srgbEncode(applyToneCurve(image.rgba[i * 4 + c], tone_map));
+      bytes[i * 3 + c] = static_cast<uint8_t>(std::clamp(v, 0.0f, 1.0f) * 255.0f + 0.5f);
+    }
+  return bytes;
+}
+
+void writeImage(const std::string& path, const FloatImage& image, const ToneMap& tone_map) {
+  const ImageFormat format = imageFormatFromPath(path);
+  if (image.width == 0 || image.height == 0 || image.rgba.size() != image.pixelCount() * 4)
+    throw ImageIoError("cannot write an empty or malformed image to " + path);
+  const std::string temporary = path + ".tmp";
+  try {
+    writeDirect(temporary, format, image, tone_map);
+    std::filesystem::rename(temporary, path);  // atomic on POSIX within one directory
+  } catch (const std::filesystem::filesystem_error& error) {
+    std::error_code ignored;
+    std::filesystem::remove(temporary, ignored);
+    throw ImageIoError("cannot write " + path + ": " + error.code().message());
+  } catch (...) {
+    std::error_code ignored;
+    std::filesystem::remove(temporary, ignored);
+    throw;
+  }
+}
+
+FloatImage readImage(const std::string& path) {
+  const std::string ext = lowerExtension(path);
+  if (ext == ".pfm") return readPfm(path);
+  if (ext == ".exr") {
+    float* rgba = nullptr;
+    int width = 0, height = 0;
+    const char* err = nullptr;
+    if (LoadEXR(&rgba, &width, &height, path.c_str(), &err) != TINYEXR_SUCCESS) {
+      const std::string message = err ? err : "unknown error";
+      FreeEXRErrorMessage(err);
+      throw ImageIoError("cannot read EXR " + path + ": " + message);
+    }
+    FloatImage image(uint32_t(width), uint32_t(height));
+    std::copy(rgba, rgba + image.rgba.size(), image.rgba.begin());
+    std::free(rgba);
+    return image;
+  }
+  int width = 0, height = 0, channels = 0;
+  unsigned char* data = stbi_load(path.c_str(), &width, &height, &channels, 4);
+  if (!data) throw ImageIoError("cannot read " + path + ": " + stbi_failure_reason());
+  FloatImage image(uint32_t(width), uint32_t(height));
+  for (size_t i = 0; i < image.pixelCount(); ++i) {
+    for (int c = 0; c < 3; ++c) image.rgba[i * 4 + c] = srgbDecode(data[i * 4 + c] / 255.0f);
+    image.rgba[i * 4 + 3] = data[i * 4 + 3] / 255.0f;
+  }
+  stbi_image_free(data);
+  return image;
+}
+
+double rmse(const FloatImage& image, const FloatImage& reference) {
+  checkSameSize(image, reference);
+  double sum = 0;
+  for (size_t i = 0; i < image.pixelCount(); ++i)
+    for (int c = 0; c < 3; ++c) {
+      const double d = double(image.rgba[i * 4 + c]) - reference.rgba[i * 4 + c];
+      sum += d * d;
+    }
+  return image.pixelCount() ? std::sqrt(sum / (image.pixelCount() * 3.0)) : 0.0;
+}
+
+double relMse(const FloatImage& image, const FloatImage& reference) {
+  checkSameSize(image, reference);
+  double sum = 0;
+  for (size_t i = 0; i < image.pixelCount(); ++i)
+    for (int c = 0; c < 3; ++c) {
+      const double b = reference.rgba[i * 4 + c];
+      const double d = double(image.rgba[i * 4 + c]) - b;
+      sum += d * d / (b * b + 0.01);
+    }
+  return image.pixelCount() ? sum / (image.pixelCount() * 3.0) : 0.0;
+}
+
+}  // namespace sdfc

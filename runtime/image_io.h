@@ -1,0 +1,54 @@
+// Image files: PNG (8-bit sRGB, tone-mapped), EXR (linear float) and PFM
+// (linear float), chosen by extension. Writers go through "<path>.tmp" and a
+// rename, so an interrupted program never leaves a half-written image.
+// Also readers and comparison metrics for golden-image tests.
+#pragma once
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "float_image.h"
+
+namespace sdfc {
+
+// File problems (not device failures): unknown extension, unwritable path, bad file.
+class ImageIoError : public std::runtime_error {
+ public:
+  explicit ImageIoError(const std::string& message) : std::runtime_error(message) {}
+};
+
+enum class ImageFormat { Png, Exr, Pfm };
+// By extension, case-insensitive: .png, .exr, .pfm. Throws ImageIoError otherwise.
+ImageFormat imageFormatFromPath(const std::string& path);
+
+enum class ToneCurve {
+  Clamp,    // radiance * 2^exposure, clamped to [0, 1]
+  AcesFit,  // Narkowicz 2015 fit of the ACES RRT+ODT: x(2.51x+.03) / (x(2.43x+.59)+.14)
+};
+
+// PNG only; EXR and PFM store linear radiance untouched.
+struct ToneMap {
+  float exposure_stops = 0;  // radiance is multiplied by 2^exposure_stops first
+  ToneCurve curve = ToneCurve::Clamp;
+};
+
+float applyToneCurve(float linear, const ToneMap& tone_map);  // -> [0, 1], still linear
+float srgbEncode(float linear);                               // sRGB OETF (IEC 61966-2-1)
+float srgbDecode(float encoded);                              // its inverse
+// RGB8 bytes, row-major, top row first: tone curve, then sRGB OETF, rounded.
+std::vector<uint8_t> toSrgb8(const FloatImage& image, const ToneMap& tone_map);
+
+// Writes RGB (alpha is dropped: the renderer's alpha is always 1).
+void writeImage(const std::string& path, const FloatImage& image, const ToneMap& tone_map = {});
+
+// Reads PNG (or any 8-bit format stb_image knows; sRGB-decoded to linear, the tone
+// curve is not inverted), EXR and PFM. Always RGBA; a = 1 where the file has none.
+FloatImage readImage(const std::string& path);
+
+// Metrics over the RGB channels of images of equal size (throws otherwise).
+double rmse(const FloatImage& image, const FloatImage& reference);
+// mean((a - b)^2 / (b^2 + 0.01)), b = reference.
+double relMse(const FloatImage& image, const FloatImage& reference);
+
+}  // namespace sdfc
