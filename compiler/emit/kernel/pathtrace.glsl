@@ -1,0 +1,393 @@
+// ---- kernel: sphere tracing, normals, BSDFs, lights, main() ----
+// Loop structure is mirrored by runtime/loop_budget.h: change both together.
+
+float hitEps(float t) { return max(kSceneHitEps, t * kScenePixelCone); }
+
+// Sphere tracing (Hart 1996; paper sec. 2.3): step by the distance bound scaled
+// by 1 / Lipschitz. side = -1 marches inside solids (glass exit points) on the
+// negated distance. Returns the hit distance, or -1 past t_max or the step budget.
+float march(vec3 ro, vec3 rd, float t_max, float side, out int steps) {
+  float t = 0.0;
+  steps = 0;
+  for (int i = loopZero(); i < kSceneMaxSteps; i++) {
+    g_loop_iterations++;
+    steps = i + 1;
+    float d = side * sdScene(ro + rd * t);
+    if (d < hitEps(t)) return t;
+    t += d * kSceneStepScale;
+    if (t > t_max) break;
+  }
+  return -1.0;
+}
+
+// Gradient from 4 taps on a tetrahedron's vertices (cheaper than the paper's 6
+// central differences, sec. 2.4). A loop, so sdScene is emitted once, not 4 times.
+vec3 sceneNormal(vec3 p, float h) {
+  vec3 n = vec3(0.0);
+  for (int i = loopZero(); i < 4; i++) {
+    g_loop_iterations++;
+    // (+,-,-), (-,-,+), (-,+,-), (+,+,+): the even-parity cube corners
+    vec3 k = vec3(i == 0 || i == 3, i >= 2, i == 1 || i == 3) * 2.0 - 1.0;
+    n += k * sdScene(p + k * h);
+  }
+  return normalize(n);
+}
+
+float maxComponent(vec3 v) { return max(v.x, max(v.y, v.z)); }
+
+// ---- lights ----
+#ifdef SDFC_HAS_SUN
+const int kSunLights = 1;
+#else
+const int kSunLights = 0;
+#endif
+#ifdef SDFC_HAS_SPHERE_LIGHTS
+const int kSphereLightCount = kNumSphereLights;
+// runtime/loop_budget.h bounds the per-ray light loop by kMaxSphereLights = 16;
+// more lights must fail to compile rather than silently break that bound.
+float g_sphere_light_limit[kNumSphereLights <= 16 ? 1 : -1];
+
+// Nearest t > 0 where the ray meets sphere s (xyz centre, w radius), or -1.
+float raySphere(vec3 ro, vec3 rd, vec4 s) {
+  vec3 oc = ro - s.xyz;
+  float b = dot(oc, rd);
+  float h = b * b - (dot(oc, oc) - s.w * s.w);
+  if (h < 0.0) return -1.0;
+  h = sqrt(h);
+  float t = -b - h;
+  if (t <= 0.0) t = -b + h;
+  return t > 0.0 ? t : -1.0;
+}
+
+// 1 - cos of the half-angle of the cone sphere s subtends from p (0 if p is inside).
+float sphereConeOneMinusCos(vec3 p, vec4 s) {
+  float d2 = dot(s.xyz - p, s.xyz - p);
+  float sin2 = s.w * s.w / d2;
+  if (sin2 >= 1.0) return 0.0;
+  return sin2 / (1.0 + sqrt(1.0 - sin2));
+}
+#else
+const int kSphereLightCount = 0;
+#endif
+const int kLightCount = kSunLights + kSphereLightCount;
+
+#if defined(SDFC_HAS_SUN) || defined(SDFC_HAS_SPHERE_LIGHTS)
+// Solid-angle pdf of next-event estimation choosing light `index` (uniform choice)
+// and then direction dir from p (both lights are sampled uniformly in their cone).
+float lightPdf(int index, vec3 p) {
+  float one_minus_cos = 0.0;
+#ifdef SDFC_HAS_SUN
+  if (index == 0) one_minus_cos = 1.0 - kSunCosAngle;
+#endif
+#ifdef SDFC_HAS_SPHERE_LIGHTS
+  if (index >= kSunLights) one_minus_cos = sphereConeOneMinusCos(p, kSphereLights[index - kSunLights]);
+#endif
+  if (one_minus_cos <= 0.0) return 0.0;
+  return 1.0 / (float(kLightCount) * kTwoPi * one_minus_cos);
+}
+
+// Power heuristic with beta = 2 (Veach 1997, sec. 9.2), sample counts included:
+// the weight of strategy a against b, given n * pdf of each.
+float powerHeuristic(float a, float b) {
+  return a * a / max(a * a + b * b, 1e-30);
+}
+
+// Weight of a BSDF-sampled ray that reached a light: 1 after delta scattering or
+// from the camera (bsdf_pdf = 0), else MIS against frame.light_samples NEE samples.
+float misBsdfWeight(float bsdf_pdf, float light_pdf) {
+  if (bsdf_pdf <= 0.0) return 1.0;
+  return powerHeuristic(bsdf_pdf, float(frame.light_samples) * light_pdf);
+}
+
+// Direction toward light `index` from p, its distance and radiance; pdf via lightPdf.
+bool sampleLight(int index, vec3 p, vec2 u, out vec3 wi, out float dist, out vec3 radiance) {
+#ifdef SDFC_HAS_SUN
+  if (index == 0) {
+    wi = toWorld(sampleUniformCone(u, 1.0 - kSunCosAngle), kSunDir);
+    dist = kSceneMaxDist;
+    radiance = kSunRadiance;
+    return true;
+  }
+#endif
+#ifdef SDFC_HAS_SPHERE_LIGHTS
+  vec4 s = kSphereLights[index - kSunLights];
+  float one_minus_cos = sphereConeOneMinusCos(p, s);
+  if (one_minus_cos <= 0.0) return false;
+  wi = toWorld(sampleUniformCone(u, one_minus_cos), normalize(s.xyz - p));
+  float t = raySphere(p, wi, s);
+  if (t <= 0.0) return false;
+  dist = t * (1.0 - 1e-4);
+  radiance = kSphereLightRadiance[index - kSunLights];
+  return true;
+#else
+  return false;
+#endif
+}
+#endif
+
+// ---- BSDFs with a smooth lobe (next-event estimation applies) ----
+#ifdef SDFC_HAS_METAL
+vec3 fresnelSchlick(vec3 f0, float cos_theta) {
+  float m = 1.0 - clamp(cos_theta, 0.0, 1.0);
+  float m2 = m * m;
+  return f0 + (1.0 - f0) * (m2 * m2 * m);
+}
+#endif
+
+// f * cos(theta_i) for wo -> wi at a surface facing n, and the pdf of sampling wi
+// by the BSDF. Diffuse: Lambert. Metal: GGX microfacet with height-correlated Smith
+// G2 (Heitz 2014, "Understanding the Masking-Shadowing Function") and Schlick F.
+vec3 evalBsdf(Material m, vec3 n, vec3 wo, vec3 wi, out float pdf) {
+  pdf = 0.0;
+  float cos_i = dot(n, wi);
+  if (cos_i <= 0.0) return vec3(0.0);
+#ifdef SDFC_HAS_DIFFUSE
+  if (m.model == MAT_DIFFUSE) {
+    pdf = cos_i / kPi;
+    return m.albedo * (cos_i / kPi);
+  }
+#endif
+#ifdef SDFC_HAS_METAL
+  if (m.model == MAT_METAL) {
+    float cos_o = max(dot(n, wo), 1e-6);
+    vec3 h = normalize(wo + wi);
+    float alpha = max(m.roughness, 1e-3);
+    float d = ggxD(dot(n, h), alpha);
+    float lambda_o = ggxLambda(cos_o, alpha);
+    float g2 = 1.0 / (1.0 + lambda_o + ggxLambda(cos_i, alpha));
+    pdf = d / ((1.0 + lambda_o) * 4.0 * cos_o);  // VNDF pdf of h, times dh/dwi
+    return fresnelSchlick(m.albedo, dot(wo, h)) * (d * g2 / (4.0 * cos_o));
+  }
+#endif
+  return vec3(0.0);
+}
+
+#ifdef SDFC_HAS_GLASS
+// Unpolarised Fresnel reflectance of a dielectric interface, eta = n_i / n_t.
+float fresnelDielectric(float cos_i, float cos_t, float eta) {
+  float rs = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
+  float rp = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
+  return 0.5 * (rs * rs + rp * rp);
+}
+#endif
+
+// ---- camera ----
+// Pinhole through film position `film` (pixels, top-left origin); with
+// SDFC_HAS_APERTURE and `lens` set, a thin lens focused at frame.cam_up.w.
+void cameraRay(vec2 film, bool lens, out vec3 ro, out vec3 rd) {
+  float tan_half = frame.cam_origin.w;
+  float aspect = float(frame.width) / float(frame.height);
+  vec2 ndc = vec2(2.0 * film.x / float(frame.width) - 1.0, 1.0 - 2.0 * film.y / float(frame.height));
+  rd = normalize(frame.cam_forward.xyz + (ndc.x * aspect * tan_half) * frame.cam_right.xyz +
+                 (ndc.y * tan_half) * frame.cam_up.xyz);
+  ro = frame.cam_origin.xyz;
+#ifdef SDFC_HAS_APERTURE
+  if (lens) {
+    vec3 focus = ro + rd * (frame.cam_up.w / dot(rd, frame.cam_forward.xyz));
+    vec2 d = frame.cam_right.w * concentricDisk(rand2());
+    ro += d.x * frame.cam_right.xyz + d.y * frame.cam_up.xyz;
+    rd = normalize(focus - ro);
+  }
+#endif
+}
+
+// ---- path tracer ----
+// Primary-hit data of the path traced with record_aov set.
+vec3 g_aov_normal = vec3(0.0);
+float g_aov_dist = -1.0;
+vec3 g_aov_albedo = vec3(0.0);
+int g_aov_steps = 0;
+
+// Radiance along (ro, rd) with at most max_bounces scattering events. Loops per
+// call: bounce <= max_bounces + 1, each with march <= kSceneMaxSteps, sphere-light
+// test <= kNumSphereLights, normal 4, and (at most max_bounces times) light loop
+// <= frame.light_samples, each with a shadow march <= kSceneMaxSteps.
+vec3 tracePath(vec3 ro, vec3 rd, int max_bounces, bool record_aov) {
+  vec3 radiance = vec3(0.0);
+  vec3 throughput = vec3(1.0);
+  float side = 1.0;       // -1 while inside a solid (refracted into glass)
+  float prev_pdf = 0.0;   // BSDF pdf of the last scattering; 0 = delta or camera
+  vec3 prev_pos = ro;
+  for (int depth = loopZero(); depth <= max_bounces; depth++) {
+    g_loop_iterations++;
+    int steps;
+    float t = march(ro, rd, kSceneMaxDist, side, steps);
+#ifdef SDFC_HAS_SPHERE_LIGHTS
+    // Sphere lights are not in sdScene: test them analytically, nearest wins.
+    int light_hit = -1;
+    float t_light = t < 0.0 ? 3.0e38 : t;
+    for (int j = loopZero(); j < kNumSphereLights; j++) {
+      g_loop_iterations++;
+      float tj = raySphere(ro, rd, kSphereLights[j]);
+      if (tj > 0.0 && tj < t_light) {
+        t_light = tj;
+        light_hit = j;
+      }
+    }
+    if (light_hit >= 0) {
+      if (record_aov && depth == 0) {
+        g_aov_normal = normalize(ro + rd * t_light - kSphereLights[light_hit].xyz);
+        g_aov_dist = t_light;
+        g_aov_steps = steps;
+      }
+      radiance += throughput * kSphereLightRadiance[light_hit] *
+                  misBsdfWeight(prev_pdf, lightPdf(kSunLights + light_hit, prev_pos));
+      break;
+    }
+#endif
+    if (t < 0.0) {
+      if (record_aov && depth == 0) g_aov_steps = steps;
+      vec3 sky = sdSky(rd);
+#ifdef SDFC_HAS_SUN
+      // sdSky holds no sun disc: the kernel adds it, MIS-weighted against NEE.
+      if (dot(rd, kSunDir) >= kSunCosAngle) sky += kSunRadiance * misBsdfWeight(prev_pdf, lightPdf(0, prev_pos));
+#endif
+      radiance += throughput * sky;
+      break;
+    }
+
+    vec3 p = ro + rd * t;
+    float eps = hitEps(t);
+    vec3 n = sceneNormal(p, eps);  // outward: the gradient of sdScene
+    Material m = sdMaterial(sdMaterialId(p));
+    if (record_aov && depth == 0) {
+      g_aov_normal = n;
+      g_aov_dist = t;
+      g_aov_albedo = m.albedo;
+      g_aov_steps = steps;
+    }
+    radiance += throughput * m.emission;  // emitters found by BSDF sampling: weight 1
+    if (depth >= max_bounces || m.model == MAT_EMISSIVE) break;
+
+    bool entering = dot(rd, n) < 0.0;
+    vec3 nf = entering ? n : -n;  // faces the incoming ray
+    vec3 wo = -rd;
+    float offset = 3.0 * eps;  // p is within eps of the surface: leave the hit band
+
+#if defined(SDFC_HAS_SUN) || defined(SDFC_HAS_SPHERE_LIGHTS)
+#if defined(SDFC_HAS_DIFFUSE) || defined(SDFC_HAS_METAL)
+    // Next-event estimation: frame.light_samples shadow rays to uniformly chosen lights.
+    if (m.model == MAT_DIFFUSE || m.model == MAT_METAL) {
+      vec3 origin = p + nf * offset;
+      float n_light = float(frame.light_samples);
+      for (int j = loopZero(); j < int(frame.light_samples); j++) {
+        g_loop_iterations++;
+        vec2 u_pick = rand2();
+        vec2 u_dir = rand2();
+        int index = min(int(u_pick.x * float(kLightCount)), kLightCount - 1);
+        vec3 wi, le;
+        float dist;
+        if (!sampleLight(index, origin, u_dir, wi, dist, le)) continue;
+        float bsdf_pdf;
+        vec3 f_cos = evalBsdf(m, nf, wo, wi, bsdf_pdf);
+        if (maxComponent(f_cos) <= 0.0) continue;
+        int shadow_steps;
+        if (march(origin, wi, dist, 1.0, shadow_steps) >= 0.0) continue;
+        float light_pdf = lightPdf(index, origin);
+        float w = powerHeuristic(n_light * light_pdf, bsdf_pdf);
+        radiance += throughput * f_cos * le * (w / (n_light * light_pdf));
+      }
+    }
+#endif
+#endif
+
+    // Sample the BSDF: the new direction wi, throughput weight f cos / pdf, and pdf.
+    vec3 wi = reflect(rd, nf);
+    vec3 weight = vec3(0.0);
+    float pdf = 0.0;
+#ifdef SDFC_HAS_DIFFUSE
+    if (m.model == MAT_DIFFUSE) {
+      vec3 l = sampleCosineHemisphere(rand2());
+      wi = toWorld(l, nf);
+      pdf = l.z / kPi;
+      weight = m.albedo;
+    }
+#endif
+#ifdef SDFC_HAS_MIRROR
+    if (m.model == MAT_MIRROR) weight = m.albedo;
+#endif
+#ifdef SDFC_HAS_GLASS
+    if (m.model == MAT_GLASS) {
+      // Choose reflection with probability F, so the weight is 1 (or the tint).
+      float eta = entering ? 1.0 / m.ior : m.ior;
+      float cos_i = dot(wo, nf);
+      vec3 refracted = refract(rd, nf, eta);  // zero under total internal reflection
+      float f = refracted == vec3(0.0) ? 1.0 : fresnelDielectric(cos_i, -dot(refracted, nf), eta);
+      weight = vec3(1.0);
+      if (rand2().x >= f) {
+        wi = refracted;
+        if (entering) weight = m.albedo;  // tint once per passage through the solid
+      }
+    }
+#endif
+#ifdef SDFC_HAS_METAL
+    if (m.model == MAT_METAL) {
+      vec3 b1, b2;
+      orthonormalBasis(nf, b1, b2);
+      vec3 wo_l = vec3(dot(wo, b1), dot(wo, b2), max(dot(wo, nf), 1e-6));
+      float alpha = max(m.roughness, 1e-3);
+      vec3 h = sampleGgxVndf(wo_l, alpha, rand2());
+      vec3 wi_l = reflect(-wo_l, h);
+      if (wi_l.z > 0.0) {
+        float lambda_o = ggxLambda(wo_l.z, alpha);
+        // f cos / pdf = F G2 / G1(wo) for VNDF sampling (Heitz 2018, eq. 19)
+        weight = fresnelSchlick(m.albedo, dot(wo_l, h)) *
+                 ((1.0 + lambda_o) / (1.0 + lambda_o + ggxLambda(wi_l.z, alpha)));
+        pdf = ggxD(h.z, alpha) / ((1.0 + lambda_o) * 4.0 * wo_l.z);
+        wi = wi_l.x * b1 + wi_l.y * b2 + wi_l.z * nf;
+      }
+    }
+#endif
+    if (maxComponent(weight) <= 0.0) break;
+    throughput *= weight;
+    prev_pdf = pdf;
+    prev_pos = p;
+    bool into_solid = dot(wi, n) < 0.0;
+    side = into_solid ? -1.0 : 1.0;
+    ro = p + (into_solid ? -n : n) * offset;
+    rd = wi;
+
+    // Russian roulette (Arvo & Kirk 1990) from the third bounce; unbiased.
+    if (depth >= 2) {
+      float q = min(maxComponent(throughput), 1.0);
+      if (rand2().x >= q) break;
+      throughput /= q;
+    }
+  }
+  return radiance;
+}
+
+// Blue -> cyan -> green -> yellow -> red for x in [0, 1].
+vec3 heatMap(float x) {
+  x = clamp(x, 0.0, 1.0);
+  return clamp(vec3(4.0 * x - 2.0, min(4.0 * x, 4.0 - 4.0 * x), 2.0 - 4.0 * x), 0.0, 1.0);
+}
+
+void main() {
+  uvec2 pixel = uvec2(gl_FragCoord.xy);
+  bool trace = frame.view == kViewBeauty || frame.view == kViewIterations;
+  int count = trace ? int(frame.sample_count) : 0;
+  vec3 sum = vec3(0.0);
+  // s = -1 is the unjittered primary ray for the AOVs (pass-split independent);
+  // sharing the loop keeps one inlined copy of the tracer.
+  for (int s = loopZero() - 1; s < count; s++) {
+    g_loop_iterations++;
+    bool aov = s < 0;
+    beginSample(pixel, frame.sample_base + uint(max(s, 0)));
+    vec2 jitter = aov ? vec2(0.5) : rand2();
+    vec3 ro, rd;
+    cameraRay(vec2(pixel) + jitter, !aov, ro, rd);
+    vec3 l = tracePath(ro, rd, aov ? 0 : int(frame.max_bounces), aov);
+    if (!aov && !any(isnan(l)) && !any(isinf(l))) sum += l;
+  }
+
+  out_normal_depth = vec4(g_aov_normal, g_aov_dist);
+  out_albedo_steps = vec4(g_aov_albedo, float(g_aov_steps));
+  vec3 color = sum / float(max(count, 1));
+  if (frame.view == kViewNormal) color = g_aov_normal * 0.5 + 0.5;
+  if (frame.view == kViewSteps) color = heatMap(float(g_aov_steps) / float(kSceneMaxSteps));
+  if (frame.view == kViewDepth) color = vec3(g_aov_dist);
+  if (frame.view == kViewAlbedo) color = g_aov_albedo;
+  if (frame.view == kViewIterations) color = vec3(float(g_loop_iterations), 0.0, 0.0);
+  out_color = vec4(color, 1.0);
+}

@@ -1,0 +1,76 @@
+// Worst-case loop iterations of the path-tracing kernel
+// (compiler/emit/kernel/pathtrace.glsl), so a pass never reaches lavapipe's cap.
+//
+// Lavapipe counts loop iterations per invocation in total and runs 8 lanes in
+// lockstep: a loop runs as long as any lane needs it. The bound is therefore
+// structural: every loop site counted with its trip-count limit, once per
+// iteration of the loops enclosing it, whatever branch the lanes took. One sample
+// (one iteration of main's sample loop) runs:
+//   1                                  sample loop
+//   + (B + 1) * (1 + S + N + 4)        bounce loop: march, sphere-light test, normal
+//   + B * L * (1 + S)                  light loop with its shadow march, at the
+//                                      B vertices that may scatter
+// with S = kSceneMaxSteps, B = max_bounces, L = light_samples, N = sphere lights.
+// Each pass also traces one unjittered primary ray for the AOVs (sample loop
+// iteration s = -1, B = 0): 1 + (1 + S + N + 4).
+#pragma once
+#include <cstdint>
+
+#include "shader_interface.h"
+
+namespace sdfc {
+
+// The kernel refuses to compile scenes with more sphere lights (a negative array
+// size), so this default is a true bound for every scene.
+constexpr uint32_t kMaxSphereLights = 16;
+
+constexpr uint64_t loopIterationsPerSampleWide(uint64_t max_steps, uint64_t max_bounces,
+                                               uint64_t light_samples, uint64_t sphere_lights) {
+  return 1 + (max_bounces + 1) * (1 + max_steps + sphere_lights + 4) +
+         max_bounces * light_samples * (1 + max_steps);
+}
+
+// Upper bound on the loop iterations of one sample. Pass the scene's number of
+// sphere lights when known; the default assumes the most the kernel accepts.
+constexpr uint32_t loopIterationsPerSample(uint32_t max_steps, uint32_t max_bounces,
+                                           uint32_t light_samples,
+                                           uint32_t sphere_lights = kMaxSphereLights) {
+  const uint64_t n = loopIterationsPerSampleWide(max_steps, max_bounces, light_samples, sphere_lights);
+  return n > UINT32_MAX ? UINT32_MAX : uint32_t(n);
+}
+
+// Loop iterations of a pass independent of its sample count (the AOV ray).
+constexpr uint32_t loopIterationsPerPassOverhead(uint32_t max_steps,
+                                                 uint32_t sphere_lights = kMaxSphereLights) {
+  return 1 + (1 + max_steps + sphere_lights + 4);
+}
+
+// Upper bound on the loop iterations of a pass of `sample_count` samples.
+constexpr uint64_t loopIterationsPerPass(uint32_t max_steps, uint32_t max_bounces,
+                                         uint32_t light_samples, uint32_t sample_count,
+                                         uint32_t sphere_lights = kMaxSphereLights) {
+  return loopIterationsPerPassOverhead(max_steps, sphere_lights) +
+         uint64_t(sample_count) *
+             loopIterationsPerSampleWide(max_steps, max_bounces, light_samples, sphere_lights);
+}
+
+// The largest sample_count whose pass stays strictly below kLavapipeLoopCap;
+// 0 if not even one sample fits (the scene's step or bounce budget is too big).
+constexpr uint32_t samplesPerPassWithinCap(uint32_t max_steps, uint32_t max_bounces,
+                                           uint32_t light_samples,
+                                           uint32_t sphere_lights = kMaxSphereLights) {
+  const uint64_t overhead = loopIterationsPerPassOverhead(max_steps, sphere_lights);
+  const uint64_t per_sample =
+      loopIterationsPerSampleWide(max_steps, max_bounces, light_samples, sphere_lights);
+  if (overhead + per_sample >= gpu::kLavapipeLoopCap) return 0;
+  return uint32_t((gpu::kLavapipeLoopCap - 1 - overhead) / per_sample);
+}
+
+static_assert(loopIterationsPerSample(100, 0, 0, 0) == 1 + 105);
+static_assert(loopIterationsPerPass(100, 2, 1, 3, 0) == 106 + 3 * (1 + 3 * 105 + 2 * 101));
+static_assert(loopIterationsPerPass(256, 4, 1, samplesPerPassWithinCap(256, 4, 1)) <
+              gpu::kLavapipeLoopCap);
+static_assert(loopIterationsPerPass(256, 4, 1, samplesPerPassWithinCap(256, 4, 1) + 1) >=
+              gpu::kLavapipeLoopCap);
+
+}  // namespace sdfc
