@@ -72,7 +72,7 @@ FloatImage readPfm(const std::string& path) {
   std::vector<float> data(size_t(width) * height * channels);
   file.read(reinterpret_cast<char*>(data.data()), std::streamsize(data.size() * 4));
   if (!file) throw ImageIoError(path + ": truncated PFM");
-  FloatImage image(uint32_t(width), uint32_t(height), 1.0f);
+  FloatImage image{uint32_t(width), uint32_t(height), 1.0f};
   for (long y = 0; y < height; ++y)
     for (long x = 0; x < width; ++x)
       for (int c = 0; c < 3; ++c) {
@@ -192,7 +192,7 @@ FloatImage readImage(const std::string& path) {
       FreeEXRErrorMessage(err);
       throw ImageIoError("cannot read EXR " + path + ": " + message);
     }
-    FloatImage image(uint32_t(width), uint32_t(height));
+    FloatImage image{uint32_t(width), uint32_t(height)};
     std::copy(rgba, rgba + image.rgba.size(), image.rgba.begin());
     std::free(rgba);
     return image;
@@ -200,7 +200,7 @@ FloatImage readImage(const std::string& path) {
   int width = 0, height = 0, channels = 0;
   unsigned char* data = stbi_load(path.c_str(), &width, &height, &channels, 4);
   if (!data) throw ImageIoError("cannot read " + path + ": " + stbi_failure_reason());
-  FloatImage image(uint32_t(width), uint32_t(height));
+  FloatImage image{uint32_t(width), uint32_t(height)};
   for (size_t i = 0; i < image.pixelCount(); ++i) {
     for (int c = 0; c < 3; ++c) image.rgba[i * 4 + c] = srgbDecode(data[i * 4 + c] / 255.0f);
     image.rgba[i * 4 + 3] = data[i * 4 + 3] / 255.0f;

@@ -1,0 +1,139 @@
+// Image files (PNG / EXR / PFM through the temp-and-rename writer), tone mapping
+// and comparison metrics.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <random>
+#include <string>
+
+#include "image_io.h"
+
+namespace sdfc {
+namespace {
+
+namespace fs = std::filesystem;
+
+class RuntimeImageIo : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("sdfc_image_test_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) +
+            "_" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+
+  // Linear radiance spanning dark values, mid-tones, and > 1 (clipped in PNG).
+  static FloatImage gradient(uint32_t w, uint32_t h) {
+    FloatImage image(w, h, 1.0f);
+    for (uint32_t y = 0; y < h; ++y)
+      for (uint32_t x = 0; x < w; ++x) {
+        float* p = image.at(x, y);
+        p[0] = float(x) / (w - 1);
+        p[1] = float(y) / (h - 1);
+        p[2] = 0.001f * float(x + y) + 0.5f * (x == 0 ? 3.0f : 0.0f);
+      }
+    return image;
+  }
+
+  fs::path dir_;
+};
+
+TEST_F(RuntimeImageIo, ExrAndPfmRoundTripExactly) {
+  const FloatImage image = gradient(19, 11);
+  for (const char* name : {"a.exr", "a.pfm", "UPPER.PFM"}) {
+    writeImage(path(name), image);
+    EXPECT_FALSE(fs::exists(path(name) + ".tmp"));
+    const FloatImage back = readImage(path(name));
+    ASSERT_EQ(back.width, image.width) << name;
+    ASSERT_EQ(back.height, image.height) << name;
+    for (size_t i = 0; i < image.pixelCount(); ++i)
+      for (int c = 0; c < 3; ++c) ASSERT_EQ(back.rgba[i * 4 + c], image.rgba[i * 4 + c]) << name;
+  }
+}
+
+TEST_F(RuntimeImageIo, PngRoundTripWithinQuantisation) {
+  const FloatImage image = gradient(33, 17);
+  writeImage(path("a.png"), image);
+  EXPECT_FALSE(fs::exists(path("a.png.tmp")));
+  const FloatImage back = readImage(path("a.png"));
+  ASSERT_EQ(back.width, 33u);
+  ASSERT_EQ(back.height, 17u);
+  for (uint32_t y = 0; y < 17; ++y)
+    for (uint32_t x = 0; x < 33; ++x)
+      for (int c = 0; c < 3; ++c) {
+        const float expected = std::min(image.at(x, y)[c], 1.0f);  // clamp curve
+        // Half an 8-bit step in sRGB space, converted back to linear.
+        const float encoded = srgbEncode(expected);
+        const float tolerance =
+            std::max(srgbDecode(std::min(encoded + 0.5f / 255, 1.0f)) - expected,
+                     expected - srgbDecode(std::max(encoded - 0.5f / 255, 0.0f))) + 1e-6f;
+        ASSERT_NEAR(back.at(x, y)[c], expected, tolerance) << x << "," << y << "," << c;
+      }
+}
+
+TEST_F(RuntimeImageIo, RewritesReplaceAtomicallyAndFailuresLeaveNothing) {
+  writeImage(path("r.exr"), gradient(4, 4));
+  FloatImage other(4, 4, 0.25f);
+  writeImage(path("r.exr"), other);
+  EXPECT_EQ(readImage(path("r.exr")).rgba[0], 0.25f);
+
+  EXPECT_THROW(writeImage(path("missing_dir/x.png"), other), ImageIoError);
+  EXPECT_FALSE(fs::exists(path("missing_dir/x.png.tmp")));
+  EXPECT_THROW(writeImage(path("x.bmp"), other), ImageIoError);
+  EXPECT_THROW(writeImage(path("empty.png"), FloatImage()), ImageIoError);
+  EXPECT_THROW(readImage(path("does_not_exist.exr")), ImageIoError);
+  // Only r.exr remains: no temporaries.
+  int files = 0;
+  for (const auto& entry : fs::directory_iterator(dir_)) {
+    ++files;
+    EXPECT_EQ(entry.path().filename(), "r.exr");
+  }
+  EXPECT_EQ(files, 1);
+}
+
+TEST(RuntimeToneMap, CurvesAndSrgb) {
+  EXPECT_EQ(srgbEncode(0.0f), 0.0f);
+  EXPECT_NEAR(srgbEncode(1.0f), 1.0f, 1e-6f);
+  EXPECT_NEAR(srgbEncode(0.18f), 0.4613f, 1e-3f);  // mid grey
+  for (float v : {0.001f, 0.01f, 0.2f, 0.7f}) EXPECT_NEAR(srgbDecode(srgbEncode(v)), v, 1e-6f);
+
+  ToneMap clamp;
+  EXPECT_EQ(applyToneCurve(2.0f, clamp), 1.0f);
+  EXPECT_EQ(applyToneCurve(-1.0f, clamp), 0.0f);
+  EXPECT_EQ(applyToneCurve(std::nanf(""), clamp), 0.0f);
+  clamp.exposure_stops = 1;
+  EXPECT_FLOAT_EQ(applyToneCurve(0.25f, clamp), 0.5f);
+
+  ToneMap aces;
+  aces.curve = ToneCurve::AcesFit;
+  EXPECT_EQ(applyToneCurve(0.0f, aces), 0.0f);
+  float previous = 0;
+  for (float v = 0.01f; v < 100; v *= 1.5f) {  // monotonic, saturates at 1 (the fit
+    const float t = applyToneCurve(v, aces);   // overshoots 1 near x = 10; clamped)
+    EXPECT_GE(t, previous);
+    if (t < 1.0f) {
+      EXPECT_GT(t, previous);
+    }
+    EXPECT_LE(t, 1.0f);
+    previous = t;
+  }
+  EXPECT_GT(previous, 0.99f);
+}
+
+TEST(RuntimeMetrics, RmseAndRelMse) {
+  FloatImage a(8, 8, 0.5f), b(8, 8, 0.5f);
+  EXPECT_EQ(rmse(a, b), 0.0);
+  EXPECT_EQ(relMse(a, b), 0.0);
+  for (float& v : a.rgba) v = 0.6f;
+  EXPECT_NEAR(rmse(a, b), 0.1, 1e-6);
+  EXPECT_NEAR(relMse(a, b), 0.01 / (0.25 + 0.01), 1e-6);
+  a.at(0, 0)[3] = 100;  // alpha is ignored
+  EXPECT_NEAR(rmse(a, b), 0.1, 1e-6);
+  EXPECT_THROW(rmse(a, FloatImage(4, 4)), ImageIoError);
+}
+
+}  // namespace
+}  // namespace sdfc
