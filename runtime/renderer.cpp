@@ -32,7 +32,11 @@ uint32_t chooseSamplesPerPass(const RenderSettings& settings) {
         std::clamp<uint64_t>(kAutoPixelSamplesPerPass / pixels, 1, kAutoMaxSamplesPerPass));
   }
   if (settings.loop_iterations_per_sample > 0) {
-    const uint32_t loop_limit = gpu::kLavapipeLoopCap / settings.loop_iterations_per_sample;
+    // Strictly below the cap, as loop_budget.h's samplesPerPassWithinCap.
+    const uint64_t room = gpu::kLavapipeLoopCap - 1 -
+                          std::min<uint64_t>(settings.loop_iterations_per_pass,
+                                             gpu::kLavapipeLoopCap - 1);
+    const uint32_t loop_limit = uint32_t(room / settings.loop_iterations_per_sample);
     limit = std::min(limit, std::max<uint32_t>(loop_limit, 1));
   }
   return std::max<uint32_t>(1, std::min(limit, std::max<uint32_t>(settings.spp, 1)));
@@ -91,11 +95,14 @@ RenderOutput Renderer::render(const CameraDesc& camera, const RenderSettings& se
   const bool beauty = settings.view == gpu::kViewBeauty;
   const uint32_t total = beauty ? std::max<uint32_t>(settings.spp, 1) : 1;
   const uint32_t per_pass = chooseSamplesPerPass(settings);
-  if (settings.loop_iterations_per_sample > gpu::kLavapipeLoopCap)
+  if (settings.loop_iterations_per_sample > 0 &&
+      uint64_t(settings.loop_iterations_per_sample) + settings.loop_iterations_per_pass >=
+          gpu::kLavapipeLoopCap)
     std::fprintf(stderr,
-                 "sdfc: warning: one sample may take %u loop iterations, above lavapipe's cap "
-                 "of %u; some pixels may be cut short\n",
-                 settings.loop_iterations_per_sample, gpu::kLavapipeLoopCap);
+                 "sdfc: warning: a one-sample pass may take %u + %u loop iterations, not below "
+                 "lavapipe's cap of %u; some pixels may be cut short\n",
+                 settings.loop_iterations_per_sample, settings.loop_iterations_per_pass,
+                 gpu::kLavapipeLoopCap);
 
   ensureTarget(settings.width, settings.height);
   gpu::FrameParams params = makeFrameParams(camera, settings.width, settings.height, settings.time);

@@ -33,9 +33,13 @@ struct RenderSettings {
   uint32_t view = gpu::kViewBeauty;  // non-beauty views render one sample in one pass
   uint32_t seed = 0;
   float time = 0;
-  // Worst-case loop iterations of one sample (runtime/loop_budget.h); 0 = unknown.
-  // Passes then take at most kLavapipeLoopCap / this many samples.
+  // Worst-case loop iterations of one sample (loopIterationsPerSample in
+  // runtime/loop_budget.h); 0 = unknown. Passes then take at most
+  // (kLavapipeLoopCap - 1 - loop_iterations_per_pass) / this many samples.
   uint32_t loop_iterations_per_sample = 0;
+  // Loop iterations of a pass independent of its sample count
+  // (loopIterationsPerPassOverhead: the AOV ray).
+  uint32_t loop_iterations_per_pass = 0;
   // 0 = auto: about kAutoPixelSamplesPerPass pixel-samples per pass, at most 64 spp.
   // Deliberately not timing-based, so pass splits (and thus images) are reproducible.
   uint32_t max_samples_per_pass = 0;

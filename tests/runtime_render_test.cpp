@@ -225,7 +225,10 @@ TEST(RuntimeSamplesPerPass, RespectsTheLoopBudget) {
   settings.height = 64;
   settings.spp = 1000;
   settings.loop_iterations_per_sample = 10000;
-  EXPECT_EQ(chooseSamplesPerPass(settings), 6u);  // 6 * 10000 <= 65535 < 7 * 10000
+  EXPECT_EQ(chooseSamplesPerPass(settings), 6u);  // 6 * 10000 < 65535 <= 7 * 10000
+  settings.loop_iterations_per_pass = 5535;
+  EXPECT_EQ(chooseSamplesPerPass(settings), 5u);  // 5535 + 6 * 10000 would hit the cap
+  settings.loop_iterations_per_pass = 0;
   settings.loop_iterations_per_sample = 100000;
   EXPECT_EQ(chooseSamplesPerPass(settings), 1u);  // cannot do better than one sample
   settings.loop_iterations_per_sample = 0;
