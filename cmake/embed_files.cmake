@@ -1,9 +1,10 @@
 # Turns text files into a C++ source defining sdfc::embeddedSource(name), so
 # the shader kernel ships inside the binary and stays editable as .glsl.
-# Usage: cmake -DOUT=file.cpp -DFILES="name1=path1;name2=path2" -P embed_files.cmake
+# Usage: cmake -DOUT=file.cpp -DFILES="name1=path1|name2=path2" -P embed_files.cmake
 set(body "#include \"emit/embedded_sources.h\"\n#include <string_view>\nnamespace sdfc {\nnamespace {\n")
 set(table "")
 set(i 0)
+string(REPLACE "|" ";" FILES "${FILES}")
 foreach(entry IN LISTS FILES)
   string(REPLACE "=" ";" parts "${entry}")
   list(GET parts 0 name)

@@ -1,0 +1,981 @@
+#include "check/checker.h"
+
+#include <cmath>
+#include <functional>
+#include <set>
+#include <unordered_map>
+
+#include "check/builtins.h"
+
+namespace sdfc {
+namespace {
+
+using glm::dvec3;
+using ir::Scalar;
+
+// A checked value. Errors propagate as Type::Error without further messages.
+struct Value {
+  enum class Type { Error, Number, Vector, Shape, Material } type = Type::Error;
+  Scalar number;
+  std::vector<Scalar> vector;
+  ir::NodeRef shape;
+  int material = -1;
+  SourceRange range;
+};
+
+const char* typeName(Value::Type t) {
+  switch (t) {
+    case Value::Type::Number: return "a number";
+    case Value::Type::Vector: return "a vector";
+    case Value::Type::Shape: return "a shape";
+    case Value::Type::Material: return "a material";
+    case Value::Type::Error: return "an error";
+  }
+  return "a value";
+}
+
+std::string fmt(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+
+struct Binding {
+  const ast::Statement* statement = nullptr;
+  enum class State { Unresolved, Resolving, Done } state = State::Unresolved;
+  Value value;
+  bool used = false;
+};
+
+class Checker {
+ public:
+  Checker(const SourceFile& source, Diagnostics& diags, const CheckOptions& options)
+      : source_(source), diags_(diags), options_(options) {}
+
+  ir::Scene run(const ast::File& file) {
+    // Pass 1: collect definitions, so they may be used before they appear.
+    for (const ast::Statement& s : file.statements) {
+      if (!s.is_let) continue;
+      if (isReservedName(s.name)) {
+        diags_.error(s.name_range, "'" + s.name + "' is a built-in name and cannot be redefined");
+        continue;
+      }
+      auto [it, inserted] = bindings_.try_emplace(s.name);
+      if (!inserted) {
+        Diagnostic& d = diags_.error(s.name_range, "'" + s.name + "' is already defined");
+        d.notes.push_back({Severity::Note, it->second.statement->name_range,
+                           "previous definition is here", {}});
+        continue;
+      }
+      it->second.statement = &s;
+      order_.push_back(s.name);
+    }
+    for (const auto& [name, value] : options_.defines)
+      if (!bindings_.count(name))
+        diags_.error({}, "-D " + name + ": the scene defines no 'let " + name + "'");
+    // Pass 2: the settings and the scene, in file order.
+    bool have_scene = false;
+    for (const ast::Statement& s : file.statements) {
+      if (s.is_let || !s.value || s.value->kind == ast::ExprKind::Error) continue;
+      const ast::Expr& e = *s.value;
+      if (e.kind != ast::ExprKind::Call) {
+        diags_.error(e.range, "a statement must be 'let', 'scene { ... }' or a setting such as "
+                              "'camera(...)'");
+        continue;
+      }
+      if (e.name == "scene") {
+        if (have_scene) {
+          diags_.error(e.name_range, "the file already has a scene");
+          continue;
+        }
+        have_scene = true;
+        checkScene(e);
+      } else if (isSettingName(e.name)) {
+        checkSetting(e);
+      } else {
+        Value v = evalExpr(e);
+        if (v.type != Value::Type::Error)
+          diags_.error(e.range, std::string("a statement cannot be ") + typeName(v.type) +
+                                    " on its own; did you mean to put it in 'scene { ... }' or "
+                                    "bind it with 'let'?");
+      }
+    }
+    if (!have_scene && !diags_.hasErrors())
+      diags_.error({&source_, source_.text.size(), source_.text.size()},
+                   "the file has no 'scene { ... }'");
+    // Definitions nobody used are still checked, then reported.
+    for (const std::string& name : order_) {
+      Binding& b = bindings_[name];
+      if (b.state == Binding::State::Unresolved) resolve(name, b);
+      if (!b.used) diags_.warning(b.statement->name_range, "'" + name + "' is never used");
+    }
+    for (size_t i = 0; i < scene_.materials.size(); ++i)
+      if (!material_used_[i])
+        diags_.warning(scene_.materials[i].range,
+                       "material '" + scene_.materials[i].name + "' is never used by a shape");
+    return std::move(scene_);
+  }
+
+ private:
+  const SourceFile& source_;
+  Diagnostics& diags_;
+  const CheckOptions& options_;
+  std::unordered_map<std::string, Binding> bindings_;
+  std::vector<std::string> order_;
+  ir::Scene scene_;
+  std::vector<bool> material_used_;
+  std::set<std::string> seen_settings_;
+
+  // ---- names -------------------------------------------------------------
+
+  const Value& resolve(const std::string& name, Binding& b) {
+    if (b.state == Binding::State::Done) return b.value;
+    b.state = Binding::State::Resolving;
+    const ast::Statement& s = *b.statement;
+    auto define = options_.defines.find(name);
+    Value v = evalExpr(*s.value);
+    if (define != options_.defines.end()) {
+      if (v.type != Value::Type::Number && v.type != Value::Type::Error) {
+        diags_.error(s.name_range, "-D " + name + " gives a number, but '" + name + "' is " +
+                                       typeName(v.type));
+      } else {
+        v.type = Value::Type::Number;
+        v.number = ir::constant(define->second);
+      }
+    }
+    // A named shape becomes a named function in the emitted shader.
+    if (v.type == Value::Type::Shape && v.shape->definition.empty()) v.shape->definition = name;
+    if (v.type == Value::Type::Material && scene_.materials[v.material].name.empty())
+      scene_.materials[v.material].name = name;
+    b.value = v;
+    b.state = Binding::State::Done;
+    return b.value;
+  }
+
+  Value lookupName(const ast::Expr& e) {
+    if (e.name == "time") {
+      scene_.uses_time = true;
+      return number(ir::timeScalar(), e.range);
+    }
+    if (e.name == "pi") return number(ir::constant(M_PI), e.range);
+    auto it = bindings_.find(e.name);
+    if (it == bindings_.end()) {
+      std::vector<std::string> candidates = order_;
+      candidates.push_back("time");
+      candidates.push_back("pi");
+      std::string message = "unknown name '" + e.name + "'";
+      const std::string near = nearestName(e.name, candidates);
+      if (!near.empty()) message += "; did you mean '" + near + "'?";
+      if (isBuiltinCallable(e.name)) message = "'" + e.name + "' must be called: '" + e.name + "(...)'";
+      diags_.error(e.range, message);
+      return {};
+    }
+    Binding& b = it->second;
+    b.used = true;
+    if (b.state == Binding::State::Resolving) {
+      Diagnostic& d = diags_.error(e.range, "'" + e.name + "' is defined in terms of itself");
+      d.notes.push_back({Severity::Note, b.statement->name_range, "'" + e.name + "' is defined here", {}});
+      return {};
+    }
+    Value v = resolve(e.name, b);
+    v.range = e.range;
+    return v;
+  }
+
+  // ---- expressions -------------------------------------------------------
+
+  static Value number(Scalar s, SourceRange r) {
+    Value v;
+    v.type = Value::Type::Number;
+    v.number = s;
+    v.range = r;
+    return v;
+  }
+
+  Value evalExpr(const ast::Expr& e) {
+    switch (e.kind) {
+      case ast::ExprKind::Error: return {};
+      case ast::ExprKind::Number: return number(ir::constant(e.number), e.range);
+      case ast::ExprKind::Name: return lookupName(e);
+      case ast::ExprKind::Vector: {
+        Value v;
+        v.type = Value::Type::Vector;
+        v.range = e.range;
+        for (const ast::ExprPtr& el : e.operands) {
+          Value x = evalExpr(*el);
+          if (x.type == Value::Type::Error) return {};
+          if (x.type != Value::Type::Number) {
+            diags_.error(x.range, std::string("a vector element must be a number, not ") +
+                                      typeName(x.type));
+            return {};
+          }
+          v.vector.push_back(x.number);
+        }
+        if (v.vector.size() > 4) {
+          diags_.error(e.range, "vectors have at most 4 elements, this one has " +
+                                    std::to_string(v.vector.size()));
+          return {};
+        }
+        return v;
+      }
+      case ast::ExprKind::Unary: {
+        Value a = evalExpr(*e.operands[0]);
+        if (a.type == Value::Type::Number) return number(ir::unary('-', a.number), e.range);
+        if (a.type == Value::Type::Vector) {
+          for (Scalar& s : a.vector) s = ir::unary('-', s);
+          a.range = e.range;
+          return a;
+        }
+        if (a.type != Value::Type::Error)
+          diags_.error(e.range, std::string("cannot negate ") + typeName(a.type));
+        return {};
+      }
+      case ast::ExprKind::Binary: return evalBinary(e);
+      case ast::ExprKind::Member: {
+        Value a = evalExpr(*e.operands[0]);
+        if (a.type == Value::Type::Error) return {};
+        static const std::string kFields = "xyzw";
+        const size_t index = e.name.size() == 1 ? kFields.find(e.name[0]) : std::string::npos;
+        if (a.type != Value::Type::Vector || index == std::string::npos ||
+            index >= a.vector.size()) {
+          diags_.error(e.name_range, "no component '" + e.name + "' in " + typeName(a.type));
+          return {};
+        }
+        return number(a.vector[index], e.range);
+      }
+      case ast::ExprKind::Call: return evalCall(e);
+    }
+    return {};
+  }
+
+  Value evalBinary(const ast::Expr& e) {
+    Value a = evalExpr(*e.operands[0]);
+    Value b = evalExpr(*e.operands[1]);
+    if (a.type == Value::Type::Error || b.type == Value::Type::Error) return {};
+    const char op = e.op;
+    auto scalarOp = [&](const Scalar& x, const Scalar& y) -> std::optional<Scalar> {
+      if (op == '/' && y.isConst() && y.value == 0) {
+        diags_.error(e.operands[1]->range, "division by zero");
+        return std::nullopt;
+      }
+      return ir::binary(op, x, y);
+    };
+    if (a.type == Value::Type::Number && b.type == Value::Type::Number) {
+      auto r = scalarOp(a.number, b.number);
+      return r ? number(*r, e.range) : Value{};
+    }
+    // Vector with vector (same size, component-wise) or with a number.
+    const bool va = a.type == Value::Type::Vector, vb = b.type == Value::Type::Vector;
+    const bool na = a.type == Value::Type::Number, nb = b.type == Value::Type::Number;
+    if ((va && (vb || nb)) || (na && vb)) {
+      if (va && vb && a.vector.size() != b.vector.size()) {
+        diags_.error(e.range, "vectors of different sizes (" + std::to_string(a.vector.size()) +
+                                  " and " + std::to_string(b.vector.size()) + ")");
+        return {};
+      }
+      const size_t n = va ? a.vector.size() : b.vector.size();
+      Value v;
+      v.type = Value::Type::Vector;
+      v.range = e.range;
+      for (size_t i = 0; i < n; ++i) {
+        auto r = scalarOp(va ? a.vector[i] : a.number, vb ? b.vector[i] : b.number);
+        if (!r) return {};
+        v.vector.push_back(*r);
+      }
+      return v;
+    }
+    diags_.error(e.range, std::string("cannot apply '") + op + "' to " + typeName(a.type) +
+                              " and " + typeName(b.type));
+    return {};
+  }
+
+  // ---- calls -------------------------------------------------------------
+
+  Value evalCall(const ast::Expr& e) {
+    if (const int arity = ir::mathFunctionArity(e.name); arity >= 0) return evalMath(e, arity);
+    if (const PrimitiveInfo* prim = findPrimitive(e.name)) return evalPrimitive(e, *prim);
+    if (const BuiltinSignature* sig = findBuiltin(e.name)) {
+      switch (sig->category) {
+        case BuiltinCategory::Operator: return evalOperator(e, *sig);
+        case BuiltinCategory::Material: return evalMaterial(e, *sig);
+        case BuiltinCategory::Setting:
+          diags_.error(e.name_range, "'" + e.name + "' is a setting; write it as a statement on "
+                                                    "its own line");
+          return {};
+      }
+    }
+    if (e.name == "scene") {
+      diags_.error(e.name_range, "'scene' must be a statement on its own");
+      return {};
+    }
+    std::string message = "unknown function '" + e.name + "'";
+    const std::string near = nearestName(e.name, allCallableNames());
+    if (!near.empty()) message += "; did you mean '" + near + "'?";
+    diags_.error(e.name_range, message);
+    return {};
+  }
+
+  Value evalMath(const ast::Expr& e, int arity) {
+    if (e.has_block) diags_.error(e.range, "'" + e.name + "' takes no block");
+    std::vector<Scalar> args;
+    for (const ast::Argument& a : e.arguments) {
+      if (!a.name.empty()) diags_.error(a.name_range, "'" + e.name + "' takes positional arguments");
+      Value v = evalExpr(*a.value);
+      if (v.type == Value::Type::Error) return {};
+      if (v.type != Value::Type::Number) {
+        diags_.error(v.range, "'" + e.name + "' expects numbers, not " + typeName(v.type));
+        return {};
+      }
+      args.push_back(v.number);
+    }
+    if (static_cast<int>(args.size()) != arity) {
+      diags_.error(e.range, "'" + e.name + "' takes " + std::to_string(arity) + " argument" +
+                                (arity == 1 ? "" : "s") + ", got " + std::to_string(args.size()));
+      return {};
+    }
+    Scalar r = ir::callFunction(e.name, args);
+    if (r.isConst() && !std::isfinite(r.value)) {
+      diags_.error(e.range, "'" + e.name + "' gives a value that is not finite here");
+      return {};
+    }
+    return number(r, e.range);
+  }
+
+  // Matches call arguments to a parameter list: positional in order, then
+  // named. Unknown names get a suggestion; missing required ones an error.
+  // `material` is accepted wherever `allow_material` is set.
+  struct BoundArgs {
+    std::vector<std::optional<Value>> values;
+    std::optional<Value> material;
+    bool ok = true;
+  };
+
+  BoundArgs bindArguments(const ast::Expr& e, const std::vector<ArgSpec>& specs,
+                          bool allow_material) {
+    BoundArgs out;
+    out.values.resize(specs.size());
+    size_t next_positional = 0;
+    bool seen_named = false;
+    for (const ast::Argument& a : e.arguments) {
+      Value v = evalExpr(*a.value);
+      if (v.type == Value::Type::Error) {
+        out.ok = false;
+        continue;
+      }
+      if (a.name.empty()) {
+        if (seen_named) {
+          diags_.error(a.value->range, "positional argument after a named one");
+          out.ok = false;
+          continue;
+        }
+        if (next_positional >= specs.size()) {
+          diags_.error(a.value->range, "'" + e.name + "' takes at most " +
+                                           std::to_string(specs.size()) + " positional argument" +
+                                           (specs.size() == 1 ? "" : "s"));
+          out.ok = false;
+          continue;
+        }
+        out.values[next_positional++] = v;
+        continue;
+      }
+      seen_named = true;
+      if (allow_material && a.name == "material") {
+        if (out.material) diags_.error(a.name_range, "'material' is given twice");
+        out.material = v;
+        continue;
+      }
+      size_t index = specs.size();
+      for (size_t i = 0; i < specs.size(); ++i)
+        if (a.name == specs[i].name) index = i;
+      if (index == specs.size()) {
+        std::vector<std::string> names;
+        for (const ArgSpec& s : specs) names.push_back(s.name);
+        if (allow_material) names.push_back("material");
+        std::string message = "'" + e.name + "' has no parameter '" + a.name + "'";
+        const std::string near = nearestName(a.name, names);
+        if (!near.empty()) message += "; did you mean '" + near + "'?";
+        diags_.error(a.name_range, message);
+        out.ok = false;
+        continue;
+      }
+      if (out.values[index]) {
+        diags_.error(a.name_range, "'" + a.name + "' is given twice");
+        out.ok = false;
+        continue;
+      }
+      out.values[index] = v;
+    }
+    for (size_t i = 0; i < specs.size(); ++i) {
+      if (out.values[i] || !specs[i].required) continue;
+      if (!out.ok) continue;  // an argument failed: it may have been this one
+      diags_.error(e.range, "'" + e.name + "' needs '" + specs[i].name + "'");
+      out.ok = false;
+    }
+    return out;
+  }
+
+  // Converts and validates one argument against its spec.
+  std::optional<ir::Vec3> asVec3(const Value& v, const ArgSpec& spec, const std::string& callee) {
+    if (v.type == Value::Type::Number && spec.type == ArgType::Vector3) {
+      return ir::Vec3{v.number, v.number, v.number};  // a number stands for a uniform vector
+    }
+    if (v.type != Value::Type::Vector || (v.vector.size() != 3)) {
+      diags_.error(v.range, "'" + std::string(spec.name) + "' of '" + callee +
+                                "' must be a 3-vector like [x, y, z], not " +
+                                (v.type == Value::Type::Vector
+                                     ? "a " + std::to_string(v.vector.size()) + "-vector"
+                                     : std::string(typeName(v.type))));
+      return std::nullopt;
+    }
+    return ir::Vec3{v.vector[0], v.vector[1], v.vector[2]};
+  }
+
+  bool checkTimeAllowed(const Value& v, const ArgSpec& spec, const std::string& callee) {
+    bool has_time = v.type == Value::Type::Number ? !v.number.isConst() : false;
+    for (const Scalar& s : v.vector) has_time = has_time || !s.isConst();
+    if (has_time && !spec.time_allowed) {
+      diags_.error(v.range, "'" + std::string(spec.name) + "' of '" + callee +
+                                "' must be a constant; it cannot depend on 'time'");
+      return false;
+    }
+    return true;
+  }
+
+  // Applies a value rule; the message names the parameter and the value.
+  bool checkRule(const Scalar& s, ValueRule rule, const SourceRange& range, const std::string& what) {
+    const ir::Interval r = s.range();
+    switch (rule) {
+      case ValueRule::Any: return true;
+      case ValueRule::Positive:
+        if (s.isConst() && !(s.value > 0)) {
+          diags_.error(range, what + " must be positive, got " + fmt(s.value));
+          return false;
+        }
+        if (!s.isConst() && r.lo <= 0)
+          diags_.warning(range, what + " may reach " + fmt(r.lo) + " over time; it must stay positive");
+        return true;
+      case ValueRule::NonNegative:
+        if (s.isConst() && !(s.value >= 0)) {
+          diags_.error(range, what + " must not be negative, got " + fmt(s.value));
+          return false;
+        }
+        return true;
+    }
+    return true;
+  }
+
+  std::optional<Scalar> numberArg(const Value& v, const ArgSpec& spec, const std::string& callee) {
+    if (v.type != Value::Type::Number) {
+      diags_.error(v.range, "'" + std::string(spec.name) + "' of '" + callee + "' must be a number, not " +
+                                typeName(v.type));
+      return std::nullopt;
+    }
+    if (!checkTimeAllowed(v, spec, callee)) return std::nullopt;
+    if (!checkRule(v.number, spec.rule, v.range, "'" + std::string(spec.name) + "' of '" + callee + "'"))
+      return std::nullopt;
+    return v.number;
+  }
+
+  std::optional<ir::Vec3> vectorArg(const Value& v, const ArgSpec& spec, const std::string& callee) {
+    if (!checkTimeAllowed(v, spec, callee)) return std::nullopt;
+    auto vec = asVec3(v, spec, callee);
+    if (!vec) return std::nullopt;
+    const std::string what = "'" + std::string(spec.name) + "' of '" + callee + "'";
+    if (spec.rule == ValueRule::Positive)
+      for (const Scalar* s : {&vec->x, &vec->y, &vec->z})
+        if (!checkRule(*s, ValueRule::Positive, v.range, "every component of " + what)) return std::nullopt;
+    if (spec.rule == ValueRule::NonNegative)
+      for (const Scalar* s : {&vec->x, &vec->y, &vec->z})
+        if (!checkRule(*s, ValueRule::NonNegative, v.range, "every component of " + what))
+          return std::nullopt;
+    if (spec.nonzero && vec->isConst() && glm::length(vec->value()) == 0) {
+      diags_.error(v.range, what + " must not be the zero vector");
+      return std::nullopt;
+    }
+    return vec;
+  }
+
+  int materialOf(const BoundArgs& args) {
+    if (!args.material) return -1;
+    const Value& m = *args.material;
+    if (m.type != Value::Type::Material) {
+      diags_.error(m.range, std::string("'material' must be a material, not ") + typeName(m.type));
+      return -1;
+    }
+    material_used_[m.material] = true;
+    return m.material;
+  }
+
+  static Value shapeValue(ir::NodeRef node, SourceRange range) {
+    Value v;
+    v.type = Value::Type::Shape;
+    v.shape = std::move(node);
+    v.range = range;
+    return v;
+  }
+
+  Value evalPrimitive(const ast::Expr& e, const PrimitiveInfo& info) {
+    if (e.has_block) diags_.error(e.range, "'" + e.name + "' is a primitive and takes no block");
+    std::vector<ArgSpec> specs;
+    for (const ParamSpec& p : info.params) specs.push_back(argSpecOf(p, info));
+    BoundArgs args = bindArguments(e, specs, true);
+    auto node = std::make_shared<ir::Node>();
+    node->kind = ir::NodeKind::Primitive;
+    node->primitive = info.kind;
+    node->range = e.range;
+    node->material = materialOf(args);
+    bool ok = args.ok;
+    for (size_t i = 0; i < specs.size(); ++i) {
+      const ParamSpec& p = info.params[i];
+      if (!args.values[i]) {
+        if (!ok) return {};
+        if (p.type == ParamType::Vector) {
+          for (int c = 0; c < 3; ++c) node->args.push_back(ir::constant(p.default_value[c]));
+        } else {
+          node->args.push_back(ir::constant(p.default_value.x));
+        }
+        continue;
+      }
+      if (p.type == ParamType::Vector) {
+        auto v = vectorArg(*args.values[i], specs[i], e.name);
+        if (!v) { ok = false; continue; }
+        node->args.push_back(v->x);
+        node->args.push_back(v->y);
+        node->args.push_back(v->z);
+      } else {
+        auto s = numberArg(*args.values[i], specs[i], e.name);
+        if (!s) { ok = false; continue; }
+        node->args.push_back(*s);
+      }
+    }
+    if (!ok) return {};
+    if (!checkPrimitiveValues(e, info, *node)) return {};
+    return shapeValue(node, e.range);
+  }
+
+  // Cross-parameter checks a single rule cannot express.
+  bool checkPrimitiveValues(const ast::Expr& e, const PrimitiveInfo& info, ir::Node& node) {
+    auto c = [&](size_t i) { return node.args[i].isConst() ? node.args[i].value : NAN; };
+    switch (info.kind) {
+      case PrimitiveKind::Menger: {
+        const double level = c(0);
+        if (level != std::floor(level) || level > kMaxMengerLevel) {
+          diags_.error(e.range, "menger 'level' must be a whole number from 0 to " +
+                                    std::to_string(kMaxMengerLevel) + " (deeper holes are below "
+                                    "float32 marching precision), got " + fmt(level));
+          return false;
+        }
+        return true;
+      }
+      case PrimitiveKind::Box: {
+        const double rounding = c(3);
+        const double smallest = std::min({c(0), c(1), c(2)});
+        if (rounding > smallest / 2) {
+          diags_.error(e.range, "box 'rounding' (" + fmt(rounding) +
+                                    ") must be at most half the smallest side (" +
+                                    fmt(smallest / 2) + ")");
+          return false;
+        }
+        return true;
+      }
+      case PrimitiveKind::Torus:
+        if (c(1) > c(0))
+          diags_.warning(e.range, "torus 'minor' > 'major' makes a spindle torus; its distance "
+                                  "is only a bound near the axis");
+        return true;
+      default: return true;
+    }
+  }
+
+  Value evalOperator(const ast::Expr& e, const BuiltinSignature& sig) {
+    BoundArgs args = bindArguments(e, sig.args, true);
+    std::vector<ir::NodeRef> children;
+    bool ok = args.ok;
+    if (!e.has_block) {
+      diags_.error(e.range, "'" + e.name + "' needs a block of shapes: '" + e.name + "(...) { ... }'");
+      ok = false;
+    }
+    for (const ast::ExprPtr& c : e.children) {
+      Value v = evalExpr(*c);
+      if (v.type == Value::Type::Error) { ok = false; continue; }
+      if (v.type != Value::Type::Shape) {
+        diags_.error(v.range, std::string("'") + e.name + "' expects shapes in its block, not " +
+                                  typeName(v.type));
+        ok = false;
+        continue;
+      }
+      children.push_back(v.shape);
+    }
+    if (e.has_block && children.empty() && ok) {
+      diags_.error(e.range, "'" + e.name + "' has an empty block");
+      return {};
+    }
+    if (!ok) return {};
+    auto node = std::make_shared<ir::Node>();
+    node->range = e.range;
+    node->material = materialOf(args);
+    auto arg = [&](size_t i) -> const Value* { return args.values[i] ? &*args.values[i] : nullptr; };
+    const std::string& name = e.name;
+    // Several children under a domain operation mean their union.
+    auto single = [&]() -> ir::NodeRef {
+      if (children.size() == 1) return children[0];
+      auto u = std::make_shared<ir::Node>();
+      u->kind = ir::NodeKind::Union;
+      u->range = e.range;
+      u->children = children;
+      return u;
+    };
+    if (name == "union" || name == "intersect" || name == "subtract") {
+      node->kind = name == "union" ? ir::NodeKind::Union
+                 : name == "intersect" ? ir::NodeKind::Intersect : ir::NodeKind::Subtract;
+      node->smooth = ir::constant(0);
+      if (const Value* v = arg(0)) {
+        auto s = numberArg(*v, sig.args[0], name);
+        if (!s) return {};
+        node->smooth = *s;
+        if (!s->isConst() || s->value > 0)
+          diags_.warning(e.name_range, "smooth '" + name + "' gives a distance bound, not an "
+                                       "exact distance (marching takes smaller steps near it)");
+      }
+      if (name == "subtract" && children.size() < 2)
+        diags_.warning(e.range, "'subtract' with one shape subtracts nothing");
+      node->children = children;
+      return shapeValue(node, e.range);
+    }
+    if (name == "morph") {
+      if (children.size() != 2) {
+        diags_.error(e.range, "'morph' blends exactly 2 shapes, got " + std::to_string(children.size()));
+        return {};
+      }
+      auto t = numberArg(*arg(0), sig.args[0], name);
+      if (!t) return {};
+      node->kind = ir::NodeKind::Morph;
+      node->amount = *t;
+      node->children = children;
+      diags_.warning(e.name_range, "'morph' gives a distance bound, not an exact distance");
+      return shapeValue(node, e.range);
+    }
+    node->children = {single()};
+    if (name == "translate") {
+      auto v = vectorArg(*arg(0), sig.args[0], name);
+      if (!v) return {};
+      node->kind = ir::NodeKind::Translate;
+      node->vec = *v;
+    } else if (name == "rotate") {
+      return evalRotate(e, sig, args, node);
+    } else if (name == "scale") {
+      const Value& f = *arg(0);
+      if (f.type == Value::Type::Number) {
+        auto s = numberArg(f, {"factor", ArgType::Number, ValueRule::Positive, true, true}, name);
+        if (!s) return {};
+        node->kind = ir::NodeKind::Scale;
+        node->amount = *s;
+      } else {
+        auto v = vectorArg(f, {"factor", ArgType::Vector3, ValueRule::Positive, true, false}, name);
+        if (!v) return {};
+        node->kind = ir::NodeKind::ScaleNonUniform;
+        node->vec = *v;
+        diags_.warning(e.name_range, "non-uniform 'scale' gives a distance bound, not an exact "
+                                     "distance (marching takes smaller steps)");
+      }
+    } else if (name == "reflect") {
+      auto n = vectorArg(*arg(0), sig.args[0], name);
+      if (!n) return {};
+      const dvec3 unit = glm::normalize(n->value());
+      node->kind = ir::NodeKind::Reflect;
+      node->vec = ir::constantVec(unit);
+      node->amount = ir::constant(0);
+      if (const Value* o = arg(1)) {
+        auto s = numberArg(*o, sig.args[1], name);
+        if (!s) return {};
+        node->amount = *s;
+      }
+    } else if (name == "repeat") {
+      auto cell = vectorArg(*arg(0), sig.args[0], name);
+      if (!cell) return {};
+      node->kind = ir::NodeKind::Repeat;
+      node->vec = *cell;
+      if (glm::length(cell->value()) == 0) {
+        diags_.error(arg(0)->range, "'cell' of 'repeat' must be positive along at least one axis");
+        return {};
+      }
+      if (const Value* c = arg(1)) {
+        auto counts = vectorArg(*c, sig.args[1], name);
+        if (!counts) return {};
+        const dvec3 cv = counts->value();
+        for (int i = 0; i < 3; ++i) {
+          if (cv[i] != std::floor(cv[i]) || cv[i] > kMaxRepeatCount) {
+            diags_.error(c->range, "'count' of 'repeat' must hold whole numbers from 0 (infinite) to " +
+                                       std::to_string(kMaxRepeatCount) + ", got " + fmt(cv[i]));
+            return {};
+          }
+          node->count[i] = static_cast<int>(cv[i]);
+        }
+      }
+    } else if (name == "elongate") {
+      auto v = vectorArg(*arg(0), sig.args[0], name);
+      if (!v) return {};
+      node->kind = ir::NodeKind::Elongate;
+      // The parameter is the full added length; the IR keeps half extents.
+      node->vec = {ir::binary('*', v->x, ir::constant(0.5)), ir::binary('*', v->y, ir::constant(0.5)),
+                   ir::binary('*', v->z, ir::constant(0.5))};
+    }
+    return shapeValue(node, e.range);
+  }
+
+  Value evalRotate(const ast::Expr& e, const BuiltinSignature& sig, const BoundArgs& args,
+                   ir::NodeRef node) {
+    // rotate(axis, degrees) or rotate(euler: [x, y, z]) (degrees, applied x, then y, then z).
+    const auto& axis = args.values[0];
+    const auto& degrees = args.values[1];
+    const auto& euler = args.values[2];
+    if (euler && (axis || degrees)) {
+      diags_.error(e.range, "'rotate' takes either 'axis' and 'degrees' or 'euler', not both");
+      return {};
+    }
+    if (euler) {
+      auto angles = vectorArg(*euler, sig.args[2], "rotate");
+      if (!angles) return {};
+      // Applying x first means x is innermost: R = Rz * Ry * Rx.
+      ir::NodeRef inner = node->children[0];
+      const Scalar* comps[3] = {&angles->x, &angles->y, &angles->z};
+      for (int i = 0; i < 3; ++i) {
+        if (comps[i]->isConst() && comps[i]->value == 0) continue;
+        auto r = std::make_shared<ir::Node>();
+        r->kind = ir::NodeKind::Rotate;
+        r->range = e.range;
+        dvec3 ax(0);
+        ax[i] = 1;
+        r->vec = ir::constantVec(ax);
+        r->amount = *comps[i];
+        r->children = {inner};
+        inner = r;
+      }
+      if (inner == node->children[0]) {  // all zero: still a node, for the material
+        node->kind = ir::NodeKind::Translate;
+        node->vec = ir::constantVec(dvec3(0));
+        return shapeValue(node, e.range);
+      }
+      inner->material = node->material;
+      return shapeValue(inner, e.range);
+    }
+    if (!axis || !degrees) {
+      diags_.error(e.range, "'rotate' needs 'axis' and 'degrees', or 'euler'");
+      return {};
+    }
+    auto ax = vectorArg(*axis, sig.args[0], "rotate");
+    auto deg = numberArg(*degrees, sig.args[1], "rotate");
+    if (!ax || !deg) return {};
+    node->kind = ir::NodeKind::Rotate;
+    node->vec = ir::constantVec(glm::normalize(ax->value()));
+    node->amount = *deg;
+    return shapeValue(node, e.range);
+  }
+
+  Value evalMaterial(const ast::Expr& e, const BuiltinSignature& sig) {
+    if (e.has_block) diags_.error(e.range, "'" + e.name + "' is a material and takes no block");
+    BoundArgs args = bindArguments(e, sig.args, false);
+    if (!args.ok) return {};
+    ir::Material m;
+    m.range = e.range;
+    auto vec = [&](size_t i, dvec3 fallback) -> std::optional<dvec3> {
+      if (!args.values[i]) return fallback;
+      auto v = vectorArg(*args.values[i], sig.args[i], e.name);
+      if (!v) return std::nullopt;
+      return v->value();
+    };
+    auto num = [&](size_t i, double fallback) -> std::optional<double> {
+      if (!args.values[i]) return fallback;
+      auto s = numberArg(*args.values[i], sig.args[i], e.name);
+      if (!s) return std::nullopt;
+      return s->value;
+    };
+    auto checkUnit = [&](size_t i, const dvec3& c) {
+      if (args.values[i] && (c.x > 1 || c.y > 1 || c.z > 1))
+        diags_.warning(args.values[i]->range, "'" + std::string(sig.args[i].name) +
+                                                  "' above 1 reflects more light than arrives "
+                                                  "(energy is not conserved)");
+    };
+    if (e.name == "diffuse" || e.name == "mirror" || e.name == "metal") {
+      auto a = vec(0, dvec3(0.8));
+      if (!a) return {};
+      checkUnit(0, *a);
+      m.model = e.name == "diffuse" ? ir::MaterialModel::Diffuse
+              : e.name == "mirror" ? ir::MaterialModel::Mirror : ir::MaterialModel::Metal;
+      m.albedo = ir::constantVec(*a);
+      if (e.name == "metal") {
+        auto r = num(1, 0.3);
+        if (!r) return {};
+        if (*r > 1) {
+          diags_.error(args.values[1]->range, "'roughness' of 'metal' must be in [0, 1], got " + fmt(*r));
+          return {};
+        }
+        m.roughness = *r;
+      }
+    } else if (e.name == "glass") {
+      auto ior = num(0, 1.5);
+      auto tint = vec(1, dvec3(1));
+      if (!ior || !tint) return {};
+      if (*ior < 1 || *ior > 4) {
+        diags_.error(args.values[0]->range, "'ior' of 'glass' must be in [1, 4], got " + fmt(*ior));
+        return {};
+      }
+      checkUnit(1, *tint);
+      m.model = ir::MaterialModel::Glass;
+      m.ior = *ior;
+      m.albedo = ir::constantVec(*tint);
+    } else if (e.name == "emissive") {
+      auto color = vec(0, dvec3(1));
+      auto strength = num(1, 1);
+      if (!color || !strength) return {};
+      m.model = ir::MaterialModel::Emissive;
+      m.emission = ir::constantVec(*color * *strength);
+      m.albedo = ir::constantVec(dvec3(0));
+    }
+    if (m.emission.x.expr == nullptr && m.model != ir::MaterialModel::Emissive)
+      m.emission = ir::constantVec(dvec3(0));
+    Value v;
+    v.type = Value::Type::Material;
+    v.material = static_cast<int>(scene_.materials.size());
+    v.range = e.range;
+    scene_.materials.push_back(m);
+    material_used_.push_back(false);
+    return v;
+  }
+
+  // ---- statements --------------------------------------------------------
+
+  void checkScene(const ast::Expr& e) {
+    if (!e.arguments.empty()) diags_.error(e.arguments[0].name_range, "'scene' takes no arguments");
+    if (!e.has_block) {
+      diags_.error(e.range, "'scene' needs a block: 'scene { ... }'");
+      return;
+    }
+    std::vector<ir::NodeRef> children;
+    for (const ast::ExprPtr& c : e.children) {
+      Value v = evalExpr(*c);
+      if (v.type == Value::Type::Error) continue;
+      if (v.type != Value::Type::Shape) {
+        diags_.error(v.range, std::string("the scene holds shapes, not ") + typeName(v.type));
+        continue;
+      }
+      children.push_back(v.shape);
+    }
+    if (children.empty()) {
+      if (!diags_.hasErrors()) diags_.error(e.range, "the scene is empty");
+      return;
+    }
+    auto root = std::make_shared<ir::Node>();
+    root->kind = ir::NodeKind::Union;
+    root->range = e.range;
+    root->children = std::move(children);
+    scene_.root = root;
+  }
+
+  void checkSetting(const ast::Expr& e) {
+    const BuiltinSignature& sig = *findBuiltin(e.name);
+    if (e.has_block) diags_.error(e.range, "'" + e.name + "' takes no block");
+    if (e.name != "light" && !seen_settings_.insert(e.name).second)
+      diags_.warning(e.name_range, "'" + e.name + "' is set again; the last one wins");
+    BoundArgs args = bindArguments(e, sig.args, false);
+    if (!args.ok) return;
+    auto vec = [&](size_t i) -> std::optional<dvec3> {
+      if (!args.values[i]) return std::nullopt;
+      auto v = vectorArg(*args.values[i], sig.args[i], e.name);
+      return v ? std::optional<dvec3>(v->value()) : std::nullopt;
+    };
+    auto num = [&](size_t i) -> std::optional<double> {
+      if (!args.values[i]) return std::nullopt;
+      auto s = numberArg(*args.values[i], sig.args[i], e.name);
+      return s ? std::optional<double>(s->value) : std::nullopt;
+    };
+    auto whole = [&](size_t i, int lo, int hi, int& out) {
+      auto v = num(i);
+      if (!v) return;
+      if (*v != std::floor(*v) || *v < lo || *v > hi) {
+        diags_.error(args.values[i]->range, "'" + std::string(sig.args[i].name) + "' must be a whole number from " +
+                                                std::to_string(lo) + " to " + std::to_string(hi) +
+                                                ", got " + fmt(*v));
+        return;
+      }
+      out = static_cast<int>(*v);
+    };
+    if (e.name == "camera") {
+      ir::Camera& c = scene_.camera;
+      if (auto v = vec(0)) c.position = *v;
+      if (auto v = vec(1)) c.target = *v;
+      if (auto v = vec(2)) c.up = *v;
+      if (auto v = num(3)) {
+        if (*v <= 0 || *v >= 180) {
+          diags_.error(args.values[3]->range, "'fov' must be between 0 and 180 degrees, got " + fmt(*v));
+        } else {
+          c.fov_degrees = *v;
+        }
+      }
+      if (auto v = num(4)) c.aperture = *v;
+      if (auto v = num(5)) c.focus_distance = *v;
+      if (glm::length(c.target - c.position) == 0)
+        diags_.error(e.range, "the camera's 'target' equals its 'position'");
+      else if (glm::length(glm::cross(c.target - c.position, c.up)) < 1e-9)
+        diags_.error(e.range, "the camera's 'up' is parallel to its view direction");
+    } else if (e.name == "render") {
+      ir::RenderSettings& r = scene_.render;
+      if (args.values[0]) {
+        const Value& size = *args.values[0];
+        if (size.type != Value::Type::Vector || size.vector.size() != 2 || !size.vector[0].isConst() ||
+            !size.vector[1].isConst()) {
+          diags_.error(size.range, "'size' of 'render' must be [width, height]");
+        } else {
+          const double w = size.vector[0].value, h = size.vector[1].value;
+          if (w != std::floor(w) || h != std::floor(h) || w < 1 || h < 1 || w > kMaxImageSide ||
+              h > kMaxImageSide)
+            diags_.error(size.range, "'size' must be whole numbers from 1 to " +
+                                         std::to_string(kMaxImageSide));
+          else
+            r.width = static_cast<int>(w), r.height = static_cast<int>(h);
+        }
+      }
+      whole(1, 1, kMaxSamples, r.spp);
+      whole(2, 0, kMaxBounces, r.bounces);
+      whole(3, 0, 16, r.light_samples);
+    } else if (e.name == "sky") {
+      auto color = vec(0), top = vec(1), bottom = vec(2);
+      if (color && (top || bottom)) diags_.error(e.range, "'sky' takes 'color', or 'top' and 'bottom'");
+      if (color) scene_.sky.top = scene_.sky.bottom = *color;
+      if (top) scene_.sky.top = *top;
+      if (bottom) scene_.sky.bottom = *bottom;
+    } else if (e.name == "sun") {
+      ir::Sun s;
+      if (auto v = vec(0)) s.direction = glm::normalize(*v);
+      if (auto v = num(1)) {
+        if (*v > 45) diags_.error(args.values[1]->range, "'angle' of 'sun' must be at most 45 degrees");
+        s.angle_degrees = *v;
+      }
+      const dvec3 color = vec(2).value_or(dvec3(1));
+      const double strength = num(3).value_or(3);
+      // Strength is the irradiance the sun gives a surface facing it; the
+      // disc's radiance follows from its solid angle 2*pi*(1 - cos(angle)).
+      const double solid_angle = 2 * M_PI * (1 - std::cos(glm::radians(std::max(s.angle_degrees, 0.05))));
+      s.radiance = color * strength / solid_angle;
+      scene_.sun = s;
+    } else if (e.name == "light") {
+      ir::SphereLight l;
+      if (auto v = vec(0)) l.position = *v;
+      if (auto v = num(1)) l.radius = *v;
+      const dvec3 color = vec(2).value_or(dvec3(1));
+      const double strength = num(3).value_or(10);
+      l.radiance = color * strength;
+      scene_.lights.push_back(l);
+    }
+  }
+};
+
+}  // namespace
+
+ir::Scene check(const ast::File& file, const SourceFile& source, Diagnostics& diags,
+                const CheckOptions& options) {
+  Checker checker(source, diags, options);
+  return checker.run(file);
+}
+
+}  // namespace sdfc

@@ -1,0 +1,27 @@
+// The checker: resolves names, checks types, arity, units and values, and
+// builds the IR scene. It reports every problem it finds, as diagnostics.
+#pragma once
+#include <map>
+#include <string>
+
+#include "diag/diagnostics.h"
+#include "ir/scene.h"
+#include "syntax/ast.h"
+
+namespace sdfc {
+
+struct CheckOptions {
+  // -D name=value: replaces the number bound by `let name` before checking.
+  std::map<std::string, double> defines;
+};
+
+// Limits that keep the emitted shader sane; the messages quote them.
+constexpr int kMaxRepeatCount = 10000;
+constexpr int kMaxImageSide = 16384;
+constexpr int kMaxSamples = 1 << 20;
+constexpr int kMaxBounces = 64;
+
+ir::Scene check(const ast::File& file, const SourceFile& source, Diagnostics& diags,
+                const CheckOptions& options = {});
+
+}  // namespace sdfc

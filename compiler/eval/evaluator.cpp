@@ -1,0 +1,154 @@
+#include "eval/evaluator.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "passes/passes.h"
+
+namespace sdfc {
+
+using glm::dvec3;
+
+double smoothMin(double a, double b, double k) {
+  if (k <= 0) return std::min(a, b);
+  const double h = std::max(k - std::fabs(a - b), 0.0) / k;
+  return std::min(a, b) - h * h * k * 0.25;
+}
+
+double smoothMax(double a, double b, double k) { return -smoothMin(-a, -b, k); }
+
+double repeatCellIndex(double x, double cell, int count) {
+  if (count == 0) return std::round(x / cell);
+  const double half = (count - 1) * 0.5;
+  return std::clamp(std::round(x / cell + half), 0.0, static_cast<double>(count - 1)) - half;
+}
+
+EvalResult Evaluator::at(const dvec3& p) const {
+  if (!scene_.root) return {std::numeric_limits<double>::infinity(), -1};
+  return evalNode(*scene_.root, p, -1);
+}
+
+dvec3 Evaluator::gradient(const dvec3& p, double h) const {
+  dvec3 g;
+  for (int a = 0; a < 3; ++a) {
+    dvec3 e(0);
+    e[a] = h;
+    g[a] = (distance(p + e) - distance(p - e)) / (2 * h);
+  }
+  return g;
+}
+
+EvalResult Evaluator::evalNode(const ir::Node& n, const dvec3& p, int inherited) const {
+  const int mat = n.material >= 0 ? n.material : inherited;
+  const double t = time_;
+  auto child = [&](size_t i, const dvec3& q) { return evalNode(*n.children[i], q, mat); };
+  switch (n.kind) {
+    case ir::NodeKind::Primitive: {
+      std::vector<double> args;
+      for (const ir::Scalar& s : n.args) args.push_back(s.at(t));
+      const PrimitiveInfo& info = primitiveInfo(n.primitive);
+      return {info.distance(args.data(), p), mat};
+    }
+    case ir::NodeKind::Union: {
+      const double k = n.smooth.at(t);
+      EvalResult best = child(0, p);
+      for (size_t i = 1; i < n.children.size(); ++i) {
+        EvalResult r = child(i, p);
+        const double blended = smoothMin(best.distance, r.distance, k);
+        if (r.distance < best.distance) best.material = r.material;
+        best.distance = blended;
+      }
+      return best;
+    }
+    case ir::NodeKind::Intersect: {
+      const double k = n.smooth.at(t);
+      EvalResult best = child(0, p);
+      for (size_t i = 1; i < n.children.size(); ++i) {
+        EvalResult r = child(i, p);
+        const double blended = smoothMax(best.distance, r.distance, k);
+        if (r.distance > best.distance) best.material = r.material;
+        best.distance = blended;
+      }
+      return best;
+    }
+    case ir::NodeKind::Subtract: {
+      // The cut faces show the material of the shape being carved.
+      const double k = n.smooth.at(t);
+      EvalResult a = child(0, p);
+      for (size_t i = 1; i < n.children.size(); ++i)
+        a.distance = smoothMax(a.distance, -child(i, p).distance, k);
+      return a;
+    }
+    case ir::NodeKind::Translate: return child(0, p - n.vec.at(t));
+    case ir::NodeKind::Rotate:
+      return child(0, glm::transpose(rotationMatrix(n.vec.value(), n.amount.at(t))) * p);
+    case ir::NodeKind::Scale: {
+      const double s = n.amount.at(t);
+      EvalResult r = child(0, p / s);
+      r.distance *= s;
+      return r;
+    }
+    case ir::NodeKind::ScaleNonUniform: {
+      const dvec3 s = n.vec.at(t);
+      EvalResult r = child(0, p / s);
+      r.distance *= std::min(s.x, std::min(s.y, s.z));
+      return r;
+    }
+    case ir::NodeKind::Affine: {
+      EvalResult r = child(0, n.linear * p + n.offset);
+      r.distance *= n.scale;
+      return r;
+    }
+    case ir::NodeKind::Reflect: {
+      const dvec3 nn = n.vec.value();
+      const double side = glm::dot(p, nn) - n.amount.value;
+      return child(0, side < 0 ? p - 2 * side * nn : p);
+    }
+    case ir::NodeKind::Repeat: {
+      const dvec3 cell = n.vec.value();
+      const ir::Node& c = *n.children[0];
+      dvec3 q = p;
+      dvec3 alt = p;  // the neighbour cell toward p, per axis that needs it
+      bool needs[3] = {false, false, false};
+      for (int a = 0; a < 3; ++a) {
+        if (cell[a] == 0) continue;
+        const double i = repeatCellIndex(p[a], cell[a], n.count[a]);
+        q[a] = p[a] - cell[a] * i;
+        const double reach = c.bounds.finite()
+                                 ? std::max(std::fabs(c.bounds.lo[a]), std::fabs(c.bounds.hi[a]))
+                                 : std::numeric_limits<double>::infinity();
+        needs[a] = reach > cell[a] / 2;
+        double j = i + (q[a] >= 0 ? 1 : -1);
+        if (n.count[a] > 0) {
+          const double half = (n.count[a] - 1) * 0.5;
+          j = std::clamp(j, -half, half);
+        }
+        alt[a] = p[a] - cell[a] * j;
+      }
+      EvalResult best = child(0, q);
+      for (int mask = 1; mask < 8; ++mask) {
+        if (((mask & 1) && !needs[0]) || ((mask & 2) && !needs[1]) || ((mask & 4) && !needs[2]))
+          continue;
+        dvec3 r = q;
+        for (int a = 0; a < 3; ++a)
+          if (mask & (1 << a)) r[a] = alt[a];
+        EvalResult e = child(0, r);
+        if (e.distance < best.distance) best = e;
+      }
+      return best;
+    }
+    case ir::NodeKind::Elongate: {
+      const dvec3 h = n.vec.at(t);
+      return child(0, p - glm::clamp(p, -h, h));
+    }
+    case ir::NodeKind::Morph: {
+      const double w = n.amount.at(t);
+      EvalResult a = child(0, p), b = child(1, p);
+      return {w * a.distance + (1 - w) * b.distance, w >= 0.5 ? a.material : b.material};
+    }
+  }
+  return {std::numeric_limits<double>::infinity(), mat};
+}
+
+}  // namespace sdfc

@@ -1,0 +1,143 @@
+// The IR's text form: stable (fixed precision, fixed field order), so pass
+// tests compare text in with text out and `--emit ir` is readable.
+#include <glm/gtc/matrix_access.hpp>
+#include <sstream>
+
+#include "ir/scene.h"
+
+namespace sdfc::ir {
+namespace {
+
+std::string num(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.6g", v);
+  return buf;
+}
+std::string vec(glm::dvec3 v) { return "[" + num(v.x) + ", " + num(v.y) + ", " + num(v.z) + "]"; }
+
+const char* kindName(NodeKind k) {
+  switch (k) {
+    case NodeKind::Primitive: return "primitive";
+    case NodeKind::Union: return "union";
+    case NodeKind::Intersect: return "intersect";
+    case NodeKind::Subtract: return "subtract";
+    case NodeKind::Translate: return "translate";
+    case NodeKind::Rotate: return "rotate";
+    case NodeKind::Scale: return "scale";
+    case NodeKind::ScaleNonUniform: return "scale_nonuniform";
+    case NodeKind::Affine: return "affine";
+    case NodeKind::Reflect: return "reflect";
+    case NodeKind::Repeat: return "repeat";
+    case NodeKind::Elongate: return "elongate";
+    case NodeKind::Morph: return "morph";
+  }
+  return "?";
+}
+
+const char* modelName(MaterialModel m) {
+  switch (m) {
+    case MaterialModel::Diffuse: return "diffuse";
+    case MaterialModel::Mirror: return "mirror";
+    case MaterialModel::Glass: return "glass";
+    case MaterialModel::Emissive: return "emissive";
+    case MaterialModel::Metal: return "metal";
+  }
+  return "?";
+}
+
+}  // namespace
+
+std::string Vec3::glsl() const {
+  if (isConst() && x.value == y.value && y.value == z.value) return "vec3(" + x.glsl() + ")";
+  return "vec3(" + x.glsl() + ", " + y.glsl() + ", " + z.glsl() + ")";
+}
+std::string Vec3::text() const { return "[" + x.text() + ", " + y.text() + ", " + z.text() + "]"; }
+Vec3 constantVec(glm::dvec3 v) { return {constant(v.x), constant(v.y), constant(v.z)}; }
+
+std::string dumpNode(const Node& n, int indent) {
+  std::ostringstream out;
+  out << std::string(indent * 2, ' ');
+  if (n.kind == NodeKind::Primitive) {
+    const PrimitiveInfo& info = primitiveInfo(n.primitive);
+    out << info.name << "(";
+    size_t slot = 0;
+    for (size_t i = 0; i < info.params.size(); ++i) {
+      out << (i ? ", " : "") << info.params[i].name << ": ";
+      if (info.params[i].type == ParamType::Vector) {
+        out << "[" << n.args[slot].text() << ", " << n.args[slot + 1].text() << ", "
+            << n.args[slot + 2].text() << "]";
+        slot += 3;
+      } else {
+        out << n.args[slot++].text();
+      }
+    }
+    out << ")";
+  } else {
+    out << kindName(n.kind);
+    switch (n.kind) {
+      case NodeKind::Union:
+      case NodeKind::Intersect:
+      case NodeKind::Subtract:
+        if (!n.smooth.isConst() || n.smooth.value > 0) out << " smooth=" << n.smooth.text();
+        break;
+      case NodeKind::Translate:
+      case NodeKind::ScaleNonUniform:
+      case NodeKind::Elongate: out << " " << n.vec.text(); break;
+      case NodeKind::Rotate: out << " axis=" << n.vec.text() << " degrees=" << n.amount.text(); break;
+      case NodeKind::Scale: out << " " << n.amount.text(); break;
+      case NodeKind::Reflect: out << " normal=" << n.vec.text() << " offset=" << n.amount.text(); break;
+      case NodeKind::Repeat:
+        out << " cell=" << n.vec.text() << " count=[" << n.count.x << ", " << n.count.y << ", "
+            << n.count.z << "]";
+        break;
+      case NodeKind::Morph: out << " t=" << n.amount.text(); break;
+      case NodeKind::Affine: {
+        const glm::dmat3& m = n.linear;
+        out << " linear=[" << vec(glm::row(m, 0)) << ", " << vec(glm::row(m, 1)) << ", "
+            << vec(glm::row(m, 2)) << "] offset=" << vec(n.offset) << " scale=" << num(n.scale);
+        break;
+      }
+      default: break;
+    }
+  }
+  if (n.material >= 0) out << " material=" << n.material;
+  if (!n.definition.empty()) out << " def=" << n.definition;
+  out << "  # line " << n.range.line();
+  if (!n.exact) out << ", bound";
+  if (n.lipschitz != 1.0) out << ", lipschitz " << num(n.lipschitz);
+  if (n.bounds.finite())
+    out << ", bounds " << vec(n.bounds.lo) << ".." << vec(n.bounds.hi);
+  out << "\n";
+  for (const NodeRef& c : n.children) out << dumpNode(*c, indent + 1);
+  return out.str();
+}
+
+std::string dump(const Scene& s) {
+  std::ostringstream out;
+  const Camera& c = s.camera;
+  out << "camera position=" << vec(c.position) << " target=" << vec(c.target) << " up=" << vec(c.up)
+      << " fov=" << num(c.fov_degrees) << " aperture=" << num(c.aperture)
+      << " focus=" << num(c.focus_distance) << "\n";
+  out << "render size=" << s.render.width << "x" << s.render.height << " spp=" << s.render.spp
+      << " bounces=" << s.render.bounces << " light_samples=" << s.render.light_samples << "\n";
+  out << "sky top=" << vec(s.sky.top) << " bottom=" << vec(s.sky.bottom) << "\n";
+  if (s.sun)
+    out << "sun direction=" << vec(s.sun->direction) << " angle=" << num(s.sun->angle_degrees)
+        << " radiance=" << vec(s.sun->radiance) << "\n";
+  for (const SphereLight& l : s.lights)
+    out << "light position=" << vec(l.position) << " radius=" << num(l.radius)
+        << " radiance=" << vec(l.radiance) << "\n";
+  for (size_t i = 0; i < s.materials.size(); ++i) {
+    const Material& m = s.materials[i];
+    out << "material " << i << " " << (m.name.empty() ? "-" : m.name) << " " << modelName(m.model)
+        << " albedo=" << vec(m.albedo.value()) << " emission=" << vec(m.emission.value());
+    if (m.model == MaterialModel::Glass) out << " ior=" << num(m.ior);
+    if (m.model == MaterialModel::Metal) out << " roughness=" << num(m.roughness);
+    out << "\n";
+  }
+  if (s.uses_time) out << "uses time\n";
+  if (s.root) out << "scene\n" << dumpNode(*s.root, 1);
+  return out.str();
+}
+
+}  // namespace sdfc::ir

@@ -1,0 +1,135 @@
+// The checked scene: a small IR of shape nodes, materials, lights, camera and
+// render settings. Every later stage (passes, evaluator, emitter, mesher)
+// reads this, and `--emit ir` prints it (ir/dump.cpp).
+#pragma once
+#include <glm/glm.hpp>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "diag/source.h"
+#include "ir/expr.h"
+#include "shapes/primitives.h"
+
+namespace sdfc::ir {
+
+struct Vec3 {
+  Scalar x, y, z;
+  bool isConst() const { return x.isConst() && y.isConst() && z.isConst(); }
+  glm::dvec3 at(double time) const { return {x.at(time), y.at(time), z.at(time)}; }
+  glm::dvec3 value() const { return {x.value, y.value, z.value}; }
+  std::string glsl() const;
+  std::string text() const;
+};
+Vec3 constantVec(glm::dvec3 v);
+
+enum class NodeKind {
+  Primitive,
+  Union, Intersect, Subtract,  // n-ary CSG; `smooth` > 0 blends
+  Translate,                   // child(p - offset)
+  Rotate,                      // child(R^T p); R from axis/degrees
+  Scale,                       // uniform: child(p / s) * s
+  ScaleNonUniform,             // child(p / s) * min(s): a bound
+  Affine,                      // fused constant translate/rotate/scale
+  Reflect,                     // mirror across a plane, keeping both halves
+  Repeat,                      // infinite or limited repetition
+  Elongate,                    // child(p - clamp(p, -h, h))
+  Morph,                       // t * a + (1 - t) * b
+};
+
+struct Node;
+using NodeRef = std::shared_ptr<Node>;
+
+struct Node {
+  NodeKind kind = NodeKind::Union;
+  SourceRange range;
+  int material = -1;  // index into Scene::materials; -1 inherits from the parent
+
+  // Primitive
+  PrimitiveKind primitive = PrimitiveKind::Sphere;
+  std::vector<Scalar> args;  // flattened parameters, in catalogue order
+
+  // CSG: smooth blend radius (0 = sharp)
+  Scalar smooth;
+  // Translate: offset. Rotate: axis (unit). ScaleNonUniform: factors. Reflect:
+  // normal (unit). Repeat: cell size (0 = not repeated along that axis).
+  // Elongate: half extents.
+  Vec3 vec;
+  // Rotate: angle in degrees; Scale: factor; Reflect: offset; Morph: t.
+  Scalar amount;
+  // Repeat: copies per axis (0 = infinite).
+  glm::ivec3 count{0};
+  // Affine: local = linear * p + offset; distance = scale * child(local).
+  glm::dmat3 linear{1.0};
+  glm::dvec3 offset{0.0};
+  double scale = 1.0;
+
+  std::vector<NodeRef> children;
+
+  // The `let` name when this node is a named definition (emitted as a function).
+  std::string definition;
+
+  // Filled by passes/analysis: conservative bounds (in this node's parent
+  // frame), exactness, Lipschitz constant and evaluation cost.
+  Aabb bounds;
+  bool exact = true;
+  double lipschitz = 1.0;
+  double cost = 0;
+};
+
+enum class MaterialModel { Diffuse = 0, Mirror = 1, Glass = 2, Emissive = 3, Metal = 4 };
+
+struct Material {
+  std::string name;
+  SourceRange range;
+  MaterialModel model = MaterialModel::Diffuse;
+  Vec3 albedo;    // diffuse albedo, mirror tint, glass tint, metal F0
+  Vec3 emission;  // emissive: colour * strength
+  double ior = 1.5;
+  double roughness = 0;  // metal: GGX alpha
+};
+
+struct Camera {
+  glm::dvec3 position{0, 1, 6}, target{0, 0, 0}, up{0, 1, 0};
+  double fov_degrees = 40;
+  double aperture = 0, focus_distance = 0;
+};
+
+struct Sky {
+  glm::dvec3 top{0.6, 0.75, 1.0}, bottom{0.6, 0.75, 1.0};  // equal: constant sky
+  bool gradient() const { return top != bottom; }
+};
+
+struct Sun {
+  glm::dvec3 direction{0.3, 1, 0.2};  // towards the sun, unit
+  double angle_degrees = 2;             // angular radius
+  glm::dvec3 radiance{3, 3, 3};         // colour * strength
+};
+
+struct SphereLight {
+  glm::dvec3 position{0};
+  double radius = 0.5;
+  glm::dvec3 radiance{10};
+};
+
+struct RenderSettings {
+  int width = 640, height = 360, spp = 16, bounces = 3, light_samples = 1;
+};
+
+struct Scene {
+  NodeRef root;  // null when the file has no scene
+  std::vector<Material> materials;
+  Camera camera;
+  Sky sky;
+  std::optional<Sun> sun;
+  std::vector<SphereLight> lights;
+  RenderSettings render;
+  bool uses_time = false;
+};
+
+// Stable text dump for --emit ir and for pass tests (text in, text out).
+std::string dump(const Scene& scene);
+std::string dumpNode(const Node& node, int indent = 0);
+
+}  // namespace sdfc::ir

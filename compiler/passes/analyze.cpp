@@ -1,0 +1,268 @@
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <unordered_set>
+
+#include "passes/passes.h"
+
+namespace sdfc {
+namespace {
+
+using glm::dvec3;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// Largest value a parameter takes over all times (sizes grow with it).
+double upper(const ir::Scalar& s) {
+  const ir::Interval r = s.range();
+  return r.bounded() ? r.hi : kInf;
+}
+
+Aabb transformBox(const Aabb& b, const glm::dmat3& m, const dvec3& t) {
+  if (!b.finite()) return b.empty() ? b : Aabb::infinite();
+  Aabb out;
+  for (int i = 0; i < 8; ++i) {
+    const dvec3 corner((i & 1) ? b.hi.x : b.lo.x, (i & 2) ? b.hi.y : b.lo.y, (i & 4) ? b.hi.z : b.lo.z);
+    const dvec3 q = m * corner + t;
+    out.lo = glm::min(out.lo, q);
+    out.hi = glm::max(out.hi, q);
+  }
+  return out;
+}
+
+class Analyzer {
+ public:
+  explicit Analyzer(Diagnostics& diags) : diags_(diags) {}
+
+  void visit(ir::Node& n) {
+    if (!done_.insert(&n).second) return;
+    for (const ir::NodeRef& c : n.children) visit(*c);
+    n.exact = true;
+    n.lipschitz = 1;
+    n.cost = 0;
+    for (const ir::NodeRef& c : n.children) {
+      n.exact = n.exact && c->exact;
+      n.lipschitz = std::max(n.lipschitz, c->lipschitz);
+      n.cost += c->cost;
+    }
+    const ir::Node* first = n.children.empty() ? nullptr : n.children[0].get();
+    switch (n.kind) {
+      case ir::NodeKind::Primitive: primitive(n); break;
+      case ir::NodeKind::Union:
+      case ir::NodeKind::Intersect:
+      case ir::NodeKind::Subtract: csg(n); break;
+      case ir::NodeKind::Translate: {
+        const ir::Interval x = n.vec.x.range(), y = n.vec.y.range(), z = n.vec.z.range();
+        if (!first->bounds.finite() || !x.bounded() || !y.bounded() || !z.bounded()) {
+          n.bounds = Aabb::infinite();
+        } else {
+          n.bounds = {first->bounds.lo + dvec3(x.lo, y.lo, z.lo), first->bounds.hi + dvec3(x.hi, y.hi, z.hi)};
+        }
+        n.cost += 0.2;
+        break;
+      }
+      case ir::NodeKind::Rotate: {
+        // Time-varying angle: any rotation about the axis; bound by a sphere.
+        const double r = first->bounds.finite()
+                             ? std::max(glm::length(first->bounds.lo), glm::length(first->bounds.hi))
+                             : kInf;
+        n.bounds = std::isfinite(r) ? Aabb{dvec3(-r), dvec3(r)} : Aabb::infinite();
+        n.cost += 0.5;
+        break;
+      }
+      case ir::NodeKind::Scale: {
+        const double s = upper(n.amount);
+        n.bounds = std::isfinite(s) && first->bounds.finite()
+                       ? Aabb{first->bounds.lo * s, first->bounds.hi * s}
+                       : Aabb::infinite();
+        n.cost += 0.2;
+        break;
+      }
+      case ir::NodeKind::ScaleNonUniform: {
+        const dvec3 s(upper(n.vec.x), upper(n.vec.y), upper(n.vec.z));
+        n.bounds = first->bounds.finite() ? Aabb{first->bounds.lo * s, first->bounds.hi * s}
+                                          : Aabb::infinite();
+        n.exact = false;
+        n.cost += 0.3;
+        break;
+      }
+      case ir::NodeKind::Affine: {
+        // local = A p + b  =>  p = A^-1 (local - b)
+        const glm::dmat3 inv = glm::inverse(n.linear);
+        n.bounds = transformBox(first->bounds, inv, -(inv * n.offset));
+        n.cost += 0.3;
+        break;
+      }
+      case ir::NodeKind::Reflect: {
+        const dvec3 nn = n.vec.value();
+        const double o = n.amount.value;
+        const glm::dmat3 householder = glm::dmat3(1.0) - 2.0 * glm::outerProduct(nn, nn);
+        const Aabb mirrored = transformBox(first->bounds, householder, 2.0 * o * nn);
+        n.bounds = first->bounds.unite(mirrored);
+        // Exact only when the child lies wholly in front of the plane.
+        if (first->bounds.finite()) {
+          double lowest = kInf;
+          for (int i = 0; i < 8; ++i) {
+            const Aabb& b = first->bounds;
+            const dvec3 c((i & 1) ? b.hi.x : b.lo.x, (i & 2) ? b.hi.y : b.lo.y, (i & 4) ? b.hi.z : b.lo.z);
+            lowest = std::min(lowest, glm::dot(c, nn) - o);
+          }
+          if (lowest < -1e-12) n.exact = false;
+        } else {
+          n.exact = false;
+        }
+        n.cost += 0.3;
+        break;
+      }
+      case ir::NodeKind::Repeat: repeat(n); break;
+      case ir::NodeKind::Elongate: {
+        const dvec3 h(upper(n.vec.x), upper(n.vec.y), upper(n.vec.z));
+        n.bounds = first->bounds.finite() && std::isfinite(h.x + h.y + h.z)
+                       ? Aabb{first->bounds.lo - h, first->bounds.hi + h}
+                       : Aabb::infinite();
+        n.cost += 0.2;
+        break;
+      }
+      case ir::NodeKind::Morph: {
+        const ir::Interval t = n.amount.range();
+        n.exact = false;
+        if (t.lo >= 0 && t.hi <= 1) {
+          n.bounds = n.children[0]->bounds.unite(n.children[1]->bounds);
+        } else {
+          // Outside [0, 1] the blend extrapolates and may be negative outside both shapes.
+          n.bounds = Aabb::infinite();
+          const double l = t.bounded() ? std::max(std::fabs(t.lo) + std::fabs(1 - t.lo),
+                                                  std::fabs(t.hi) + std::fabs(1 - t.hi))
+                                       : kInf;
+          if (!std::isfinite(l)) {
+            diags_.error(n.range, "morph 't' is unbounded over time, so no step size is safe; "
+                                  "keep it in a range, e.g. with clamp() or sin()");
+          } else {
+            n.lipschitz = std::max(n.lipschitz, l) ;
+          }
+        }
+        n.cost += 0.2;
+        break;
+      }
+    }
+  }
+
+ private:
+  Diagnostics& diags_;
+  std::unordered_set<ir::Node*> done_;
+
+  void primitive(ir::Node& n) {
+    const PrimitiveInfo& info = primitiveInfo(n.primitive);
+    std::vector<double> hi;
+    for (const ir::Scalar& s : n.args) hi.push_back(upper(s));
+    bool finite = true;
+    for (double v : hi) finite = finite && std::isfinite(v);
+    n.bounds = finite ? info.bounds(hi.data()) : Aabb::infinite();
+    n.exact = info.exact;
+    if (n.primitive == PrimitiveKind::Torus && upper(n.args[1]) > n.args[0].range().lo) n.exact = false;
+    n.cost = n.primitive == PrimitiveKind::Menger ? 2 + 2 * n.args[0].value : 1;
+  }
+
+  void csg(ir::Node& n) {
+    const bool smooth = !n.smooth.isConst() || n.smooth.value > 0;
+    if (n.kind == ir::NodeKind::Union) {
+      n.bounds = Aabb{};
+      for (const ir::NodeRef& c : n.children) n.bounds = n.bounds.unite(c->bounds);
+      // The polynomial smooth minimum lowers the field by at most k/4.
+      if (smooth) n.bounds = n.bounds.finite() ? n.bounds.grow(upper(n.smooth) / 4) : n.bounds;
+    } else if (n.kind == ir::NodeKind::Intersect) {
+      n.bounds = Aabb::infinite();
+      for (const ir::NodeRef& c : n.children) n.bounds = n.bounds.intersect(c->bounds);
+      n.exact = false;
+    } else {
+      n.bounds = n.children[0]->bounds;
+      n.exact = false;
+    }
+    if (smooth) n.exact = false;
+    n.cost += 0.1 * static_cast<double>(n.children.size());
+  }
+
+  void repeat(ir::Node& n) {
+    const ir::Node& child = *n.children[0];
+    const dvec3 cell = n.vec.value();
+    n.bounds = child.bounds;
+    double cells_evaluated = 1;
+    for (int a = 0; a < 3; ++a) {
+      if (cell[a] == 0) continue;
+      if (n.count[a] == 0) {
+        n.bounds.lo[a] = -1e300;
+        n.bounds.hi[a] = 1e300;
+      } else if (child.bounds.finite()) {
+        const double spread = (n.count[a] - 1) * 0.5 * cell[a];
+        n.bounds.lo[a] -= spread;
+        n.bounds.hi[a] += spread;
+      }
+      // A child reaching past its cell's border needs the neighbour cell too.
+      const double reach = child.bounds.finite()
+                               ? std::max(std::fabs(child.bounds.lo[a]), std::fabs(child.bounds.hi[a]))
+                               : kInf;
+      if (reach > cell[a] / 2) {
+        cells_evaluated *= 2;
+        n.exact = false;
+        if (reach > cell[a] * 1.5)
+          diags_.warning(n.range, "the repeated shape reaches more than one cell beyond its own "
+                                  "along axis " + std::string(1, "xyz"[a]) +
+                                  "; only neighbouring cells are checked, so its distance may be "
+                                  "too large (use a larger cell)");
+      }
+    }
+    n.cost = child.cost * cells_evaluated + 0.5;
+  }
+};
+
+}  // namespace
+
+void analyze(ir::Scene& scene, Diagnostics& diags) {
+  if (!scene.root) return;
+  Analyzer analyzer(diags);
+  analyzer.visit(*scene.root);
+}
+
+MarchLimits deriveMarchLimits(const ir::Scene& scene, const MarchPolicy& policy) {
+  MarchLimits m;
+  if (policy.paper_baseline || !scene.root) {
+    m.max_distance = 100;
+    m.max_steps = 256;
+    m.hit_epsilon = 1e-3;
+    m.pixel_cone = 0;
+    m.step_scale = 1;
+    return m;
+  }
+  const ir::Node& root = *scene.root;
+  // The finite part of the scene sets its scale; infinite children (planes,
+  // repetitions) are seen out to many times that.
+  Aabb finite_part;
+  bool has_infinite = false;
+  for (const ir::NodeRef& c : root.children) {
+    if (c->bounds.finite()) finite_part = finite_part.unite(c->bounds);
+    else has_infinite = true;
+  }
+  const dvec3 eye = scene.camera.position;
+  double size = 1, reach = 10;
+  if (finite_part.finite()) {
+    size = std::max(glm::length(finite_part.hi - finite_part.lo), 1e-6);
+    reach = glm::length(glm::max(glm::abs(finite_part.lo - eye), glm::abs(finite_part.hi - eye)));
+  }
+  m.max_distance = has_infinite ? std::max(reach * 20, size * 50) : reach * 1.05;
+  // float32 resolves about 2^-23 of the largest coordinate; the epsilon
+  // must stay above a few ulps of it or rays never converge.
+  double magnitude = glm::length(eye);
+  if (finite_part.finite())
+    magnitude = std::max({magnitude, glm::length(finite_part.lo), glm::length(finite_part.hi)});
+  m.hit_epsilon = std::max(size * 1e-5, magnitude * 8 * std::ldexp(1.0, -23));
+  m.pixel_cone = 0.25 * 2 * std::tan(glm::radians(scene.camera.fov_degrees) / 2) /
+                 std::max(policy.image_height, 1);
+  m.step_scale = 1 / std::max(root.lipschitz, 1.0);
+  // Bounds and blends shorten steps; infinite parts lengthen rays.
+  int steps = 160;
+  if (!root.exact) steps += 64;
+  if (has_infinite) steps += 64;
+  m.max_steps = std::min(static_cast<int>(steps / m.step_scale), 512);
+  return m;
+}
+
+}  // namespace sdfc

@@ -1,0 +1,35 @@
+// Passes over the checked scene, run in this order by the driver:
+//  fuseTransforms: constant translate/rotate/scale chains become one affine
+//                  map; identities vanish.
+//  analyze:        per node, conservative bounds, exactness, Lipschitz
+//                  constant and evaluation cost (what the emitter's bounding
+//                  volumes and step scaling need).
+//  deriveMarchLimits: max distance, step budget and hit epsilon per scene.
+#pragma once
+#include "diag/diagnostics.h"
+#include "ir/scene.h"
+
+namespace sdfc {
+
+void fuseTransforms(ir::Scene& scene);
+void analyze(ir::Scene& scene, Diagnostics& diags);
+
+struct MarchLimits {
+  double max_distance = 100;
+  int max_steps = 128;
+  double hit_epsilon = 1e-4;  // absolute floor
+  double pixel_cone = 0;      // epsilon grows by t * this
+  double step_scale = 1;      // 1 / Lipschitz constant of the scene
+};
+
+struct MarchPolicy {
+  bool paper_baseline = false;  // fixed epsilon 1e-3, 256 steps, max distance 100
+  int image_height = 360;       // for the pixel-footprint epsilon
+};
+
+MarchLimits deriveMarchLimits(const ir::Scene& scene, const MarchPolicy& policy);
+
+// Rotation by `degrees` about unit `axis` (right-handed), as a matrix.
+glm::dmat3 rotationMatrix(glm::dvec3 axis, double degrees);
+
+}  // namespace sdfc

@@ -1,0 +1,315 @@
+// Exact distances follow Inigo Quilez's catalogue ("distance functions",
+// iquilezles.org/articles/distfunctions) unless noted; every one is checked
+// against an independent closed form and a brute-force surface sampling in
+// tests/primitives_test.cpp. The seed paper's torus, cylinder, cone and box
+// formulas are bounds or wrong; these are not.
+#include "shapes/primitives.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace sdfc {
+namespace {
+
+using glm::dvec2;
+using glm::dvec3;
+
+double len2(dvec2 v) { return std::sqrt(v.x * v.x + v.y * v.y); }
+
+// Exact distance to the 2D box |x| <= h, the core of every extrusion below.
+double box2(dvec2 q) {
+  return len2(glm::max(q, dvec2(0))) + std::min(std::max(q.x, q.y), 0.0);
+}
+
+double sphere(const double* a, const dvec3& p) { return glm::length(p) - a[0]; }
+Aabb sphereBounds(const double* a) { return {dvec3(-a[0]), dvec3(a[0])}; }
+
+// box(size, rounding): full side lengths; rounding rounds the edges inward.
+double box(const double* a, const dvec3& p) {
+  const dvec3 h = dvec3(a[0], a[1], a[2]) * 0.5 - a[3];
+  const dvec3 q = glm::abs(p) - h;
+  return glm::length(glm::max(q, dvec3(0))) + std::min(std::max(q.x, std::max(q.y, q.z)), 0.0) -
+         a[3];
+}
+Aabb boxBounds(const double* a) {
+  const dvec3 h = dvec3(a[0], a[1], a[2]) * 0.5;
+  return {-h, h};
+}
+
+// torus(major, minor): ring in the xz plane (the paper's uses xy and is not
+// a distance at all: it subtracts r2^2 under the root).
+double torus(const double* a, const dvec3& p) {
+  return len2(dvec2(len2(dvec2(p.x, p.z)) - a[0], p.y)) - a[1];
+}
+Aabb torusBounds(const double* a) {
+  const double r = a[0] + a[1];
+  return {dvec3(-r, -a[1], -r), dvec3(r, a[1], r)};
+}
+
+// cylinder(radius, height): axis y, centred; the paper's uses p.xy for the
+// radius (wrong axis) and max() (a bound outside the rims).
+double cylinder(const double* a, const dvec3& p) {
+  return box2(dvec2(len2(dvec2(p.x, p.z)) - a[0], std::fabs(p.y) - a[1] * 0.5));
+}
+Aabb cylinderBounds(const double* a) {
+  return {dvec3(-a[0], -a[1] * 0.5, -a[0]), dvec3(a[0], a[1] * 0.5, a[0])};
+}
+
+// cone(radius, height): base disc radius r at y = 0, apex at y = h. Exact
+// distance to the solid of revolution of the triangle (0,0)-(r,0)-(0,h):
+// the nearer of the base segment and the slant segment, signed by inside-ness.
+double cone(const double* a, const dvec3& p) {
+  const double r = a[0], h = a[1];
+  const dvec2 q(len2(dvec2(p.x, p.z)), p.y);
+  // Base segment from (0,0) to (r,0).
+  const dvec2 to_base = q - dvec2(std::clamp(q.x, 0.0, r), 0.0);
+  // Slant segment from (r,0) to (0,h).
+  const dvec2 e(-r, h);
+  const double t = std::clamp(glm::dot(q - dvec2(r, 0), e) / glm::dot(e, e), 0.0, 1.0);
+  const dvec2 to_slant = q - (dvec2(r, 0) + e * t);
+  const double d = std::sqrt(std::min(glm::dot(to_base, to_base), glm::dot(to_slant, to_slant)));
+  // Inside: above the base and below the slant line (q.x/r + q.y/h < 1).
+  const bool inside = q.y > 0 && q.x * h + q.y * r < r * h;
+  return inside ? -d : d;
+}
+Aabb coneBounds(const double* a) { return {dvec3(-a[0], 0, -a[0]), dvec3(a[0], a[1], a[0])}; }
+
+// plane(normal, offset): the half-space dot(p, n) <= offset, n normalised.
+double plane(const double* a, const dvec3& p) {
+  const dvec3 n = glm::normalize(dvec3(a[0], a[1], a[2]));
+  return glm::dot(p, n) - a[3];
+}
+Aabb planeBounds(const double*) { return Aabb::infinite(); }
+
+// capsule(radius, height): a segment along y of length `height`, centred.
+double capsule(const double* a, const dvec3& p) {
+  const double h = a[1] * 0.5;
+  return glm::length(dvec3(p.x, p.y - std::clamp(p.y, -h, h), p.z)) - a[0];
+}
+Aabb capsuleBounds(const double* a) {
+  return {dvec3(-a[0], -a[1] * 0.5 - a[0], -a[0]), dvec3(a[0], a[1] * 0.5 + a[0], a[0])};
+}
+
+// Exact distance to an equilateral triangle of side s in the xy plane,
+// centred on its centroid, apex up: the distance to the nearest edge,
+// negative inside. Edges are tested directly (no symmetry folding) so that
+// this form is independent of the GLSL one.
+double triangle2(dvec2 p, double s) {
+  const double h = s * std::sqrt(3.0) / 2;
+  const dvec2 v[3] = {dvec2(-s / 2, -h / 3), dvec2(s / 2, -h / 3), dvec2(0, 2 * h / 3)};
+  double best = 1e300;
+  bool inside = true;
+  for (int i = 0; i < 3; ++i) {
+    const dvec2 a = v[i], b = v[(i + 1) % 3];
+    const dvec2 e = b - a, w = p - a;
+    const double t = std::clamp(glm::dot(w, e) / glm::dot(e, e), 0.0, 1.0);
+    best = std::min(best, glm::length(w - e * t));
+    if (e.x * w.y - e.y * w.x < 0) inside = false;  // counter-clockwise vertices
+  }
+  return inside ? -best : best;
+}
+
+// prism(size, depth): equilateral triangle of side `size` (xy, apex +y),
+// extruded along z over `depth`. Exact, as an extrusion of an exact 2D
+// distance (Quilez's opExtrusion); his sdTriPrism is only a bound.
+double triPrism(const double* a, const dvec3& p) {
+  return box2(dvec2(triangle2(dvec2(p.x, p.y), a[0]), std::fabs(p.z) - a[1] * 0.5));
+}
+Aabb triPrismBounds(const double* a) {
+  const double h = a[0] * std::sqrt(3.0) / 2;
+  return {dvec3(-a[0] / 2, -h / 3, -a[1] / 2), dvec3(a[0] / 2, 2 * h / 3, a[1] / 2)};
+}
+
+// hexprism(radius, depth): regular hexagon with inradius `radius` in xy
+// (flat top and bottom), extruded along z. Exact as an extrusion.
+double hexagon2(dvec2 p, double r) {
+  // Fold into one sextant: the distance to the edge y = r over |x| <= r/sqrt3.
+  p = glm::abs(p);
+  const dvec2 k(-std::sqrt(3.0) / 2, 0.5);  // normal of the slanted mirror line
+  p -= 2.0 * std::min(glm::dot(k, p), 0.0) * k;
+  const double half = r / std::sqrt(3.0);
+  const dvec2 to_edge = p - dvec2(std::clamp(p.x, -half, half), r);
+  return glm::length(to_edge) * (p.y > r ? 1.0 : -1.0);
+}
+double hexPrism(const double* a, const dvec3& p) {
+  return box2(dvec2(hexagon2(dvec2(p.x, p.y), a[0]), std::fabs(p.z) - a[1] * 0.5));
+}
+Aabb hexPrismBounds(const double* a) {
+  const double c = a[0] * 2 / std::sqrt(3.0);
+  return {dvec3(-c, -a[0], -a[1] / 2), dvec3(c, a[0], a[1] / 2)};
+}
+
+// menger(level, size): a cube of side `size` minus, per level k, the
+// infinitely repeated cross of square bars (period size/3^(k-1), bar width a
+// third of it). Each repeated cross is an exact distance; their max is a
+// bound (exact inside), Lipschitz 1.
+double menger(const double* a, const dvec3& p) {
+  const int level = static_cast<int>(a[0]);
+  const double size = a[1];
+  const double half = size / 2;
+  const dvec3 q = glm::abs(p) - dvec3(half);
+  double d = glm::length(glm::max(q, dvec3(0))) + std::min(std::max(q.x, std::max(q.y, q.z)), 0.0);
+  double cell = size;  // period of this level's crosses
+  for (int k = 0; k < level; ++k) {
+    // Coordinates relative to the nearest cell centre; the cube's corner is a cell corner.
+    dvec3 r = p + dvec3(half);
+    r = r - cell * glm::floor(r / cell) - dvec3(cell / 2);
+    r = glm::abs(r);
+    const double w = cell / 6;  // half width of the bars
+    // Distance to the union of three infinite bars (each a 2D square in the
+    // other two axes): inside the cross when two coordinates are under w.
+    const double bx = box2(dvec2(r.y - w, r.z - w));
+    const double by = box2(dvec2(r.z - w, r.x - w));
+    const double bz = box2(dvec2(r.x - w, r.y - w));
+    d = std::max(d, -std::min(bx, std::min(by, bz)));
+    cell /= 3;
+  }
+  return d;
+}
+Aabb mengerBounds(const double* a) { return {dvec3(-a[1] / 2), dvec3(a[1] / 2)}; }
+
+const ParamSpec kRadius{"radius", ParamType::Number, ParamRule::Positive, false, {}};
+const ParamSpec kHeight{"height", ParamType::Number, ParamRule::Positive, false, {}};
+
+// GLSL twins of the functions above. They are written for float32 and for
+// speed (symmetry folding), so they are tested against the float64 ones.
+const char* kSphereGlsl = R"(float sdSphere(vec3 p, float r) { return length(p) - r; }
+)";
+const char* kBoxGlsl = R"(float sdBox(vec3 p, vec3 size, float rounding) {
+  vec3 q = abs(p) - (0.5 * size - rounding);
+  return length(max(q, 0.0)) + min(max(q.x, max(q.y, q.z)), 0.0) - rounding;
+}
+)";
+const char* kTorusGlsl = R"(float sdTorus(vec3 p, float major, float minor) {
+  return length(vec2(length(p.xz) - major, p.y)) - minor;
+}
+)";
+const char* kBox2Glsl = R"(float sdBox2(vec2 q) { return length(max(q, 0.0)) + min(max(q.x, q.y), 0.0); }
+)";
+const char* kCylinderGlsl = R"(float sdCylinder(vec3 p, float r, float h) {
+  return sdBox2(vec2(length(p.xz) - r, abs(p.y) - 0.5 * h));
+}
+)";
+const char* kConeGlsl = R"(float sdCone(vec3 p, float r, float h) {
+  vec2 q = vec2(length(p.xz), p.y);
+  vec2 to_base = vec2(q.x - min(q.x, r), q.y);
+  vec2 e = vec2(-r, h);
+  vec2 to_slant = q - vec2(r, 0.0) - e * clamp(dot(q - vec2(r, 0.0), e) / dot(e, e), 0.0, 1.0);
+  float d = sqrt(min(dot(to_base, to_base), dot(to_slant, to_slant)));
+  return (q.y > 0.0 && q.x * h + q.y * r < r * h) ? -d : d;
+}
+)";
+const char* kPlaneGlsl = R"(float sdPlane(vec3 p, vec3 n, float offset) { return dot(p, n) - offset; }
+)";
+const char* kCapsuleGlsl = R"(float sdCapsule(vec3 p, float r, float h) {
+  p.y -= clamp(p.y, -0.5 * h, 0.5 * h);
+  return length(p) - r;
+}
+)";
+// Equilateral triangle by folding (Quilez, sdEquilateralTriangle), shifted so
+// the centroid is at the origin, then extruded.
+const char* kTriPrismGlsl = R"(float sdTriPrism(vec3 p, float size, float depth) {
+  const float k = sqrt(3.0);
+  float r = 0.5 * size;
+  vec2 q = vec2(abs(p.x) - r, p.y + r / k);
+  if (q.x + k * q.y > 0.0) q = vec2(q.x - k * q.y, -k * q.x - q.y) / 2.0;
+  q.x -= clamp(q.x, -2.0 * r, 0.0);
+  float d2 = -length(q) * sign(q.y);
+  return sdBox2(vec2(d2, abs(p.z) - 0.5 * depth));
+}
+)";
+const char* kHexPrismGlsl = R"(float sdHexPrism(vec3 p, float r, float depth) {
+  const vec2 k = vec2(-0.8660254037844386, 0.5);
+  vec2 q = abs(p.xy);
+  q -= 2.0 * min(dot(k, q), 0.0) * k;
+  float half_edge = r * 0.5773502691896258;
+  float d2 = length(q - vec2(clamp(q.x, -half_edge, half_edge), r)) * sign(q.y - r);
+  return sdBox2(vec2(d2, abs(p.z) - 0.5 * depth));
+}
+)";
+const char* kMengerGlsl = R"(float sdMenger(vec3 p, int level, float size) {
+  float half_size = 0.5 * size;
+  vec3 q = abs(p) - half_size;
+  float d = length(max(q, 0.0)) + min(max(q.x, max(q.y, q.z)), 0.0);
+  float cell = size;
+  for (int k = 0; k < level; ++k) {
+    vec3 r = p + half_size;
+    r = abs(r - cell * floor(r / cell) - 0.5 * cell);
+    float w = cell / 6.0;
+    float bars = min(sdBox2(vec2(r.y - w, r.z - w)),
+                     min(sdBox2(vec2(r.z - w, r.x - w)), sdBox2(vec2(r.x - w, r.y - w))));
+    d = max(d, -bars);
+    cell /= 3.0;
+  }
+  return d;
+}
+)";
+
+}  // namespace
+
+bool Aabb::finite() const {
+  return !empty() && glm::all(glm::lessThan(glm::abs(lo), dvec3(1e299))) &&
+         glm::all(glm::lessThan(glm::abs(hi), dvec3(1e299)));
+}
+
+const std::vector<PrimitiveInfo>& primitiveCatalogue() {
+  static const std::vector<PrimitiveInfo> catalogue = {
+      {PrimitiveKind::Sphere, "sphere", {kRadius}, sphere, sphereBounds, "sdSphere", kSphereGlsl,
+       true, "sphere of `radius` at the origin"},
+      {PrimitiveKind::Box, "box",
+       {{"size", ParamType::Vector, ParamRule::PositiveVector, false, {}},
+        {"rounding", ParamType::Number, ParamRule::NonNegative, true, dvec3(0)}},
+       box, boxBounds, "sdBox", kBoxGlsl, true, "box of full side lengths `size`, edges rounded by `rounding`"},
+      {PrimitiveKind::Torus, "torus",
+       {{"major", ParamType::Number, ParamRule::Positive, false, {}},
+        {"minor", ParamType::Number, ParamRule::Positive, false, {}}},
+       torus, torusBounds, "sdTorus", kTorusGlsl, true, "ring of radius `major` in the xz plane, tube radius `minor`"},
+      {PrimitiveKind::Cylinder, "cylinder", {kRadius, kHeight}, cylinder, cylinderBounds,
+       "sdCylinder", kCylinderGlsl, true, "cylinder along y, centred, full `height`"},
+      {PrimitiveKind::Cone, "cone", {kRadius, kHeight}, cone, coneBounds, "sdCone", kConeGlsl,
+       true, "cone with base `radius` at y = 0 and apex at y = `height`"},
+      {PrimitiveKind::Plane, "plane",
+       {{"normal", ParamType::Vector, ParamRule::NonZeroVector, true, dvec3(0, 1, 0)},
+        {"offset", ParamType::Number, ParamRule::Any, true, dvec3(0)}},
+       plane, planeBounds, "sdPlane", kPlaneGlsl, true, "half-space below dot(p, normal) = offset"},
+      {PrimitiveKind::Capsule, "capsule", {kRadius, kHeight}, capsule, capsuleBounds,
+       "sdCapsule", kCapsuleGlsl, true, "segment along y of length `height`, thickened by `radius`"},
+      {PrimitiveKind::TriPrism, "prism",
+       {{"size", ParamType::Number, ParamRule::Positive, false, {}},
+        {"depth", ParamType::Number, ParamRule::Positive, false, {}}},
+       triPrism, triPrismBounds, "sdTriPrism", kTriPrismGlsl, true,
+       "equilateral triangle of side `size` (xy, apex up) extruded along z over `depth`"},
+      {PrimitiveKind::HexPrism, "hexprism",
+       {kRadius, {"depth", ParamType::Number, ParamRule::Positive, false, {}}},
+       hexPrism, hexPrismBounds, "sdHexPrism", kHexPrismGlsl, true,
+       "hexagon of inradius `radius` (xy) extruded along z over `depth`"},
+      {PrimitiveKind::Menger, "menger",
+       {{"level", ParamType::Number, ParamRule::NonNegative, false, {}},
+        {"size", ParamType::Number, ParamRule::Positive, true, dvec3(1)}},
+       menger, mengerBounds, "sdMenger", kMengerGlsl, false,
+       "Menger sponge of `level` iterations in a cube of side `size`"},
+  };
+  return catalogue;
+}
+
+const PrimitiveInfo* findPrimitive(const std::string& name) {
+  for (const PrimitiveInfo& p : primitiveCatalogue())
+    if (name == p.name) return &p;
+  return nullptr;
+}
+
+const PrimitiveInfo& primitiveInfo(PrimitiveKind kind) {
+  for (const PrimitiveInfo& p : primitiveCatalogue())
+    if (p.kind == kind) return p;
+  return primitiveCatalogue()[0];
+}
+
+const char* box2Glsl() { return kBox2Glsl; }
+
+int flattenedParamCount(const PrimitiveInfo& info) {
+  int n = 0;
+  for (const ParamSpec& s : info.params) n += s.type == ParamType::Vector ? 3 : 1;
+  return n;
+}
+
+}  // namespace sdfc
