@@ -284,6 +284,15 @@ void destroyRenderTarget(RenderTarget& target, const VulkanContext& context) {
 
 void runPass(const VulkanContext& context, const RenderPipeline& pipeline, RenderTarget& target,
              const void* push_constants, double timeout_seconds) {
+  const double clamped = std::fmax(0.0, std::fmin(timeout_seconds, 1.0e9));
+  const uint64_t timeout_ns = static_cast<uint64_t>(clamped * 1e9);
+  if (target.pending) {
+    // A previous pass timed out: its command buffer may still execute.
+    const VkResult wait = vkWaitForFences(context.device, 1, &target.fence, VK_TRUE, timeout_ns);
+    if (wait == VK_TIMEOUT) throw RuntimeError("the previous render pass is still running");
+    if (wait != VK_SUCCESS) throwVkError(wait, "vkWaitForFences", __FILE__, __LINE__);
+    target.pending = false;
+  }
   VkCommandBuffer cmd = target.command_buffer;
   VK_CHECK(vkResetCommandBuffer(cmd, 0));
   VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
@@ -330,15 +339,15 @@ void runPass(const VulkanContext& context, const RenderPipeline& pipeline, Rende
   submit.commandBufferCount = 1;
   submit.pCommandBuffers = &cmd;
   VK_CHECK(vkQueueSubmit(context.queue, 1, &submit, target.fence));
+  target.pending = true;
 
   // Lavapipe has no watchdog: a runaway shader would block forever without our own limit.
-  const double clamped = std::fmax(0.0, std::fmin(timeout_seconds, 1.0e9));
-  const uint64_t timeout_ns = static_cast<uint64_t>(clamped * 1e9);
   const VkResult wait = vkWaitForFences(context.device, 1, &target.fence, VK_TRUE, timeout_ns);
   if (wait == VK_TIMEOUT)
     throw RuntimeError("render pass did not finish within " + std::to_string(timeout_seconds) +
                        " s (GPU hang or a pass too heavy; lower samples per pass)");
   if (wait != VK_SUCCESS) throwVkError(wait, "vkWaitForFences", __FILE__, __LINE__);
+  target.pending = false;
 
   if (!target.staging_coherent) {
     VkMappedMemoryRange range{VK_STRUCTURE_TYPE_MAPPED_MEMORY_RANGE};

@@ -39,6 +39,7 @@ struct RenderTarget {
   const float* mapped = nullptr;  // kAttachmentCount images of width*height*4 floats, in order
   VkCommandBuffer command_buffer = VK_NULL_HANDLE;
   VkFence fence = VK_NULL_HANDLE;
+  bool pending = false;  // submitted, fence not yet seen signalled (after a timeout)
 
   size_t floatsPerImage() const { return size_t(width) * height * 4; }
 };

@@ -266,6 +266,10 @@ TEST(RuntimeFence, TimeoutIsAnErrorNotAHang) {
     } catch (const RuntimeError& error) {
       EXPECT_NE(std::string(error.what()).find("did not finish"), std::string::npos);
     }
+    // The renderer stays usable: the next render waits for the stuck pass first.
+    settings.pass_timeout_seconds = 60.0;  // same size: same target, still pending
+    const RenderOutput out = renderer.render(CameraDesc{}, settings);
+    EXPECT_EQ(out.samples_done, 1u);
   }  // destruction waits for the device, so no validation errors follow
   destroyContext(context);
   EXPECT_EQ(validationMessageCount(), 0);
