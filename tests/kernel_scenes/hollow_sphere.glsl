@@ -1,7 +1,7 @@
 // The camera inside a closed diffuse sphere (radius 5) that both emits and
 // reflects: radiance is emission * sum_{k=0..B} albedo^k with B bounces.
 const float kSceneMaxDist = 20.0;
-const int kSceneMaxSteps = 64;
+const int kSceneMaxSteps = 400;  // grazing chords of a cavity converge slowly
 const float kSceneHitEps = 1e-4;
 const float kScenePixelCone = 0.0;
 const float kSceneStepScale = 1.0;
