@@ -255,7 +255,7 @@ MarchLimits deriveMarchLimits(const ir::Scene& scene, const MarchPolicy& policy)
     magnitude = std::max({magnitude, glm::length(finite_part.lo), glm::length(finite_part.hi)});
   m.hit_epsilon = std::max(size * 1e-5, magnitude * 8 * std::ldexp(1.0, -23));
   m.pixel_cone = 0.25 * 2 * std::tan(glm::radians(scene.camera.fov_degrees) / 2) /
-                 std::max(policy.image_height, 1);
+                 std::max(policy.image_height > 0 ? policy.image_height : scene.render.height, 1);
   m.step_scale = 1 / std::max(root.lipschitz, 1.0);
   // Bounds and blends shorten steps; infinite parts lengthen rays.
   int steps = 160;

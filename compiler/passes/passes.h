@@ -24,7 +24,7 @@ struct MarchLimits {
 
 struct MarchPolicy {
   bool paper_baseline = false;  // fixed epsilon 1e-3, 256 steps, max distance 100
-  int image_height = 360;       // for the pixel-footprint epsilon
+  int image_height = 0;         // for the pixel-footprint epsilon; 0 = the scene's
 };
 
 MarchLimits deriveMarchLimits(const ir::Scene& scene, const MarchPolicy& policy);

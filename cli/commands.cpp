@@ -1,0 +1,197 @@
+#include "commands.h"
+
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+#include <unistd.h>
+
+#include "cli_support.h"
+#include "eval/evaluator.h"
+#include "spirv/glsl_to_spirv.h"
+#include "vulkan_context.h"
+
+namespace sdfc {
+
+void registerCommands(CLI::App& app, CommandLine& cl) {
+  auto common = [&](CLI::App* sub, bool needs_input = true) {
+    if (needs_input) sub->add_option("scene", cl.input, "the .sdf file")->required();
+    sub->add_option("-D,--define", cl.defines, "override a `let` number: -D name=value");
+    sub->add_option("--diagnostics-format", cl.diagnostics_format, "text or json")
+        ->check(CLI::IsMember({"text", "json"}));
+    sub->add_flag("--Werror", cl.werror, "treat warnings as errors");
+    sub->callback([&cl, sub] { cl.command = sub->get_name(); });
+  };
+  auto emit_flags = [&](CLI::App* sub) {
+    sub->add_flag("--no-bounds", cl.no_bounds, "do not skip subtrees by their bounding volumes");
+    sub->add_flag("--no-fuse", cl.no_fuse, "do not fuse transform chains");
+    sub->add_flag("-O,--optimize", cl.optimize, "run spirv-opt's performance passes");
+    sub->add_flag("--paper-baseline", cl.paper_baseline,
+                  "march like the paper: fixed epsilon 1e-3, 256 steps, max distance 100");
+    sub->add_flag("--white-noise", cl.white_noise, "PCG hash sampler instead of Owen-scrambled Sobol");
+  };
+
+  CLI::App* check = app.add_subcommand("check", "report the scene's diagnostics");
+  common(check);
+
+  CLI::App* compile = app.add_subcommand("compile", "compile to GLSL, SPIR-V or IR");
+  common(compile);
+  compile->add_option("-o,--output", cl.output, "output file (default: stdout for text)");
+  compile->add_option("--emit", cl.emit, "glsl | spv | spvasm | ir")
+      ->check(CLI::IsMember({"glsl", "spv", "spvasm", "ir"}));
+  compile->add_flag("--line-directives", cl.line_directives,
+                    "emit #line so shader errors point at the .sdf");
+  emit_flags(compile);
+
+  CLI::App* render = app.add_subcommand("render", "path-trace the scene to an image");
+  common(render);
+  render->add_option("-o,--output", cl.output, "image: .png, .exr or .pfm")->required();
+  render->add_option("--size", cl.size, "WxH, e.g. 640x360");
+  render->add_option("--spp", cl.spp, "samples per pixel")->check(CLI::Range(1, 1 << 20));
+  render->add_option("--bounces", cl.bounces, "maximum path length")->check(CLI::Range(0, 64));
+  render->add_option("--light-samples", cl.light_samples, "light samples per vertex")
+      ->check(CLI::Range(0, 16));
+  render->add_option("--denoise", cl.denoiser, "none | bilateral | atrous")
+      ->check(CLI::IsMember({"none", "bilateral", "atrous"}));
+  render->add_option("--view", cl.view, "beauty | normal | steps | depth | albedo | iterations")
+      ->check(CLI::IsMember({"beauty", "normal", "steps", "depth", "albedo", "iterations"}));
+  render->add_option("--time", cl.time, "scene time in seconds");
+  render->add_option("--frames", cl.frames,
+                     "A-B:step, a frame sequence over time; the output name gets a frame number");
+  render->add_option("--seed", cl.seed, "random seed");
+  render->add_option("--device", cl.device, "Vulkan device index (see `sdfc devices`)");
+  render->add_option("--exposure", cl.exposure, "exposure in stops for PNG output");
+  render->add_flag("--aces", cl.aces, "ACES filmic tone curve for PNG (default: clamp)");
+  render->add_flag("-q,--quiet", cl.quiet, "no progress output");
+  emit_flags(render);
+
+  CLI::App* eval = app.add_subcommand(
+      "eval", "print float64 distances at points `x y z`, one a line (stdin or --points)");
+  common(eval);
+  eval->add_option("--points", cl.points, "file of points (default: stdin)");
+  eval->add_option("--time", cl.time, "scene time in seconds");
+  eval->add_flag("--gradient", cl.gradient, "also print the gradient");
+  eval->add_flag("--material", cl.material, "also print the material name");
+
+  CLI::App* mesh = app.add_subcommand("mesh", "export a triangle mesh (.glb, .gltf or .stl)");
+  common(mesh);
+  mesh->add_option("-o,--output", cl.output, "mesh file")->required();
+  mesh->add_option("--resolution", cl.resolution, "cells along the longest side")
+      ->check(CLI::Range(4, 1024));
+  mesh->add_option("--voxel-size", cl.voxel_size, "cell size (overrides --resolution)");
+  mesh->add_option("--box", cl.box, "x0,y0,z0,x1,y1,z1: region for infinite scenes");
+  mesh->add_option("--time", cl.time, "scene time in seconds");
+  mesh->add_flag("-q,--quiet", cl.quiet, "no progress output");
+
+  CLI::App* devices = app.add_subcommand("devices", "list Vulkan devices");
+  devices->callback([&cl] { cl.command = "devices"; });
+}
+
+int runCommand(const CommandLine& cl) {
+  if (cl.command == "check") return runCheck(cl);
+  if (cl.command == "compile") return runCompile(cl);
+  if (cl.command == "render") return runRender(cl);
+  if (cl.command == "eval") return runEval(cl);
+  if (cl.command == "mesh") return runMesh(cl);
+  if (cl.command == "devices") return runDevices(cl);
+  return kExitUsage;
+}
+
+int runCheck(const CommandLine& cl) {
+  Diagnostics diags;
+  LoadedScene loaded = loadScene(cl, diags, false);
+  return loaded.exit_code;
+}
+
+int runCompile(const CommandLine& cl) {
+  Diagnostics diags;
+  const bool needs_spirv = cl.emit == "spv" || cl.emit == "spvasm";
+  LoadedScene loaded = loadScene(cl, diags, true, needs_spirv);
+  if (loaded.exit_code != kExitOk) return loaded.exit_code;
+  const CompiledScene& c = loaded.compiled;
+  if (cl.emit == "spv") {
+    if (cl.output.empty()) {
+      std::cerr << "sdfc: error: --emit spv needs -o (binary output)\n";
+      return kExitUsage;
+    }
+    std::string bytes(reinterpret_cast<const char*>(c.spirv.data()), c.spirv.size() * 4);
+    writeFileAtomically(cl.output, bytes);
+    return kExitOk;
+  }
+  std::string text = cl.emit == "glsl"    ? c.emitted.glsl
+                     : cl.emit == "ir"    ? ir::dump(c.scene)
+                                          : disassembleSpirv(c.spirv);
+  if (cl.output.empty() || cl.output == "-") {
+    std::cout << text;
+  } else {
+    writeFileAtomically(cl.output, text);
+  }
+  return kExitOk;
+}
+
+int runEval(const CommandLine& cl) {
+  Diagnostics diags;
+  LoadedScene loaded = loadScene(cl, diags, false);
+  if (loaded.exit_code != kExitOk) return loaded.exit_code;
+  const ir::Scene& scene = loaded.compiled.scene;
+  Evaluator evaluator(scene, cl.time);
+  std::ifstream file;
+  if (!cl.points.empty()) {
+    file.open(cl.points);
+    if (!file) {
+      std::cerr << "sdfc: error: cannot read '" << cl.points << "'\n";
+      return kExitIo;
+    }
+  }
+  std::istream& in = cl.points.empty() ? std::cin : file;
+  std::string line;
+  int line_number = 0;
+  int bad = 0;
+  while (std::getline(in, line)) {
+    ++line_number;
+    if (line.find_first_not_of(" \t\r") == std::string::npos || line[0] == '#') continue;
+    std::istringstream words(line);
+    glm::dvec3 p;
+    std::string extra;
+    if (!(words >> p.x >> p.y >> p.z) || (words >> extra)) {
+      std::cerr << (cl.points.empty() ? "<stdin>" : cl.points) << ":" << line_number
+                << ": error: expected three numbers 'x y z'\n";
+      ++bad;
+      continue;
+    }
+    const EvalResult r = evaluator.at(p);
+    std::printf("%.17g", r.distance);
+    if (cl.gradient) {
+      const glm::dvec3 g = evaluator.gradient(p);
+      std::printf(" %.12g %.12g %.12g", g.x, g.y, g.z);
+    }
+    if (cl.material) {
+      std::string name = "-";
+      if (r.material >= 0) {
+        name = scene.materials[r.material].name;
+        if (name.empty()) name = "material" + std::to_string(r.material);
+      }
+      std::printf(" %s", name.c_str());
+    }
+    std::printf("\n");
+  }
+  return bad ? kExitUsage : kExitOk;
+}
+
+int runDevices(const CommandLine&) {
+  const std::vector<DeviceInfo> devices = listDevices();
+  if (devices.empty()) {
+    std::cerr << "sdfc: error: no Vulkan device (install mesa-vulkan-drivers for lavapipe)\n";
+    return kExitDevice;
+  }
+  for (const DeviceInfo& d : devices) {
+    const char* type = d.type == VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU     ? "discrete GPU"
+                       : d.type == VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU ? "integrated GPU"
+                       : d.type == VK_PHYSICAL_DEVICE_TYPE_CPU            ? "CPU"
+                                                                          : "other";
+    std::cout << d.index << ": " << d.name << " (" << type << ")\n";
+  }
+  return kExitOk;
+}
+
+}  // namespace sdfc

@@ -1,0 +1,67 @@
+// The subcommands of `sdfc`: their options (filled by CLI11) and their runs.
+#pragma once
+#include <CLI/CLI.hpp>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace sdfc {
+
+inline constexpr const char* kSdfcVersion = "0.1.0";
+
+// Exit codes: distinct per kind of failure, so scripts can tell them apart.
+inline constexpr int kExitOk = 0;
+inline constexpr int kExitScene = 1;      // the scene has errors
+inline constexpr int kExitUsage = 2;      // bad command line
+inline constexpr int kExitDevice = 3;     // Vulkan device or runtime failure
+inline constexpr int kExitIo = 4;         // files that cannot be read or written
+inline constexpr int kExitInterrupted = 130;
+
+struct CommandLine {
+  std::string command;
+  std::string input;
+  std::string output;
+  std::vector<std::string> defines;  // -D name=value
+  std::string diagnostics_format = "text";
+  bool werror = false;
+  // compile
+  std::string emit = "glsl";
+  bool line_directives = false;
+  bool no_bounds = false;
+  bool no_fuse = false;
+  bool optimize = false;
+  bool paper_baseline = false;
+  bool white_noise = false;
+  // render
+  std::string size;
+  int spp = 0, bounces = -1, light_samples = -1;
+  std::string denoiser = "none";
+  std::string view = "beauty";
+  double time = 0;
+  std::string frames;
+  unsigned seed = 0;
+  int device = -1;
+  double exposure = 0;
+  bool aces = false;
+  bool quiet = false;
+  // eval
+  std::string points;
+  bool gradient = false;
+  bool material = false;
+  // mesh
+  int resolution = 128;
+  double voxel_size = 0;
+  std::string box;
+};
+
+void registerCommands(CLI::App& app, CommandLine& cl);
+int runCommand(const CommandLine& cl);
+
+int runCheck(const CommandLine& cl);
+int runCompile(const CommandLine& cl);
+int runRender(const CommandLine& cl);
+int runEval(const CommandLine& cl);
+int runMesh(const CommandLine& cl);
+int runDevices(const CommandLine& cl);
+
+}  // namespace sdfc

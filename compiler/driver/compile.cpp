@@ -1,0 +1,76 @@
+#include "driver/compile.h"
+
+#include <chrono>
+
+#include "passes/passes.h"
+#include "spirv/glsl_to_spirv.h"
+#include "syntax/parser.h"
+
+namespace sdfc {
+namespace {
+
+double secondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+CompiledScene frontEnd(const std::string& path, std::string text, const CompileOptions& options,
+                       Diagnostics& diags) {
+  CompiledScene out;
+  out.source = std::make_unique<SourceFile>(path, std::move(text));
+  auto t0 = std::chrono::steady_clock::now();
+  ast::File ast = parse(*out.source, diags);
+  out.times.parse = secondsSince(t0);
+  t0 = std::chrono::steady_clock::now();
+  out.scene = check(ast, *out.source, diags, options.check);
+  out.times.check = secondsSince(t0);
+  if (diags.hasErrors() || !out.scene.root) return out;
+  t0 = std::chrono::steady_clock::now();
+  if (options.fuse_transforms) fuseTransforms(out.scene);
+  analyze(out.scene, diags);
+  out.times.passes = secondsSince(t0);
+  return out;
+}
+
+}  // namespace
+
+CompiledScene checkSource(const std::string& path, std::string text, const CompileOptions& options,
+                          Diagnostics& diags) {
+  CompiledScene out = frontEnd(path, std::move(text), options, diags);
+  out.ok = !diags.hasErrors() && out.scene.root;
+  return out;
+}
+
+CompiledScene compileSource(const std::string& path, std::string text, const CompileOptions& options,
+                            Diagnostics& diags) {
+  CompiledScene out = frontEnd(path, std::move(text), options, diags);
+  if (diags.hasErrors() || !out.scene.root) return out;
+  auto t0 = std::chrono::steady_clock::now();
+  out.emitted = emitGlsl(out.scene, options.emit);
+  out.times.emit = secondsSince(t0);
+  if (options.produce_spirv) {
+    t0 = std::chrono::steady_clock::now();
+    SpirvResult spv = glslToSpirv(out.emitted.glsl, ShaderStage::Fragment, path + ".glsl",
+                                  options.optimize_spirv);
+    out.times.spirv = secondsSince(t0);
+    if (!spv.ok()) {
+      // A shader the compiler wrote that glslang rejects is a compiler bug;
+      // say so, with glslang's words.
+      diags.error({}, "internal error: the generated shader does not compile:\n" + spv.log);
+      return out;
+    }
+    out.spirv = std::move(spv.words);
+  }
+  out.ok = true;
+  return out;
+}
+
+CompiledScene compileFile(const std::string& path, const CompileOptions& options, Diagnostics& diags) {
+  std::unique_ptr<SourceFile> file = readSourceFile(path);
+  if (!file) {
+    diags.error({}, "cannot read '" + path + "'");
+    return {};
+  }
+  return compileSource(path, std::move(file->text), options, diags);
+}
+
+}  // namespace sdfc

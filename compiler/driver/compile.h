@@ -1,0 +1,47 @@
+// The whole compiler as one call: .sdf text in, checked scene, GLSL and
+// validated SPIR-V out, with the time each stage took.
+#pragma once
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "check/checker.h"
+#include "diag/diagnostics.h"
+#include "emit/glsl_emitter.h"
+#include "ir/scene.h"
+
+namespace sdfc {
+
+struct CompileOptions {
+  CheckOptions check;
+  EmitOptions emit;
+  bool fuse_transforms = true;
+  bool produce_spirv = true;
+  bool optimize_spirv = false;
+};
+
+struct StageTimes {
+  double parse = 0, check = 0, passes = 0, emit = 0, spirv = 0;
+  double total() const { return parse + check + passes + emit + spirv; }
+};
+
+struct CompiledScene {
+  std::unique_ptr<SourceFile> source;  // diagnostics point into it
+  ir::Scene scene;
+  EmitResult emitted;
+  std::vector<std::uint32_t> spirv;
+  StageTimes times;
+  bool ok = false;  // no errors and (if asked) SPIR-V produced
+};
+
+// `text` is the file's content; `path` names it in diagnostics.
+CompiledScene compileSource(const std::string& path, std::string text, const CompileOptions& options,
+                            Diagnostics& diags);
+// Reads `path` first; a file that cannot be read is a diagnostic.
+CompiledScene compileFile(const std::string& path, const CompileOptions& options, Diagnostics& diags);
+
+// Parse and check only (no emission): for `sdfc check`, `eval` and `mesh`.
+CompiledScene checkSource(const std::string& path, std::string text, const CompileOptions& options,
+                          Diagnostics& diags);
+
+}  // namespace sdfc

@@ -1,0 +1,586 @@
+#include "emit/glsl_emitter.h"
+
+#include <cmath>
+#include <functional>
+#include <map>
+#include <sstream>
+
+#include "emit/embedded_sources.h"
+#include "emit/feature_filter.h"
+
+namespace sdfc {
+
+std::string glslFloat(double v) {
+  if (v == 0) return "0.0";
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.9g", v);
+  std::string s = buf;
+  if (s.find_first_of(".eE") == std::string::npos) s += ".0";
+  if (s.find("inf") != std::string::npos) s = v > 0 ? "1e30" : "-1e30";
+  return s;
+}
+
+namespace {
+
+using glm::dvec3;
+
+std::string vec3Literal(dvec3 v) {
+  if (v.x == v.y && v.y == v.z) return "vec3(" + glslFloat(v.x) + ")";
+  return "vec3(" + glslFloat(v.x) + ", " + glslFloat(v.y) + ", " + glslFloat(v.z) + ")";
+}
+
+const char* kRotateHelper = R"(// p rotated by -angle about the unit axis (Rodrigues): the inverse map of a rotation.
+vec3 sdRotateInverse(vec3 p, vec3 axis, float angle) {
+  float c = cos(angle), s = sin(angle);
+  return p * c - cross(axis, p) * s + axis * dot(axis, p) * (1.0 - c);
+}
+)";
+const char* kSmoothHelpers = R"(// Polynomial smooth minimum (Quilez): lowers min(a, b) by at most k/4.
+float sdSmoothMin(float a, float b, float k) {
+  float h = max(k - abs(a - b), 0.0) / k;
+  return min(a, b) - h * h * k * 0.25;
+}
+float sdSmoothMax(float a, float b, float k) { return -sdSmoothMin(-a, -b, k); }
+)";
+const char* kAabbHelper = R"(// Distance to an axis-aligned box from outside (0 inside): a cheap lower bound
+// on the distance to anything the box contains.
+float sdBound(vec3 p, vec3 center, vec3 half_size) {
+  return length(max(abs(p - center) - half_size, 0.0));
+}
+)";
+
+// Which single material a subtree's surfaces carry, given the inherited one;
+// kMixed when they differ.
+constexpr int kMixed = -2;
+
+int uniformMaterial(const ir::Node& n, int inherited) {
+  const int mine = n.material >= 0 ? n.material : inherited;
+  if (n.children.empty()) return mine;
+  int common = uniformMaterial(*n.children[0], mine);
+  for (size_t i = 1; i < n.children.size() && common != kMixed; ++i) {
+    if (n.kind == ir::NodeKind::Subtract) break;  // cut faces take the first child's material
+    if (uniformMaterial(*n.children[i], mine) != common) common = kMixed;
+  }
+  return common;
+}
+
+class SceneWriter {
+ public:
+  SceneWriter(const ir::Scene& scene, const EmitOptions& options)
+      : scene_(scene), options_(options) {}
+
+  // Returns the scene code: helper and primitive functions, definitions,
+  // sdScene, sdMaterialId, sdMaterial, sdSky and the constants.
+  std::string write(const MarchLimits& limits, EmitStats& stats) {
+    std::ostringstream body;
+    // Distance function.
+    {
+      Function f = beginFunction("float sdScene(vec3 p)", "p");
+      const std::string d = node(*scene_.root, "p", f, false, "-1");
+      f.code << "  return " << d << ";\n}\n";
+      functions_ << f.code.str();
+    }
+    // Material id of the nearest surface.
+    const int uniform = uniformMaterial(*scene_.root, -1);
+    {
+      std::ostringstream f;
+      if (uniform != kMixed) {
+        f << "int sdMaterialId(vec3 p) { return " << std::max(uniform, 0) << "; }\n";
+      } else {
+        Function fn = beginFunction("int sdMaterialId(vec3 p)", "p");
+        const std::string dm = node(*scene_.root, "p", fn, true, "-1.0");
+        fn.code << "  return int(" << dm << ".y);\n}\n";
+        f << fn.code.str();
+      }
+      functions_ << f.str();
+    }
+    stats.bounded_subtrees = bounded_;
+    stats.functions = function_count_;
+
+    std::ostringstream out;
+    out << "// ---- scene constants (derived per scene by the compiler) ----\n";
+    out << "const float kSceneMaxDist = " << glslFloat(limits.max_distance) << ";\n";
+    out << "const int kSceneMaxSteps = " << limits.max_steps << ";\n";
+    out << "const float kSceneHitEps = " << glslFloat(limits.hit_epsilon) << ";\n";
+    out << "const float kScenePixelCone = " << glslFloat(limits.pixel_cone) << ";\n";
+    out << "const float kSceneStepScale = " << glslFloat(limits.step_scale) << ";\n";
+    lights(out);
+    out << "\n// ---- scene helpers and primitives (only those the scene uses) ----\n";
+    out << helpers_.str();
+    out << "\n// ---- scene distance ----\n";
+    out << functions_.str();
+    materials(out);
+    sky(out);
+    return out.str();
+  }
+
+ private:
+  struct Function {
+    std::ostringstream code;
+    int next_var = 0;
+  };
+
+  const ir::Scene& scene_;
+  const EmitOptions& options_;
+  std::ostringstream helpers_;
+  std::ostringstream functions_;
+  std::set<std::string> helper_names_;
+  std::map<std::pair<const ir::Node*, bool>, std::string> node_functions_;
+  int bounded_ = 0;
+  int function_count_ = 0;
+
+  Function beginFunction(const std::string& signature, const std::string&) {
+    Function f;
+    f.code << signature << " {\n";
+    return f;
+  }
+
+  void needHelper(const std::string& name, const char* code) {
+    if (helper_names_.insert(name).second) helpers_ << code;
+  }
+
+  std::string var(Function& f, const char* prefix) {
+    return prefix + std::to_string(f.next_var++);
+  }
+
+  static std::string lineComment(const ir::Node& n) {
+    const int line = n.range.line();
+    return line > 0 ? "  // line " + std::to_string(line) : "";
+  }
+
+  std::string lineDirective(const ir::Node& n) {
+    if (!options_.line_directives || !n.range.file) return "";
+    return "#line " + std::to_string(n.range.line()) + " \"" + n.range.file->path + "\"\n";
+  }
+
+  // Emits `n` evaluated at point variable `p` into `f`. Returns a float
+  // expression (distance) or, with `mat`, a vec2 expression (distance,
+  // material id). `inherited` is the material id expression from above.
+  std::string node(const ir::Node& n, const std::string& p, Function& f, bool mat,
+                   const std::string& inherited) {
+    const std::string mine = n.material >= 0 ? glslFloat(n.material) : inherited;
+    // A material-uniform subtree needs no material tracking inside.
+    if (mat) {
+      const int u = uniformMaterial(n, -3);
+      if (u != kMixed) {
+        const std::string d = node(n, p, f, false, mine);
+        const std::string m = var(f, "m");
+        f.code << "  vec2 " << m << " = vec2(" << d << ", "
+               << (u == -3 ? mine : u < 0 ? "-1.0" : glslFloat(u)) << ");\n";
+        return m;
+      }
+    }
+    // Named definitions become functions, called at each use.
+    if (!n.definition.empty()) return callFunction(n, p, f, mat, mine);
+    switch (n.kind) {
+      case ir::NodeKind::Primitive: return primitive(n, p, f);
+      case ir::NodeKind::Union:
+      case ir::NodeKind::Intersect:
+      case ir::NodeKind::Subtract: return csg(n, p, f, mat, mine);
+      case ir::NodeKind::Morph: {
+        const std::string a = node(*n.children[0], p, f, mat, mine);
+        const std::string b = node(*n.children[1], p, f, mat, mine);
+        const std::string t = var(f, "t");
+        f.code << "  float " << t << " = " << n.amount.glsl() << ";" << lineComment(n) << " morph\n";
+        if (!mat) return "mix(" + b + ", " + a + ", " + t + ")";
+        return "vec2(mix(" + b + ".x, " + a + ".x, " + t + "), " + t + " >= 0.5 ? " + a + ".y : " +
+               b + ".y)";
+      }
+      default: return domain(n, p, f, mat, mine);
+    }
+  }
+
+  std::string callFunction(const ir::Node& n, const std::string& p, Function& f, bool mat,
+                           const std::string& inherited) {
+    auto key = std::make_pair(&n, mat);
+    auto it = node_functions_.find(key);
+    std::string name;
+    if (it != node_functions_.end()) {
+      name = it->second;
+    } else {
+      name = (mat ? "sdm_" : "sd_") + n.definition;
+      for (const auto& [k, v] : node_functions_)
+        if (v == name) name += "_" + std::to_string(node_functions_.size());
+      node_functions_[key] = name;
+      // Emit the body with the definition stripped so it is not re-entered.
+      ir::Node copy = n;
+      copy.definition.clear();
+      Function g;
+      g.code << lineDirective(n);
+      g.code << "// " << n.definition << lineComment(n) << "\n";
+      g.code << (mat ? "vec2 " : "float ") << name << "(vec3 p" << (mat ? ", float inherited" : "")
+             << ") {\n";
+      const std::string r = node(copy, "p", g, mat, mat ? "inherited" : "-1.0");
+      g.code << "  return " << r << ";\n}\n";
+      functions_ << g.code.str();
+      ++function_count_;
+    }
+    return name + "(" + p + (mat ? ", " + inherited : "") + ")";
+  }
+
+  std::string primitive(const ir::Node& n, const std::string& p, Function& f) {
+    const PrimitiveInfo& info = primitiveInfo(n.primitive);
+    std::string fn = info.glsl_function;
+    if (std::string(info.glsl_source).find("sdBox2(") != std::string::npos)
+      needHelper("sdBox2", box2Glsl());
+    if (n.primitive == PrimitiveKind::Menger) return menger(n, p, f);
+    needHelper(fn, info.glsl_source);
+    std::string call = fn + "(" + p;
+    size_t slot = 0;
+    for (const ParamSpec& spec : info.params) {
+      if (spec.type == ParamType::Vector) {
+        ir::Vec3 v{n.args[slot], n.args[slot + 1], n.args[slot + 2]};
+        // The plane's normal is normalised here, once, not per evaluation.
+        if (n.primitive == PrimitiveKind::Plane && v.isConst())
+          v = ir::constantVec(glm::normalize(v.value()));
+        call += ", " + v.glsl();
+        slot += 3;
+      } else {
+        call += ", " + n.args[slot++].glsl();
+      }
+    }
+    call += ")";
+    const std::string d = var(f, "d");
+    f.code << lineDirective(n) << "  float " << d << " = " << call << ";" << lineComment(n) << " "
+           << info.name << "\n";
+    return d;
+  }
+
+  // The Menger sponge, unrolled: `level` is a compile-time constant, and a
+  // loop here would count against lavapipe's loop cap at every march step.
+  std::string menger(const ir::Node& n, const std::string& p, Function& f) {
+    const int level = static_cast<int>(n.args[0].value);
+    const std::string name = "sdMenger" + std::to_string(level);
+    if (helper_names_.insert(name).second) {
+      std::ostringstream h;
+      h << "// Menger sponge of level " << level << ", unrolled (see shapes/primitives.cpp).\n";
+      h << "float " << name << "(vec3 p, float size) {\n";
+      h << "  float half_size = 0.5 * size;\n  vec3 q = abs(p) - half_size;\n";
+      h << "  float d = length(max(q, 0.0)) + min(max(q.x, max(q.y, q.z)), 0.0);\n";
+      h << "  float cell = size;\n  vec3 r;\n  float w;\n";
+      for (int k = 0; k < level; ++k) {
+        h << "  r = p + half_size;\n  r = abs(r - cell * floor(r / cell) - 0.5 * cell);\n";
+        h << "  w = cell / 6.0;\n";
+        h << "  d = max(d, -min(sdBox2(vec2(r.y - w, r.z - w)), min(sdBox2(vec2(r.z - w, r.x - w)), "
+             "sdBox2(vec2(r.x - w, r.y - w)))));\n";
+        if (k + 1 < level) h << "  cell /= 3.0;\n";
+      }
+      h << "  return d;\n}\n";
+      helpers_ << h.str();
+    }
+    const std::string d = var(f, "d");
+    f.code << "  float " << d << " = " << name << "(" << p << ", " << n.args[1].glsl() << ");"
+           << lineComment(n) << " menger\n";
+    return d;
+  }
+
+  std::string csg(const ir::Node& n, const std::string& p, Function& f, bool mat,
+                  const std::string& inherited) {
+    const bool smooth = !n.smooth.isConst() || n.smooth.value > 0;
+    std::string k;
+    if (smooth) {
+      needHelper("smooth", kSmoothHelpers);
+      k = var(f, "k");
+      f.code << "  float " << k << " = " << n.smooth.glsl() << ";\n";
+    }
+    const std::string acc = var(f, "d");
+    const char* type = mat ? "vec2" : "float";
+    const std::string dist = mat ? acc + ".x" : acc;
+    f.code << "  " << type << " " << acc << ";" << lineComment(n) << " "
+           << (n.kind == ir::NodeKind::Union ? "union" : n.kind == ir::NodeKind::Intersect ? "intersect" : "subtract")
+           << "\n";
+    for (size_t i = 0; i < n.children.size(); ++i) {
+      const ir::Node& c = *n.children[i];
+      // Bounding volume: in a union, a child whose bound is already farther
+      // than the nearest distance so far cannot be the minimum. Skipping it
+      // keeps the result exact (within k for a smooth union).
+      const bool bound = options_.bounding_volumes && n.kind == ir::NodeKind::Union && i > 0 &&
+                         c.cost >= options_.bound_cost_threshold && c.bounds.finite();
+      std::string indent = "  ";
+      if (bound) {
+        needHelper("sdBound", kAabbHelper);
+        ++bounded_;
+        f.code << "  if (sdBound(" << p << ", " << vec3Literal(c.bounds.center()) << ", "
+               << vec3Literal(c.bounds.halfSize()) << ") < " << dist << (smooth ? " + " + k : "")
+               << ") {\n";
+      }
+      const std::string r = node(c, p, f, mat, inherited);
+      const std::string rd = mat ? r + ".x" : r;
+      std::ostringstream s;
+      if (i == 0) {
+        s << acc << " = " << r << ";";
+      } else if (n.kind == ir::NodeKind::Union) {
+        if (!mat) {
+          s << acc << " = " << (smooth ? "sdSmoothMin(" + acc + ", " + r + ", " + k + ")" : "min(" + acc + ", " + r + ")") << ";";
+        } else {
+          s << acc << " = vec2(" << (smooth ? "sdSmoothMin(" + dist + ", " + rd + ", " + k + ")" : "min(" + dist + ", " + rd + ")")
+            << ", " << rd << " < " << dist << " ? " << r << ".y : " << acc << ".y);";
+        }
+      } else if (n.kind == ir::NodeKind::Intersect) {
+        if (!mat) {
+          s << acc << " = " << (smooth ? "sdSmoothMax(" + acc + ", " + r + ", " + k + ")" : "max(" + acc + ", " + r + ")") << ";";
+        } else {
+          s << acc << " = vec2(" << (smooth ? "sdSmoothMax(" + dist + ", " + rd + ", " + k + ")" : "max(" + dist + ", " + rd + ")")
+            << ", " << rd << " > " << dist << " ? " << r << ".y : " << acc << ".y);";
+        }
+      } else {
+        const std::string neg = "-" + rd;
+        s << dist << " = " << (smooth ? "sdSmoothMax(" + dist + ", " + neg + ", " + k + ")" : "max(" + dist + ", " + neg + ")") << ";";
+      }
+      if (bound) {
+        f.code << "    " << s.str() << "\n  }\n";
+      } else {
+        f.code << indent << s.str() << "\n";
+      }
+      if (i == 0 && bound) {}  // the first child is never bounded
+    }
+    return acc;
+  }
+
+  std::string domain(const ir::Node& n, const std::string& p, Function& f, bool mat,
+                     const std::string& inherited) {
+    const ir::Node& c = *n.children[0];
+    const std::string q = var(f, "p");
+    std::string scale;  // multiplies the child's distance
+    switch (n.kind) {
+      case ir::NodeKind::Translate:
+        f.code << "  vec3 " << q << " = " << p << " - " << n.vec.glsl() << ";" << lineComment(n) << " translate\n";
+        break;
+      case ir::NodeKind::Rotate:
+        needHelper("rotate", kRotateHelper);
+        f.code << "  vec3 " << q << " = sdRotateInverse(" << p << ", " << n.vec.glsl() << ", radians("
+               << n.amount.glsl() << "));" << lineComment(n) << " rotate\n";
+        break;
+      case ir::NodeKind::Scale:
+        scale = var(f, "s");
+        f.code << "  float " << scale << " = " << n.amount.glsl() << ";\n";
+        f.code << "  vec3 " << q << " = " << p << " / " << scale << ";" << lineComment(n) << " scale\n";
+        break;
+      case ir::NodeKind::ScaleNonUniform: {
+        const std::string s = var(f, "s");
+        f.code << "  vec3 " << s << " = " << n.vec.glsl() << ";\n";
+        f.code << "  vec3 " << q << " = " << p << " / " << s << ";" << lineComment(n)
+               << " non-uniform scale (a bound)\n";
+        scale = "min(" + s + ".x, min(" + s + ".y, " + s + ".z))";
+        break;
+      }
+      case ir::NodeKind::Affine: {
+        std::string e = p;
+        if (n.linear != glm::dmat3(1.0)) {
+          const glm::dmat3& m = n.linear;
+          std::string cols;
+          for (int col = 0; col < 3; ++col)
+            for (int row = 0; row < 3; ++row)
+              cols += (cols.empty() ? "" : ", ") + glslFloat(m[col][row]);
+          e = "mat3(" + cols + ") * " + p;
+        }
+        if (n.offset != dvec3(0)) e += " + " + vec3Literal(n.offset);
+        f.code << "  vec3 " << q << " = " << e << ";" << lineComment(n) << " transform\n";
+        if (n.scale != 1) scale = glslFloat(n.scale);
+        break;
+      }
+      case ir::NodeKind::Reflect: {
+        const std::string nn = vec3Literal(n.vec.value());
+        f.code << "  vec3 " << q << " = " << p << " - 2.0 * min(dot(" << p << ", " << nn << ") - "
+               << n.amount.glsl() << ", 0.0) * " << nn << ";" << lineComment(n) << " reflect\n";
+        break;
+      }
+      case ir::NodeKind::Elongate:
+        f.code << "  vec3 " << q << " = " << p << " - clamp(" << p << ", -" << n.vec.glsl() << ", "
+               << n.vec.glsl() << ");" << lineComment(n) << " elongate\n";
+        break;
+      case ir::NodeKind::Repeat: return repeat(n, p, f, mat, inherited);
+      default: break;
+    }
+    const std::string r = node(c, q, f, mat, inherited);
+    if (scale.empty()) return r;
+    if (!mat) return "(" + r + " * " + scale + ")";
+    return "vec2(" + r + ".x * " + scale + ", " + r + ".y)";
+  }
+
+  std::string repeat(const ir::Node& n, const std::string& p, Function& f, bool mat,
+                     const std::string& inherited) {
+    const ir::Node& c = *n.children[0];
+    const dvec3 cell = n.vec.value();
+    const std::string q = var(f, "p");
+    const std::string alt = var(f, "p");
+    f.code << "  vec3 " << q << " = " << p << ";" << lineComment(n) << " repeat\n";
+    f.code << "  vec3 " << alt << " = " << p << ";\n";
+    bool needs[3] = {false, false, false};
+    static const char* kAxis = "xyz";
+    for (int a = 0; a < 3; ++a) {
+      if (cell[a] == 0) continue;
+      const std::string s = glslFloat(cell[a]);
+      const std::string x = p + "." + kAxis[a];
+      const std::string i = var(f, "i");
+      if (n.count[a] == 0) {
+        f.code << "  float " << i << " = round(" << x << " / " << s << ");\n";
+      } else {
+        const double half = (n.count[a] - 1) * 0.5;
+        f.code << "  float " << i << " = clamp(round(" << x << " / " << s << " + " << glslFloat(half)
+               << "), 0.0, " << glslFloat(n.count[a] - 1) << ") - " << glslFloat(half) << ";\n";
+      }
+      f.code << "  " << q << "." << kAxis[a] << " = " << x << " - " << s << " * " << i << ";\n";
+      const double reach = c.bounds.finite() ? std::max(std::fabs(c.bounds.lo[a]), std::fabs(c.bounds.hi[a])) : 1e300;
+      needs[a] = reach > cell[a] / 2;
+      if (needs[a]) {
+        // The neighbour cell toward the point: the child reaches into this one.
+        std::string j = i + " + (" + q + "." + kAxis[a] + " >= 0.0 ? 1.0 : -1.0)";
+        if (n.count[a] > 0) {
+          const double half = (n.count[a] - 1) * 0.5;
+          j = "clamp(" + j + ", " + glslFloat(-half) + ", " + glslFloat(half) + ")";
+        }
+        f.code << "  " << alt << "." << kAxis[a] << " = " << x << " - " << s << " * (" << j << ");\n";
+      }
+    }
+    std::vector<std::string> points = {q};
+    for (int mask = 1; mask < 8; ++mask) {
+      if (((mask & 1) && !needs[0]) || ((mask & 2) && !needs[1]) || ((mask & 4) && !needs[2])) continue;
+      std::string comps;
+      for (int a = 0; a < 3; ++a) comps += std::string(comps.empty() ? "" : ", ") + ((mask & (1 << a)) ? alt : q) + "." + kAxis[a];
+      points.push_back("vec3(" + comps + ")");
+    }
+    if (points.size() == 1) return node(c, q, f, mat, inherited);
+    // Several cells: evaluate the child through a function, not inlined 2^k times.
+    std::string fn;
+    if (!c.definition.empty()) {
+      fn.clear();
+    } else {
+      auto key = std::make_pair(&c, mat);
+      auto it = node_functions_.find(key);
+      if (it == node_functions_.end()) {
+        ir::Node copy = c;
+        copy.definition = "cell" + std::to_string(node_functions_.size());
+        callFunction(copy, "p", f, mat, inherited);  // emits the function
+        // Remember it under the real node so later uses share it.
+        node_functions_[key] = node_functions_[std::make_pair(static_cast<const ir::Node*>(&copy), mat)];
+        node_functions_.erase(std::make_pair(static_cast<const ir::Node*>(&copy), mat));
+      }
+      fn = node_functions_[key];
+    }
+    const std::string acc = var(f, "d");
+    auto eval = [&](const std::string& pt) {
+      if (!c.definition.empty()) return node(c, pt, f, mat, inherited);
+      return fn + "(" + pt + (mat ? ", " + inherited : "") + ")";
+    };
+    f.code << "  " << (mat ? "vec2 " : "float ") << acc << " = " << eval(points[0]) << ";\n";
+    for (size_t i = 1; i < points.size(); ++i) {
+      const std::string r = var(f, "r");
+      f.code << "  " << (mat ? "vec2 " : "float ") << r << " = " << eval(points[i]) << ";\n";
+      if (mat)
+        f.code << "  if (" << r << ".x < " << acc << ".x) " << acc << " = " << r << ";\n";
+      else
+        f.code << "  " << acc << " = min(" << acc << ", " << r << ");\n";
+    }
+    return acc;
+  }
+
+  void lights(std::ostringstream& out) {
+    if (scene_.sun) {
+      const ir::Sun& s = *scene_.sun;
+      out << "const vec3 kSunDir = " << vec3Literal(glm::normalize(s.direction)) << ";\n";
+      out << "const float kSunCosAngle = " << glslFloat(std::cos(glm::radians(std::max(s.angle_degrees, 0.05))))
+          << ";\n";
+      out << "const vec3 kSunRadiance = " << vec3Literal(s.radiance) << ";\n";
+    }
+    if (!scene_.lights.empty()) {
+      const size_t n = scene_.lights.size();
+      out << "const int kNumSphereLights = " << n << ";\n";
+      out << "const vec4 kSphereLights[kNumSphereLights] = vec4[](";
+      for (size_t i = 0; i < n; ++i) {
+        const dvec3 c = scene_.lights[i].position;
+        out << (i ? ", " : "") << "vec4(" << glslFloat(c.x) << ", " << glslFloat(c.y) << ", "
+            << glslFloat(c.z) << ", " << glslFloat(scene_.lights[i].radius) << ")";
+      }
+      out << ");\n";
+      out << "const vec3 kSphereLightRadiance[kNumSphereLights] = vec3[](";
+      for (size_t i = 0; i < n; ++i) out << (i ? ", " : "") << vec3Literal(scene_.lights[i].radiance);
+      out << ");\n";
+    }
+  }
+
+  void materials(std::ostringstream& out) {
+    static const char* kModel[] = {"MAT_DIFFUSE", "MAT_MIRROR", "MAT_GLASS", "MAT_EMISSIVE", "MAT_METAL"};
+    auto literal = [&](const ir::Material& m) {
+      return "Material(" + std::string(kModel[static_cast<int>(m.model)]) + ", " +
+             vec3Literal(m.albedo.value()) + ", " + vec3Literal(m.emission.value()) + ", " +
+             glslFloat(m.ior) + ", " + glslFloat(m.roughness) + ")";
+    };
+    // Shapes with no material at all are a light grey diffuse (material 0
+    // when the scene defines none).
+    out << "\nMaterial sdMaterial(int id) {\n";
+    if (scene_.materials.empty()) {
+      out << "  return Material(MAT_DIFFUSE, vec3(0.75), vec3(0.0), 1.5, 0.0);\n}\n";
+      return;
+    }
+    for (size_t i = 1; i < scene_.materials.size(); ++i)
+      out << "  if (id == " << i << ") return " << literal(scene_.materials[i]) << ";  // "
+          << scene_.materials[i].name << "\n";
+    out << "  return " << literal(scene_.materials[0]) << ";  // " << scene_.materials[0].name << "\n}\n";
+  }
+
+  void sky(std::ostringstream& out) {
+    const ir::Sky& s = scene_.sky;
+    if (!s.gradient()) {
+      out << "vec3 sdSky(vec3 dir) { return " << vec3Literal(s.top) << "; }\n";
+    } else {
+      out << "vec3 sdSky(vec3 dir) { return mix(" << vec3Literal(s.bottom) << ", " << vec3Literal(s.top)
+          << ", clamp(dir.y * 0.5 + 0.5, 0.0, 1.0)); }\n";
+    }
+  }
+};
+
+// Which material models and lights occur, as SDFC_* macro names.
+std::set<std::string> sceneFeatures(const ir::Scene& scene, const EmitOptions& options) {
+  std::set<std::string> f;
+  std::vector<bool> used(scene.materials.size(), false);
+  bool unassigned = false;
+  std::function<void(const ir::Node&, int)> walk = [&](const ir::Node& n, int inherited) {
+    const int m = n.material >= 0 ? n.material : inherited;
+    if (n.kind == ir::NodeKind::Primitive) {
+      if (m >= 0) used[m] = true;
+      else unassigned = true;
+    }
+    for (const ir::NodeRef& c : n.children) walk(*c, m);
+  };
+  if (scene.root) walk(*scene.root, -1);
+  if (unassigned && !scene.materials.empty()) used[0] = true;  // sdMaterialId falls back to 0
+  if (unassigned && scene.materials.empty()) f.insert("SDFC_HAS_DIFFUSE");
+  static const char* kNames[] = {"SDFC_HAS_DIFFUSE", "SDFC_HAS_MIRROR", "SDFC_HAS_GLASS",
+                                 "SDFC_HAS_EMISSIVE", "SDFC_HAS_METAL"};
+  for (size_t i = 0; i < used.size(); ++i)
+    if (used[i]) f.insert(kNames[static_cast<int>(scene.materials[i].model)]);
+  if (scene.sun) f.insert("SDFC_HAS_SUN");
+  if (!scene.lights.empty()) f.insert("SDFC_HAS_SPHERE_LIGHTS");
+  if (scene.uses_time) f.insert("SDFC_USES_TIME");
+  if (scene.camera.aperture > 0) f.insert("SDFC_HAS_APERTURE");
+  if (options.sobol) f.insert("SDFC_SAMPLER_SOBOL");
+  return f;
+}
+
+}  // namespace
+
+EmitResult emitGlsl(const ir::Scene& scene, const EmitOptions& options) {
+  EmitResult result;
+  result.limits = deriveMarchLimits(scene, options.march);
+  result.stats.features = sceneFeatures(scene, options);
+  SceneWriter writer(scene, options);
+  const std::string scene_code = writer.write(result.limits, result.stats);
+  std::ostringstream out;
+  out << "#version 450\n";
+  if (options.line_directives) out << "#extension GL_GOOGLE_cpp_style_line_directive : require\n";
+  out << "// Generated by sdfc. Features:";
+  for (const std::string& f : result.stats.features) out << " " << f;
+  out << "\n";
+  if (options.with_kernel) {
+    out << filterFeatures(embeddedSource("shader_interface.h"), result.stats.features);
+    out << filterFeatures(embeddedSource("kernel/prelude.glsl"), result.stats.features);
+  }
+  out << scene_code;
+  if (options.with_kernel)
+    out << filterFeatures(embeddedSource("kernel/pathtrace.glsl"), result.stats.features);
+  result.glsl = out.str();
+  return result;
+}
+
+}  // namespace sdfc

@@ -1,0 +1,42 @@
+// The GLSL writer: checked, analysed scene in, one fragment shader out
+// (docs/kernel_contract.md describes how the parts fit). It emits only what
+// the scene uses: the primitives, operators, material models and light types
+// that occur, named functions for definitions, and bounding-volume checks that
+// skip costly subtrees while the point is far from them.
+#pragma once
+#include <set>
+#include <string>
+
+#include "ir/scene.h"
+#include "passes/passes.h"
+
+namespace sdfc {
+
+struct EmitOptions {
+  bool bounding_volumes = true;   // skip subtrees by their bounds
+  bool line_directives = false;   // #line so glslang errors point at the .sdf
+  bool sobol = true;              // low-discrepancy sampler (else PCG hash)
+  bool with_kernel = true;        // false: scene code only (for tests and tools)
+  MarchPolicy march;
+  // Subtrees at least this costly (in primitive evaluations) get a bound check.
+  double bound_cost_threshold = 3;
+};
+
+struct EmitStats {
+  int bounded_subtrees = 0;       // bound checks emitted
+  int functions = 0;              // named functions emitted
+  std::set<std::string> features; // SDFC_* macros the scene turned on
+};
+
+struct EmitResult {
+  std::string glsl;
+  MarchLimits limits;
+  EmitStats stats;
+};
+
+EmitResult emitGlsl(const ir::Scene& scene, const EmitOptions& options);
+
+// A GLSL float literal that round-trips a float32 (9 significant digits).
+std::string glslFloat(double v);
+
+}  // namespace sdfc
