@@ -8,8 +8,9 @@
 // (one iteration of main's sample loop) runs:
 //   1                                  sample loop
 //   + (B + 1) * (1 + S + N + 4)        bounce loop: march, sphere-light test, normal
-//   + B * L * (1 + S)                  light loop with its shadow march, at the
-//                                      B vertices that may scatter
+//   + B * L * (1 + N + S)              light loop with its sphere-light occlusion
+//                                      test and shadow march, at the B vertices
+//                                      that may scatter
 // with S = kSceneMaxSteps, B = max_bounces, L = light_samples, N = sphere lights.
 // Each pass also traces one unjittered primary ray for the AOVs (sample loop
 // iteration s = -1, B = 0): 1 + (1 + S + N + 4).
@@ -27,7 +28,7 @@ constexpr uint32_t kMaxSphereLights = 16;
 constexpr uint64_t loopIterationsPerSampleWide(uint64_t max_steps, uint64_t max_bounces,
                                                uint64_t light_samples, uint64_t sphere_lights) {
   return 1 + (max_bounces + 1) * (1 + max_steps + sphere_lights + 4) +
-         max_bounces * light_samples * (1 + max_steps);
+         max_bounces * light_samples * (1 + sphere_lights + max_steps);
 }
 
 // Upper bound on the loop iterations of one sample. Pass the scene's number of
@@ -68,6 +69,7 @@ constexpr uint32_t samplesPerPassWithinCap(uint32_t max_steps, uint32_t max_boun
 
 static_assert(loopIterationsPerSample(100, 0, 0, 0) == 1 + 105);
 static_assert(loopIterationsPerPass(100, 2, 1, 3, 0) == 106 + 3 * (1 + 3 * 105 + 2 * 101));
+static_assert(loopIterationsPerSample(100, 2, 1, 2) == 1 + 3 * 107 + 2 * 103);
 static_assert(loopIterationsPerPass(256, 4, 1, samplesPerPassWithinCap(256, 4, 1)) <
               gpu::kLavapipeLoopCap);
 static_assert(loopIterationsPerPass(256, 4, 1, samplesPerPassWithinCap(256, 4, 1) + 1) >=

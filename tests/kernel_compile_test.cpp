@@ -188,8 +188,8 @@ TEST(KernelCompile, WholeShaderStaysSmall) {
 }
 
 TEST(LoopBudget, FormulaMatchesTheKernelLoopStructure) {
-  // S = 64, B = 3, L = 2, N = 1: 1 + 4 * (1 + 64 + 1 + 4) + 3 * 2 * (1 + 64)
-  EXPECT_EQ(loopIterationsPerSample(64, 3, 2, 1), 1u + 4u * 70u + 6u * 65u);
+  // S = 64, B = 3, L = 2, N = 1: 1 + 4 * (1 + 64 + 1 + 4) + 3 * 2 * (1 + 1 + 64)
+  EXPECT_EQ(loopIterationsPerSample(64, 3, 2, 1), 1u + 4u * 70u + 6u * 66u);
   EXPECT_EQ(loopIterationsPerPassOverhead(64, 1), 1u + 70u);
   EXPECT_EQ(loopIterationsPerPass(64, 3, 2, 5, 1), 71u + 5u * loopIterationsPerSample(64, 3, 2, 1));
   // The default assumes the most sphere lights the kernel accepts.

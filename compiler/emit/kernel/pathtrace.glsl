@@ -201,7 +201,8 @@ int g_aov_steps = 0;
 // Radiance along (ro, rd) with at most max_bounces scattering events. Loops per
 // call: bounce <= max_bounces + 1, each with march <= kSceneMaxSteps, sphere-light
 // test <= kNumSphereLights, normal 4, and (at most max_bounces times) light loop
-// <= frame.light_samples, each with a shadow march <= kSceneMaxSteps.
+// <= frame.light_samples, each with a sphere-light occlusion test <= kNumSphereLights
+// and a shadow march <= kSceneMaxSteps.
 vec3 tracePath(vec3 ro, vec3 rd, int max_bounces, bool record_aov) {
   vec3 radiance = vec3(0.0);
   vec3 throughput = vec3(1.0);
@@ -281,6 +282,17 @@ vec3 tracePath(vec3 ro, vec3 rd, int max_bounces, bool record_aov) {
         float bsdf_pdf;
         vec3 f_cos = evalBsdf(m, nf, wo, wi, bsdf_pdf);
         if (maxComponent(f_cos) <= 0.0) continue;
+#ifdef SDFC_HAS_SPHERE_LIGHTS
+        // Sphere lights are opaque: one in front of the chosen light shadows it, as
+        // a BSDF-sampled ray would find (MIS needs both strategies to agree).
+        bool blocked = false;
+        for (int k = loopZero(); k < kNumSphereLights; k++) {
+          g_loop_iterations++;
+          float tk = raySphere(origin, wi, kSphereLights[k]);
+          blocked = blocked || (k != index - kSunLights && tk > 0.0 && tk < dist);
+        }
+        if (blocked) continue;
+#endif
         int shadow_steps;
         if (march(origin, wi, dist, 1.0, shadow_steps) >= 0.0) continue;
         float light_pdf = lightPdf(index, origin);
