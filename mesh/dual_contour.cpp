@@ -1,0 +1,337 @@
+// Dual contouring on a uniform grid (Ju, Losasso, Schaefer, Warren 2002):
+// a vertex per surface cell placed by its QEF, a quad per sign-changing
+// edge joining the vertices of the four cells around it.
+//
+// With MeshOptions::split_patches a cell gets one vertex per surface patch
+// instead of one in all: the patches are the marching-cubes components of
+// its crossing edges, found by joining crossings along each cube face, as
+// in Nielson's Dual Marching Cubes (2004) and level 0 of Schaefer, Ju and
+// Warren's Manifold Dual Contouring (2007). A face with four crossings is
+// resolved by the sign of the field at its centre, a decision both cells
+// sharing the face take alike, so the result is manifold.
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <numeric>
+
+#include "mesher.h"
+#include "parallel.h"
+#include "qef.h"
+
+namespace sdfc {
+namespace {
+
+using glm::dvec3;
+using glm::ivec3;
+
+// Local edge numbering in a cell: axis * 4 + u + 2 v, where u and v are the
+// edge's offsets along the next two axes, (axis + 1) % 3 and (axis + 2) % 3.
+int localEdge(int axis, const ivec3& offset) {
+  return axis * 4 + offset[(axis + 1) % 3] + 2 * offset[(axis + 2) % 3];
+}
+
+ivec3 localEdgeOffset(int edge) {
+  const int axis = edge / 4;
+  ivec3 o(0);
+  o[(axis + 1) % 3] = edge & 1;
+  o[(axis + 2) % 3] = (edge >> 1) & 1;
+  return o;
+}
+
+struct Crossing {
+  dvec3 point;
+  dvec3 normal;
+};
+
+struct SurfaceCell {
+  uint64_t key = 0;
+  uint32_t first_vertex = 0;
+  std::array<int8_t, 12> patch{};  // patch of each crossing edge, -1 if none
+  uint8_t patch_count = 0;
+};
+
+struct UnionFind {
+  std::array<int8_t, 12> parent;
+  UnionFind() { std::iota(parent.begin(), parent.end(), int8_t{0}); }
+  int find(int x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  }
+  void join(int a, int b) { parent[find(a)] = int8_t(find(b)); }
+};
+
+// Where the field crosses zero between a (t = 0) and b (t = 1): Illinois
+// false position, bracketed, so it also converges on creases.
+dvec3 findCrossing(const Evaluator& eval, const dvec3& a, const dvec3& b, double voxel) {
+  double t0 = 0, t1 = 1;
+  double f0 = eval.distance(a), f1 = eval.distance(b);
+  if ((f0 < 0) == (f1 < 0)) return 0.5 * (a + b);  // the sampled signs disagree: give up gently
+  int side = 0;
+  double t = 0.5;
+  for (int iter = 0; iter < 100; ++iter) {
+    t = (t0 * f1 - t1 * f0) / (f1 - f0);
+    if (!(t > t0 && t < t1)) t = 0.5 * (t0 + t1);
+    const double f = eval.distance(a + t * (b - a));
+    if (f == 0 || std::fabs(f) < 1e-13 * voxel || t1 - t0 < 1e-13) break;
+    if ((f < 0) == (f0 < 0)) {
+      t0 = t, f0 = f;
+      if (side == -1) f1 *= 0.5;
+      side = -1;
+    } else {
+      t1 = t, f1 = f;
+      if (side == 1) f0 *= 0.5;
+      side = 1;
+    }
+  }
+  return a + t * (b - a);
+}
+
+}  // namespace
+
+TriangleMesh dualContour(const Evaluator& eval, const SignGrid& grid, const MeshOptions& options,
+                         ContourStats* stats) {
+  const auto start = std::chrono::steady_clock::now();
+  const GridPlan& plan = grid.plan;
+  const ivec3 s = plan.samples();
+  const ivec3 cells = plan.cells;
+  const int threads = options.threads;
+  auto sampleOf = [&](uint64_t index) {
+    const uint64_t sx = uint64_t(s.x), sy = uint64_t(s.y);
+    return ivec3(int(index % sx), int(index / sx % sy), int(index / (sx * sy)));
+  };
+  auto cellKey = [&](const ivec3& c) {
+    return uint64_t(c.x) + uint64_t(cells.x) * (uint64_t(c.y) + uint64_t(cells.y) * uint64_t(c.z));
+  };
+  auto inside = [&](const ivec3& p) { return grid.inside[grid.index(p.x, p.y, p.z)] != 0; };
+
+  // 1. Sign-changing edges, key = sample index * 3 + axis. Slabs are scanned
+  // in order, so the concatenation is sorted for binary search.
+  std::vector<std::vector<uint64_t>> slab_edges(size_t(s.z));
+  parallelFor(size_t(s.z), 4, threads, [&](size_t begin, size_t end, int) {
+    for (size_t k = begin; k < end; ++k)
+      for (int j = 0; j < s.y; ++j)
+        for (int i = 0; i < s.x; ++i) {
+          const ivec3 p(i, j, int(k));
+          const bool in = inside(p);
+          for (int axis = 0; axis < 3; ++axis) {
+            ivec3 q = p;
+            ++q[axis];
+            if (q[axis] < s[axis] && inside(q) != in)
+              slab_edges[k].push_back(grid.index(i, j, int(k)) * 3 + uint64_t(axis));
+          }
+        }
+  });
+  std::vector<uint64_t> edges;
+  for (auto& e : slab_edges) edges.insert(edges.end(), e.begin(), e.end());
+  slab_edges.clear();
+
+  // 2. Hermite data: exact crossing by root finding, normal from the gradient.
+  std::vector<Crossing> crossings(edges.size());
+  const double h = 1e-5 * plan.voxel;
+  parallelFor(edges.size(), 256, threads, [&](size_t begin, size_t end, int) {
+    for (size_t e = begin; e < end; ++e) {
+      const int axis = int(edges[e] % 3);
+      const ivec3 p = sampleOf(edges[e] / 3);
+      ivec3 q = p;
+      ++q[axis];
+      Crossing& c = crossings[e];
+      c.point = findCrossing(eval, plan.point(p.x, p.y, p.z), plan.point(q.x, q.y, q.z), plan.voxel);
+      const dvec3 g = eval.gradient(c.point, h);
+      const double len = glm::length(g);
+      dvec3 fallback(0);
+      fallback[axis] = inside(p) ? 1 : -1;  // outward along the edge
+      c.normal = len > 1e-12 ? g / len : fallback;
+    }
+  });
+  auto findEdge = [&](uint64_t key) -> int64_t {
+    auto it = std::lower_bound(edges.begin(), edges.end(), key);
+    return it != edges.end() && *it == key ? int64_t(it - edges.begin()) : -1;
+  };
+
+  // 3. Surface cells: every cell touching a crossing edge.
+  std::vector<uint64_t> cell_keys;
+  cell_keys.reserve(edges.size() * 2);
+  for (uint64_t key : edges) {
+    const int axis = int(key % 3);
+    const ivec3 p = sampleOf(key / 3);
+    const int b = (axis + 1) % 3, c = (axis + 2) % 3;
+    for (int db = 0; db < 2; ++db)
+      for (int dc = 0; dc < 2; ++dc) {
+        ivec3 cell = p;
+        cell[b] += db - 1;
+        cell[c] += dc - 1;
+        if (glm::all(glm::greaterThanEqual(cell, ivec3(0))) && glm::all(glm::lessThan(cell, cells)))
+          cell_keys.push_back(cellKey(cell));
+      }
+  }
+  std::sort(cell_keys.begin(), cell_keys.end());
+  cell_keys.erase(std::unique(cell_keys.begin(), cell_keys.end()), cell_keys.end());
+  auto cellOf = [&](uint64_t key) {
+    const uint64_t cx = uint64_t(cells.x), cy = uint64_t(cells.y);
+    return ivec3(int(key % cx), int(key / cx % cy), int(key / (cx * cy)));
+  };
+
+  // 4. Patches and QEF vertices per cell (up to four patches a cell).
+  std::vector<SurfaceCell> surface(cell_keys.size());
+  std::vector<std::array<dvec3, 4>> cell_vertices(cell_keys.size());
+  std::atomic<size_t> clamped{0};
+  parallelFor(cell_keys.size(), 256, threads, [&](size_t begin, size_t end, int) {
+    for (size_t ci = begin; ci < end; ++ci) {
+      SurfaceCell& sc = surface[ci];
+      sc.key = cell_keys[ci];
+      const ivec3 cell = cellOf(sc.key);
+      bool corner[8];
+      for (int n = 0; n < 8; ++n) corner[n] = inside(cell + ivec3(n & 1, (n >> 1) & 1, (n >> 2) & 1));
+      auto cornerAt = [&](const ivec3& o) { return corner[o.x + 2 * o.y + 4 * o.z]; };
+      int64_t crossing_of[12];
+      for (int e = 0; e < 12; ++e) {
+        const int axis = e / 4;
+        const ivec3 o = localEdgeOffset(e);
+        ivec3 o2 = o;
+        o2[axis] = 1;
+        crossing_of[e] = -1;
+        if (cornerAt(o) != cornerAt(o2)) {
+          const ivec3 p = cell + o;
+          crossing_of[e] = findEdge(grid.index(p.x, p.y, p.z) * 3 + uint64_t(axis));
+        }
+      }
+      UnionFind uf;
+      if (options.split_patches) {
+        for (int a = 0; a < 3; ++a) {
+          const int b = (a + 1) % 3, c = (a + 2) % 3;
+          for (int side = 0; side < 2; ++side) {
+            // Face corners q0..q3 counter-clockwise in (b, c); edges e01, e12, e23, e30.
+            ivec3 q[4];
+            for (int n = 0; n < 4; ++n) {
+              q[n] = ivec3(0);
+              q[n][a] = side;
+            }
+            q[1][b] = 1, q[2][b] = 1, q[2][c] = 1, q[3][c] = 1;
+            const int fe[4] = {localEdge(b, q[0]), localEdge(c, q[1]), localEdge(b, q[3]),
+                               localEdge(c, q[0])};
+            int present[4], n_present = 0;
+            for (int n = 0; n < 4; ++n)
+              if (crossing_of[fe[n]] >= 0) present[n_present++] = fe[n];
+            if (n_present == 2) {
+              uf.join(present[0], present[1]);
+            } else if (n_present == 4) {
+              // Ambiguous face: q0, q2 share a sign; the centre says whether they connect.
+              ivec3 base = cell;
+              base[a] += side;
+              dvec3 centre = plan.point(base.x, base.y, base.z);
+              centre[b] += 0.5 * plan.voxel;
+              centre[c] += 0.5 * plan.voxel;
+              const bool centre_in = eval.distance(centre) < 0;
+              if (centre_in == cornerAt(q[0])) {  // q0-q2 joined: cut off q1 and q3
+                uf.join(fe[0], fe[1]);
+                uf.join(fe[2], fe[3]);
+              } else {  // cut off q0 and q2
+                uf.join(fe[3], fe[0]);
+                uf.join(fe[1], fe[2]);
+              }
+            }
+          }
+        }
+      }
+      sc.patch.fill(-1);
+      int root_patch[12];
+      std::fill(std::begin(root_patch), std::end(root_patch), -1);
+      Qef qefs[4];
+      for (int e = 0; e < 12; ++e) {
+        if (crossing_of[e] < 0) continue;
+        const int root = options.split_patches ? uf.find(e) : 0;
+        if (root_patch[root] < 0) root_patch[root] = sc.patch_count++;
+        sc.patch[e] = int8_t(root_patch[root]);
+        const Crossing& x = crossings[size_t(crossing_of[e])];
+        qefs[sc.patch[e]].add(x.point, x.normal);
+      }
+      const dvec3 lo = plan.point(cell.x, cell.y, cell.z), hi = lo + plan.voxel;
+      for (int p = 0; p < sc.patch_count; ++p) {
+        const dvec3 v = qefs[p].solve();
+        const dvec3 inside_cell = glm::clamp(v, lo, hi);
+        if (inside_cell != v) ++clamped;
+        cell_vertices[ci][p] = inside_cell;
+      }
+    }
+  });
+
+  TriangleMesh mesh;
+  size_t split = 0;
+  for (size_t ci = 0; ci < surface.size(); ++ci) {
+    surface[ci].first_vertex = uint32_t(mesh.positions.size());
+    for (int p = 0; p < surface[ci].patch_count; ++p) mesh.positions.push_back(cell_vertices[ci][p]);
+    if (surface[ci].patch_count > 1) ++split;
+  }
+  cell_vertices.clear();
+
+  // 5. A quad per crossing edge, wound so its normal points from inside to
+  // outside, split along the shorter diagonal.
+  auto vertexOf = [&](const ivec3& cell, int local_edge) -> int64_t {
+    const uint64_t key = cellKey(cell);
+    auto it = std::lower_bound(cell_keys.begin(), cell_keys.end(), key);
+    const SurfaceCell& sc = surface[size_t(it - cell_keys.begin())];
+    return int64_t(sc.first_vertex) + sc.patch[local_edge];
+  };
+  mesh.triangles.reserve(edges.size() * 2);
+  for (uint64_t key : edges) {
+    const int axis = int(key % 3);
+    const ivec3 p = sampleOf(key / 3);
+    const int b = (axis + 1) % 3, c = (axis + 2) % 3;
+    static constexpr int kCycle[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};  // (db, dc), ccw about +axis
+    uint32_t quad[4];
+    bool complete = true;
+    for (int n = 0; n < 4 && complete; ++n) {
+      ivec3 cell = p;
+      cell[b] += kCycle[n][0] - 1;
+      cell[c] += kCycle[n][1] - 1;
+      if (glm::any(glm::lessThan(cell, ivec3(0))) || glm::any(glm::greaterThanEqual(cell, cells))) {
+        complete = false;  // the region's border cuts the surface: leave it open
+        break;
+      }
+      ivec3 offset(0);
+      offset[b] = 1 - kCycle[n][0];
+      offset[c] = 1 - kCycle[n][1];
+      quad[n] = uint32_t(vertexOf(cell, localEdge(axis, offset)));
+    }
+    if (!complete) continue;
+    if (!inside(p)) std::swap(quad[1], quad[3]);
+    const dvec3* v = mesh.positions.data();
+    if (glm::distance(v[quad[0]], v[quad[2]]) <= glm::distance(v[quad[1]], v[quad[3]])) {
+      mesh.triangles.emplace_back(quad[0], quad[1], quad[2]);
+      mesh.triangles.emplace_back(quad[0], quad[2], quad[3]);
+    } else {
+      mesh.triangles.emplace_back(quad[0], quad[1], quad[3]);
+      mesh.triangles.emplace_back(quad[1], quad[2], quad[3]);
+    }
+  }
+
+  // 6. Vertex normals and triangle materials from the evaluator.
+  mesh.normals.resize(mesh.positions.size());
+  parallelFor(mesh.positions.size(), 512, threads, [&](size_t begin, size_t end, int) {
+    for (size_t i = begin; i < end; ++i) {
+      const dvec3 g = eval.gradient(mesh.positions[i], h);
+      const double len = glm::length(g);
+      mesh.normals[i] = len > 1e-12 ? g / len : dvec3(0, 0, 1);
+    }
+  });
+  mesh.materials.resize(mesh.triangles.size());
+  parallelFor(mesh.triangles.size(), 512, threads, [&](size_t begin, size_t end, int) {
+    for (size_t t = begin; t < end; ++t) {
+      const glm::uvec3 tri = mesh.triangles[t];
+      const dvec3 centroid = (mesh.positions[tri.x] + mesh.positions[tri.y] + mesh.positions[tri.z]) / 3.0;
+      mesh.materials[t] = eval.at(centroid).material;
+    }
+  });
+
+  if (stats) {
+    stats->crossing_edges = edges.size();
+    stats->surface_cells = surface.size();
+    stats->split_cells = split;
+    stats->clamped_vertices = clamped;
+    stats->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
+  return mesh;
+}
+
+}  // namespace sdfc

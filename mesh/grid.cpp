@@ -1,0 +1,172 @@
+// The sampling lattice: its placement over the scene's bounds and the sign
+// of the distance at every sample.
+#include <chrono>
+#include <cmath>
+#include <mutex>
+#include <sstream>
+
+#include "mesher.h"
+#include "parallel.h"
+
+namespace sdfc {
+namespace {
+
+using glm::dvec3;
+
+constexpr int kPadCells = 2;   // empty cells kept around the bounds
+constexpr int kBlock = 8;      // samples per block side for the sparse test
+
+const char* nodeName(const ir::Node& n) {
+  switch (n.kind) {
+    case ir::NodeKind::Primitive: return primitiveInfo(n.primitive).name;
+    case ir::NodeKind::Union: return "union";
+    case ir::NodeKind::Intersect: return "intersect";
+    case ir::NodeKind::Subtract: return "subtract";
+    case ir::NodeKind::Translate: return "translate";
+    case ir::NodeKind::Rotate: return "rotate";
+    case ir::NodeKind::Scale:
+    case ir::NodeKind::ScaleNonUniform: return "scale";
+    case ir::NodeKind::Affine: return "transform";
+    case ir::NodeKind::Reflect: return "reflect";
+    case ir::NodeKind::Repeat: return "repeat";
+    case ir::NodeKind::Elongate: return "elongate";
+    case ir::NodeKind::Morph: return "morph";
+  }
+  return "shape";
+}
+
+// The deepest unbounded node whose children are all bounded: the culprit.
+const ir::Node* unboundedCulprit(const ir::Node& n) {
+  if (n.bounds.finite()) return nullptr;
+  for (const ir::NodeRef& c : n.children)
+    if (const ir::Node* found = unboundedCulprit(*c)) return found;
+  return &n;
+}
+
+}  // namespace
+
+std::string describeUnbounded(const ir::Node& root) {
+  const ir::Node* culprit = unboundedCulprit(root);
+  if (!culprit) return "";
+  std::string out = nodeName(*culprit);
+  if (const int line = culprit->range.line(); line > 0) out += " at line " + std::to_string(line);
+  return out;
+}
+
+GridPlanResult planGrid(const ir::Scene& scene, const MeshOptions& options) {
+  GridPlanResult out;
+  if (!scene.root) {
+    out.error = "the file has no scene to mesh";
+    return out;
+  }
+  Aabb region;
+  int pad = kPadCells;
+  if (options.box) {
+    region = *options.box;
+    pad = 0;  // the user's box is the region, exactly
+    if (region.empty() || !region.finite() || region.lo == region.hi) {
+      out.error = "--box must have x0 < x1, y0 < y1 and z0 < z1";
+      return out;
+    }
+  } else {
+    region = scene.root->bounds;
+    if (region.empty()) {
+      out.error = "the scene is empty (its bounds contain nothing), so there is no surface to mesh";
+      return out;
+    }
+    if (!region.finite()) {
+      out.error = "the scene is unbounded (" + describeUnbounded(*scene.root) +
+                  "); give --box x0,y0,z0,x1,y1,z1";
+      return out;
+    }
+  }
+  const dvec3 size = region.hi - region.lo;
+  const double longest = std::max(size.x, std::max(size.y, size.z));
+  double voxel = options.voxel_size > 0 ? options.voxel_size
+                                        : longest / std::max(1, options.resolution);
+  if (!(voxel > 0) || !std::isfinite(voxel)) {
+    out.error = "the scene's bounds have no extent; give --box or --voxel-size";
+    return out;
+  }
+  dvec3 cells_wanted = glm::ceil(size / voxel - 1e-9) + 2.0 * pad;
+  cells_wanted = glm::max(cells_wanted, dvec3(1));
+  const double total = cells_wanted.x * cells_wanted.y * cells_wanted.z;
+  if (total > static_cast<double>(kMaxMeshCells)) {
+    std::ostringstream msg;
+    msg << "the grid would have " << cells_wanted.x << " x " << cells_wanted.y << " x "
+        << cells_wanted.z << " cells, more than the limit of 1024^3; raise --voxel-size or "
+        << "lower --resolution";
+    out.error = msg.str();
+    return out;
+  }
+  out.plan.voxel = voxel;
+  out.plan.cells = glm::ivec3(cells_wanted);
+  // Centre the lattice on the region so rounding up spreads evenly.
+  out.plan.origin = region.center() - 0.5 * voxel * dvec3(out.plan.cells);
+  return out;
+}
+
+SignGrid sampleGrid(const Evaluator& eval, const ir::Node& root, const GridPlan& plan,
+                    const MeshOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  SignGrid grid;
+  grid.plan = plan;
+  const glm::ivec3 s = plan.samples();
+  grid.inside.assign(size_t(s.x) * size_t(s.y) * size_t(s.z), 0);
+  const glm::ivec3 blocks = (s + kBlock - 1) / kBlock;
+  // |f(x) - f(c)| <= L |x - c|: a block whose centre is farther than L times
+  // its half-diagonal from the surface has one sign throughout.
+  const double lipschitz = std::max(root.lipschitz, 1.0);
+  std::atomic<uint64_t> evaluated{0};
+  std::atomic<size_t> slabs_done{0};
+  std::atomic<bool> stopped{false};
+  std::mutex progress_mutex;
+  const size_t slab_count = size_t(blocks.z);
+
+  parallelFor(slab_count, 1, options.threads, [&](size_t begin, size_t end, int) {
+    for (size_t bz = begin; bz < end; ++bz) {
+      if (options.interrupt && options.interrupt->load()) {
+        stopped = true;
+        return;
+      }
+      uint64_t local = 0;
+      for (int by = 0; by < blocks.y; ++by) {
+        for (int bx = 0; bx < blocks.x; ++bx) {
+          const glm::ivec3 lo(bx * kBlock, by * kBlock, int(bz) * kBlock);
+          const glm::ivec3 hi = glm::min(lo + kBlock, s);  // exclusive
+          if (options.sparse) {
+            const dvec3 c = plan.origin + plan.voxel * (dvec3(lo + hi - 1) * 0.5);
+            const double radius = 0.5 * plan.voxel * glm::length(dvec3(hi - 1 - lo));
+            const double d = eval.distance(c);
+            ++local;
+            if (std::fabs(d) > lipschitz * radius * (1 + 1e-9) + 1e-12 * plan.voxel) {
+              const uint8_t in = d < 0 ? 1 : 0;
+              if (in)
+                for (int k = lo.z; k < hi.z; ++k)
+                  for (int j = lo.y; j < hi.y; ++j)
+                    for (int i = lo.x; i < hi.x; ++i) grid.inside[grid.index(i, j, k)] = 1;
+              continue;
+            }
+          }
+          for (int k = lo.z; k < hi.z; ++k)
+            for (int j = lo.y; j < hi.y; ++j)
+              for (int i = lo.x; i < hi.x; ++i)
+                grid.inside[grid.index(i, j, k)] = eval.distance(plan.point(i, j, k)) < 0 ? 1 : 0;
+          local += uint64_t(hi.x - lo.x) * uint64_t(hi.y - lo.y) * uint64_t(hi.z - lo.z);
+        }
+      }
+      evaluated += local;
+      const size_t done = ++slabs_done;
+      if (options.progress) {
+        std::lock_guard<std::mutex> lock(progress_mutex);
+        options.progress("sampling", double(done) / double(slab_count));
+      }
+    }
+  });
+  grid.points_evaluated = evaluated;
+  grid.interrupted = stopped;
+  grid.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return grid;
+}
+
+}  // namespace sdfc

@@ -1,0 +1,25 @@
+#include "mesher.h"
+
+namespace sdfc {
+
+MeshResult meshScene(const ir::Scene& scene, const MeshOptions& options) {
+  MeshResult out;
+  GridPlanResult planned = planGrid(scene, options);
+  if (!planned.error.empty()) {
+    out.error = planned.error;
+    return out;
+  }
+  out.plan = planned.plan;
+  const Evaluator eval(scene, options.time);
+  const SignGrid grid = sampleGrid(eval, *scene.root, out.plan, options);
+  out.points_evaluated = grid.points_evaluated;
+  out.sample_seconds = grid.seconds;
+  if (grid.interrupted) {
+    out.interrupted = true;
+    return out;
+  }
+  out.mesh = dualContour(eval, grid, options, &out.contour);
+  return out;
+}
+
+}  // namespace sdfc
