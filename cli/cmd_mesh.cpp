@@ -1,11 +1,126 @@
-// `sdfc mesh`: placeholder until the mesher lands (mesh/).
+// `sdfc mesh`: the scene's surface as a triangle mesh (.glb, .gltf, .stl),
+// by dual contouring on a grid sampled with the float64 evaluator (mesh/).
+#include <chrono>
+#include <cmath>
+#include <cstdio>
 #include <iostream>
+#include <sstream>
+#include <unistd.h>
 
+#include "cli_support.h"
 #include "commands.h"
+#include "mesh_quality.h"
+#include "mesh_write.h"
+#include "mesher.h"
+#include "runtime/progress.h"
 
 namespace sdfc {
-int runMesh(const CommandLine&) {
-  std::cerr << "sdfc: error: mesh export is not built yet\n";
-  return kExitUsage;
+namespace {
+
+// "x0,y0,z0,x1,y1,z1" -> box; nullopt when malformed.
+std::optional<Aabb> parseBox(const std::string& text) {
+  std::istringstream in(text);
+  double v[6];
+  for (int i = 0; i < 6; ++i) {
+    if (!(in >> v[i])) return std::nullopt;
+    char comma = 0;
+    if (i < 5 && (!(in >> comma) || comma != ',')) return std::nullopt;
+  }
+  std::string rest;
+  if (in >> rest) return std::nullopt;
+  Aabb box{{v[0], v[1], v[2]}, {v[3], v[4], v[5]}};
+  if (!(box.lo.x < box.hi.x && box.lo.y < box.hi.y && box.lo.z < box.hi.z)) return std::nullopt;
+  return box;
 }
+
+// One line per stage on stderr, redrawn in place on a terminal.
+std::function<void(const char*, double)> makeMeshProgress() {
+  const bool tty = isatty(STDERR_FILENO);
+  auto last = std::make_shared<int>(-1);
+  return [tty, last](const char* stage, double fraction) {
+    const int percent = int(fraction * 100);
+    if (percent == *last || (!tty && percent % 10 != 0 && percent != 100)) return;
+    *last = percent;
+    std::fprintf(stderr, tty ? "\rsdfc: %s %3d%%%s" : "sdfc: %s %d%%\n%s", stage, percent,
+                 tty && percent == 100 ? "\n" : "");
+    std::fflush(stderr);
+  };
+}
+
+}  // namespace
+
+int runMesh(const CommandLine& cl) {
+  const std::optional<MeshFormat> format = meshFormatFor(cl.output);
+  if (!format) {
+    std::cerr << "sdfc: error: mesh output must end in .glb, .gltf or .stl, got '" << cl.output << "'\n";
+    return kExitUsage;
+  }
+  MeshOptions options;
+  options.resolution = cl.resolution;
+  options.voxel_size = cl.voxel_size;
+  options.time = cl.time;
+  if (cl.voxel_size < 0) {
+    std::cerr << "sdfc: error: --voxel-size must be positive\n";
+    return kExitUsage;
+  }
+  if (!cl.box.empty()) {
+    options.box = parseBox(cl.box);
+    if (!options.box) {
+      std::cerr << "sdfc: error: --box expects x0,y0,z0,x1,y1,z1 with x0 < x1, y0 < y1, z0 < z1, got '"
+                << cl.box << "'\n";
+      return kExitUsage;
+    }
+  }
+  Diagnostics diags;
+  LoadedScene loaded = loadScene(cl, diags, /*emit=*/false);
+  if (loaded.exit_code != kExitOk) return loaded.exit_code;
+  const ir::Scene& scene = loaded.compiled.scene;
+  if (!cl.quiet) options.progress = makeMeshProgress();
+  options.interrupt = installInterruptHandler();
+
+  MeshResult result = meshScene(scene, options);
+  if (!result.error.empty()) {
+    std::cerr << "sdfc: error: " << result.error << "\n";
+    return kExitUsage;
+  }
+  if (result.interrupted) {
+    std::cerr << "sdfc: interrupted; no mesh written\n";
+    return kExitInterrupted;
+  }
+  const TriangleMesh& mesh = result.mesh;
+  const auto finish_start = std::chrono::steady_clock::now();
+  try {
+    writeMeshFile(cl.output, encodeMesh(mesh, scene, *format, cl.time));
+  } catch (const std::exception& e) {
+    std::cerr << "sdfc: error: " << e.what() << "\n";
+    return kExitIo;
+  }
+  const double write_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - finish_start).count();
+
+  const Evaluator eval(scene, cl.time);
+  const double error = maxVertexError(eval, mesh);
+  const MeshTopology topo = checkTopology(mesh);
+  const GridPlan& plan = result.plan;
+  std::printf("sdfc: wrote %s\n", cl.output.c_str());
+  std::printf("  grid: %d x %d x %d cells, voxel %.6g\n", plan.cells.x, plan.cells.y, plan.cells.z, plan.voxel);
+  std::printf("  triangles: %zu, vertices: %zu\n", mesh.triangles.size(), mesh.positions.size());
+  std::printf("  max vertex |distance|: %.3g voxel (%.3g)\n", error / plan.voxel, error);
+  if (topo.closedManifold()) {
+    std::printf("  topology: closed manifold, consistent winding, Euler characteristic %ld\n", topo.euler);
+  } else {
+    std::printf("  topology: %zu boundary edges, %zu non-manifold edges, %zu non-manifold vertices, "
+                "%zu inconsistently wound edges\n",
+                topo.boundary_edges, topo.non_manifold_edges, topo.non_manifold_vertices,
+                topo.inconsistent_edges);
+  }
+  if (topo.boundary_edges == 0) std::printf("  volume: %.6g\n", meshVolume(mesh));
+  const double rate = result.sample_seconds > 0 ? result.points_evaluated / result.sample_seconds : 0;
+  std::printf("  time: sampling %s (%llu points, %.3g M points/s), contouring %s, writing %s\n",
+              formatSeconds(result.sample_seconds).c_str(),
+              static_cast<unsigned long long>(result.points_evaluated), rate / 1e6,
+              formatSeconds(result.contour.seconds).c_str(), formatSeconds(write_seconds).c_str());
+  return kExitOk;
+}
+
 }  // namespace sdfc
