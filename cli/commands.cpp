@@ -63,6 +63,9 @@ void registerCommands(CLI::App& app, CommandLine& cl) {
   render->add_option("--exposure", cl.exposure, "exposure in stops for PNG output");
   render->add_flag("--aces", cl.aces, "ACES filmic tone curve for PNG (default: clamp)");
   render->add_flag("-q,--quiet", cl.quiet, "no progress output");
+  render->add_flag("--bounds", cl.force_bounds,
+                   "keep bounding-volume checks on a CPU device (off there by default: lavapipe "
+                   "runs both sides of every branch, so skipping saves nothing)");
   emit_flags(render);
 
   CLI::App* eval = app.add_subcommand(

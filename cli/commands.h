@@ -28,6 +28,7 @@ struct CommandLine {
   std::string emit = "glsl";
   bool line_directives = false;
   bool no_bounds = false;
+  bool force_bounds = false;  // render: bounds even on a CPU device
   bool no_fuse = false;
   bool optimize = false;
   bool paper_baseline = false;

@@ -247,7 +247,7 @@ MarchLimits deriveMarchLimits(const ir::Scene& scene, const MarchPolicy& policy)
     size = std::max(glm::length(finite_part.hi - finite_part.lo), 1e-6);
     reach = glm::length(glm::max(glm::abs(finite_part.lo - eye), glm::abs(finite_part.hi - eye)));
   }
-  m.max_distance = has_infinite ? std::max(reach * 20, size * 50) : reach * 1.05;
+  m.max_distance = has_infinite ? std::max(reach * 8, size * 20) : reach * 1.05;
   // float32 resolves about 2^-23 of the largest coordinate; the epsilon
   // must stay above a few ulps of it or rays never converge.
   double magnitude = glm::length(eye);
