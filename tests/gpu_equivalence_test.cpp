@@ -205,10 +205,11 @@ class GpuEquivalence : public ::testing::Test {
         const double err = std::fabs(double(gpu.distances[i]) - d);
         worst = std::max(worst, err);
         // Bounded code is compared with the unbounded code below, not here.
-        if (!v.bounds)
+        if (!v.bounds) {
           ASSERT_LE(err, tolerance) << v.name << " at (" << gpu.points[i].x << ", " << gpu.points[i].y
                                     << ", " << gpu.points[i].z << "): gpu " << gpu.distances[i]
                                     << ", cpu " << d;
+        }
       }
       if (points.empty()) points = gpu.points;
       ASSERT_EQ(points, gpu.points);  // same seed and box, same points in every variant
@@ -224,9 +225,13 @@ class GpuEquivalence : public ::testing::Test {
       // Bounds give a lower bound, never more than the distance ...
       ASSERT_LE(bounded, unbounded + 2 * tolerance) << "point " << i;
       // ... of the same sign ...
-      if (std::fabs(unbounded) > 2 * tolerance) ASSERT_EQ(bounded < 0, unbounded < 0) << "point " << i;
+      if (std::fabs(unbounded) > 2 * tolerance) {
+        ASSERT_EQ(bounded < 0, unbounded < 0) << "point " << i;
+      }
       // ... and the distance itself wherever it is below every margin.
-      if (bounded < margin) ASSERT_NEAR(bounded, unbounded, 2 * tolerance) << "point " << i;
+      if (bounded < margin) {
+        ASSERT_NEAR(bounded, unbounded, 2 * tolerance) << "point " << i;
+      }
       replaced += std::fabs(bounded - unbounded) > 2 * tolerance;
       // Fusion changes float32 rounding only, and the float64 field not at all.
       ASSERT_NEAR(distances[0][i], distances[2][i], 2 * tolerance) << "point " << i;

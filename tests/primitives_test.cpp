@@ -446,7 +446,9 @@ TEST(Primitives, AgreeWithIndependentClosedForms) {
       inside += d < 0;
     }
     // The sampling really covers both sides.
-    if (std::string(c.name) != "plane") EXPECT_GT(inside, 200) << c.name;
+    if (std::string(c.name) != "plane") {
+      EXPECT_GT(inside, 200) << c.name;
+    }
     EXPECT_LT(inside, 3800) << c.name;
   }
 }
