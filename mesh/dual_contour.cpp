@@ -13,6 +13,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <mutex>
 #include <numeric>
 
 #include "mesher.h"
@@ -104,6 +105,13 @@ TriangleMesh dualContour(const Evaluator& eval, const SignGrid& grid, const Mesh
     return uint64_t(c.x) + uint64_t(cells.x) * (uint64_t(c.y) + uint64_t(cells.y) * uint64_t(c.z));
   };
   auto inside = [&](const ivec3& p) { return grid.inside[grid.index(p.x, p.y, p.z)] != 0; };
+  std::mutex progress_mutex;
+  auto report = [&](const char* stage, size_t done, size_t total) {
+    if (!options.progress) return;
+    std::lock_guard<std::mutex> lock(progress_mutex);
+    options.progress(stage, double(std::min(done, total)) / double(std::max<size_t>(total, 1)));
+  };
+  auto stopped = [&] { return options.interrupt && options.interrupt->load(); };
 
   // 1. Sign-changing edges, key = sample index * 3 + axis. Slabs are scanned
   // in order, so the concatenation is sorted for binary search.
@@ -129,7 +137,10 @@ TriangleMesh dualContour(const Evaluator& eval, const SignGrid& grid, const Mesh
   // 2. Hermite data: exact crossing by root finding, normal from the gradient.
   std::vector<Crossing> crossings(edges.size());
   const double h = 1e-5 * plan.voxel;
+  std::atomic<size_t> edges_done{0};
   parallelFor(edges.size(), 256, threads, [&](size_t begin, size_t end, int) {
+    if (stopped()) return;
+    report("edges", edges_done += end - begin, edges.size());
     for (size_t e = begin; e < end; ++e) {
       const int axis = int(edges[e] % 3);
       const ivec3 p = sampleOf(edges[e] / 3);
@@ -176,7 +187,9 @@ TriangleMesh dualContour(const Evaluator& eval, const SignGrid& grid, const Mesh
   std::vector<SurfaceCell> surface(cell_keys.size());
   std::vector<std::array<dvec3, 4>> cell_vertices(cell_keys.size());
   std::atomic<size_t> clamped{0};
+  std::atomic<size_t> cells_done{0};
   parallelFor(cell_keys.size(), 256, threads, [&](size_t begin, size_t end, int) {
+    if (stopped()) return;
     for (size_t ci = begin; ci < end; ++ci) {
       SurfaceCell& sc = surface[ci];
       sc.key = cell_keys[ci];
@@ -248,15 +261,31 @@ TriangleMesh dualContour(const Evaluator& eval, const SignGrid& grid, const Mesh
       }
       const dvec3 lo = plan.point(cell.x, cell.y, cell.z), hi = lo + plan.voxel;
       for (int p = 0; p < sc.patch_count; ++p) {
-        const dvec3 v = qefs[p].solve();
-        const dvec3 inside_cell = glm::clamp(v, lo, hi);
-        if (inside_cell != v) ++clamped;
-        cell_vertices[ci][p] = inside_cell;
+        const dvec3 solved = qefs[p].solve();
+        dvec3 v = glm::clamp(solved, lo, hi);
+        if (v != solved) ++clamped;
+        // Newton steps onto the surface, staying in the cell: vertices on
+        // creases already have f = 0 and do not move; the rest lose the
+        // QEF's curvature error (~voxel^2 / radius) and the clamping error.
+        for (int iter = 0; iter < options.project_steps; ++iter) {
+          const double f = eval.distance(v);
+          if (std::fabs(f) <= 1e-12 * plan.voxel) break;
+          const dvec3 g = eval.gradient(v, h);
+          const double g2 = glm::dot(g, g);
+          if (!(g2 > 1e-12)) break;
+          v = glm::clamp(v - g * (f / g2), lo, hi);
+        }
+        cell_vertices[ci][p] = v;
       }
     }
+    report("contouring", cells_done += end - begin, surface.size());
   });
 
   TriangleMesh mesh;
+  if (stopped()) {
+    if (stats) stats->interrupted = true;
+    return mesh;
+  }
   size_t split = 0;
   for (size_t ci = 0; ci < surface.size(); ++ci) {
     surface[ci].first_vertex = uint32_t(mesh.positions.size());

@@ -19,6 +19,7 @@ MeshResult meshScene(const ir::Scene& scene, const MeshOptions& options) {
     return out;
   }
   out.mesh = dualContour(eval, grid, options, &out.contour);
+  out.interrupted = out.contour.interrupted;
   return out;
 }
 

@@ -29,6 +29,9 @@ struct MeshOptions {
   // Marching Cubes) instead of one per cell: ambiguous cells then give
   // manifold output. false = plain DC, kept to measure the difference.
   bool split_patches = true;
+  // Newton steps moving each vertex onto the surface inside its cell after
+  // the QEF (0 = plain DC placement).
+  int project_steps = 4;
   // Skip 8^3-sample blocks that the scene's Lipschitz bound proves empty.
   bool sparse = true;
   int threads = 0;  // 0 = all cores
@@ -86,6 +89,7 @@ struct ContourStats {
   size_t surface_cells = 0;
   size_t split_cells = 0;  // cells holding more than one vertex
   size_t clamped_vertices = 0;  // QEF minimum outside its cell
+  bool interrupted = false;
   double seconds = 0;
 };
 TriangleMesh dualContour(const Evaluator& eval, const SignGrid& grid, const MeshOptions& options,
