@@ -33,16 +33,26 @@ std::optional<Aabb> parseBox(const std::string& text) {
   return box;
 }
 
-// One line per stage on stderr, redrawn in place on a terminal.
+// Progress per stage on stderr: redrawn in place on a terminal, otherwise a
+// line per 10%.
 std::function<void(const char*, double)> makeMeshProgress() {
   const bool tty = isatty(STDERR_FILENO);
-  auto last = std::make_shared<int>(-1);
-  return [tty, last](const char* stage, double fraction) {
+  struct State {
+    std::string stage;
+    int shown = -1;
+  };
+  auto state = std::make_shared<State>();
+  return [tty, state](const char* stage, double fraction) {
     const int percent = int(fraction * 100);
-    if (percent == *last || (!tty && percent % 10 != 0 && percent != 100)) return;
-    *last = percent;
-    std::fprintf(stderr, tty ? "\rsdfc: %s %3d%%%s" : "sdfc: %s %d%%\n%s", stage, percent,
-                 tty && percent == 100 ? "\n" : "");
+    if (state->stage != stage) state->stage = stage, state->shown = -1;
+    const int step = tty ? percent : percent / 10;
+    if (step == state->shown) return;
+    state->shown = step;
+    if (tty) {
+      std::fprintf(stderr, "\rsdfc: %-10s %3d%%%s", stage, percent, percent == 100 ? "\n" : "");
+    } else {
+      std::fprintf(stderr, "sdfc: %s %d%%\n", stage, percent);
+    }
     std::fflush(stderr);
   };
 }
