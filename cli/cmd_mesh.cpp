@@ -46,7 +46,7 @@ std::function<void(const char*, double)> makeMeshProgress() {
     const int percent = int(fraction * 100);
     if (state->stage != stage) state->stage = stage, state->shown = -1;
     const int step = tty ? percent : percent / 10;
-    if (step == state->shown) return;
+    if (step <= state->shown) return;  // workers may report out of order
     state->shown = step;
     if (tty) {
       std::fprintf(stderr, "\rsdfc: %-10s %3d%%%s", stage, percent, percent == 100 ? "\n" : "");
