@@ -13,13 +13,12 @@
 
 namespace {
 
-// The finiteness check is off unless SDFC_FUZZ_FINITE=1: the checker still
-// lets arithmetic overflow through (fuzz/regressions/nonfinite_*.sdf), and a
-// known bug would stop every run at once.
+// The finiteness check is on unless SDFC_FUZZ_FINITE=0 (the checker rejects
+// arithmetic that overflows; fuzz/regressions/nonfinite_*.sdf pin it).
 bool checkFinite() {
   static const bool on = [] {
     const char* v = std::getenv("SDFC_FUZZ_FINITE");
-    return v && std::string(v) == "1";
+    return !(v && std::string(v) == "0");
   }();
   return on;
 }

@@ -486,7 +486,7 @@ TEST(Grammar, FuzzRegressionsRunWithoutCrashing) {
 // Disabled until the checker rejects non-finite constants (inf and NaN from
 // arithmetic overflow, fuzz/regressions/nonfinite_*.sdf); then enable it and
 // make SDFC_FUZZ_FINITE the fuzz target's default.
-TEST(Grammar, DISABLED_FuzzRegressionsCheckToFiniteScenes) {
+TEST(Grammar, FuzzRegressionsCheckToFiniteScenes) {
   for (const fs::path& p : inputsUnder("fuzz/regressions")) {
     SCOPED_TRACE(p.string());
     runLikeTheFuzzer(p, true);

@@ -258,7 +258,12 @@ class Checker {
         diags_.error(e.operands[1]->range, "division by zero");
         return std::nullopt;
       }
-      return ir::binary(op, x, y);
+      Scalar r = ir::binary(op, x, y);
+      if (r.isConst() && !std::isfinite(r.value)) {
+        diags_.error(e.range, "this arithmetic overflows to a value that is not finite");
+        return std::nullopt;
+      }
+      return r;
     };
     if (a.type == Value::Type::Number && b.type == Value::Type::Number) {
       auto r = scalarOp(a.number, b.number);

@@ -143,9 +143,23 @@ class Parser {
   }
 
   // additive : term { ("+" | "-") term }
+  // A chain of operators builds a tree as deep as the chain, and every later
+  // stage recurses over it: each operator counts as a level of nesting.
+  bool chainTooDeep(int& chain) {
+    if (++chain + depth_ <= kMaxNestingDepth) return false;
+    if (!depth_reported_)
+      diags_.error(peek().range, "nesting is deeper than " + std::to_string(kMaxNestingDepth) +
+                                     " levels");
+    depth_reported_ = true;
+    while (!at(TokenKind::EndOfFile)) advance();
+    return true;
+  }
+
   ast::ExprPtr parseAdditive() {
     auto lhs = parseTerm();
+    int chain = 0;
     while (at(TokenKind::Plus) || at(TokenKind::Minus)) {
+      if (chainTooDeep(chain)) return errorExpr(peek().range);
       const char op = advance().text[0];
       lhs = binary(op, std::move(lhs), parseTerm());
     }
@@ -155,7 +169,9 @@ class Parser {
   // term : unary { ("*" | "/") unary }
   ast::ExprPtr parseTerm() {
     auto lhs = parseUnary();
+    int chain = 0;
     while (at(TokenKind::Star) || at(TokenKind::Slash)) {
+      if (chainTooDeep(chain)) return errorExpr(peek().range);
       const char op = advance().text[0];
       lhs = binary(op, std::move(lhs), parseUnary());
     }
@@ -185,7 +201,9 @@ class Parser {
   // postfix : primary { "." IDENT }
   ast::ExprPtr parsePostfix() {
     auto e = parsePrimary();
+    int chain = 0;
     while (at(TokenKind::Dot)) {
+      if (chainTooDeep(chain)) return errorExpr(peek().range);
       advance();
       if (!at(TokenKind::Identifier)) {
         expect(TokenKind::Identifier, "after '.'");
@@ -203,7 +221,7 @@ class Parser {
     return e;
   }
 
-  // primary : NUMBER | IDENT [ call_tail ] | "[" expr { "," expr } "]" | "(" expr ")"
+  // primary : NUMBER | IDENT [ call_tail ] | "[" expr { "," expr } [","] "]" | "(" expr ")"
   ast::ExprPtr parsePrimary() {
     const Token& t = peek();
     switch (t.kind) {
