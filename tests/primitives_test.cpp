@@ -412,7 +412,10 @@ std::vector<dvec3> testPoints(const Case& c, const Surface* surface, int count, 
   std::vector<dvec3> pts;
   for (int i = 0; i < count; ++i) {
     if (surface && i % 2 == 1) {
-      const dvec3& s = surface->points[rng() % surface->points.size()];
+      // Near a surface sample inside the box (the plane's patch is larger).
+      dvec3 s;
+      do s = surface->points[rng() % surface->points.size()];
+      while (glm::any(glm::greaterThan(glm::abs(s), dvec3(c.extent))));
       pts.push_back(s + 0.05 * c.extent * dvec3(u(rng), u(rng), u(rng)));
     } else {
       pts.push_back(c.extent * dvec3(u(rng), u(rng), u(rng)));
