@@ -11,7 +11,9 @@
 //   + B * L * (1 + N + S)              light loop with its sphere-light occlusion
 //                                      test and shadow march, at the B vertices
 //                                      that may scatter
-// with S = kSceneMaxSteps, B = max_bounces, L = light_samples, N = sphere lights.
+// with S = kSceneMaxSteps + kRefineSteps (a march may add kRefineSteps
+// iterations after a hit to refine it), B = max_bounces, L = light_samples,
+// N = sphere lights.
 // Each pass also traces one unjittered primary ray for the AOVs (sample loop
 // iteration s = -1, B = 0): 1 + (1 + S + N + 4).
 #pragma once
@@ -25,10 +27,14 @@ namespace sdfc {
 // size), so this default is a true bound for every scene.
 constexpr uint32_t kMaxSphereLights = 16;
 
+// Iterations a march may add after its hit (kRefineSteps in pathtrace.glsl).
+constexpr uint64_t kRefineSteps = 2;
+
 constexpr uint64_t loopIterationsPerSampleWide(uint64_t max_steps, uint64_t max_bounces,
                                                uint64_t light_samples, uint64_t sphere_lights) {
-  return 1 + (max_bounces + 1) * (1 + max_steps + sphere_lights + 4) +
-         max_bounces * light_samples * (1 + sphere_lights + max_steps);
+  const uint64_t march = max_steps + kRefineSteps;
+  return 1 + (max_bounces + 1) * (1 + march + sphere_lights + 4) +
+         max_bounces * light_samples * (1 + sphere_lights + march);
 }
 
 // Upper bound on the loop iterations of one sample. Pass the scene's number of
@@ -43,7 +49,7 @@ constexpr uint32_t loopIterationsPerSample(uint32_t max_steps, uint32_t max_boun
 // Loop iterations of a pass independent of its sample count (the AOV ray).
 constexpr uint32_t loopIterationsPerPassOverhead(uint32_t max_steps,
                                                  uint32_t sphere_lights = kMaxSphereLights) {
-  return 1 + (1 + max_steps + sphere_lights + 4);
+  return 1 + (1 + max_steps + uint32_t(kRefineSteps) + sphere_lights + 4);
 }
 
 // Upper bound on the loop iterations of a pass of `sample_count` samples.
@@ -67,9 +73,9 @@ constexpr uint32_t samplesPerPassWithinCap(uint32_t max_steps, uint32_t max_boun
   return uint32_t((gpu::kLavapipeLoopCap - 1 - overhead) / per_sample);
 }
 
-static_assert(loopIterationsPerSample(100, 0, 0, 0) == 1 + 105);
-static_assert(loopIterationsPerPass(100, 2, 1, 3, 0) == 106 + 3 * (1 + 3 * 105 + 2 * 101));
-static_assert(loopIterationsPerSample(100, 2, 1, 2) == 1 + 3 * 107 + 2 * 103);
+static_assert(loopIterationsPerSample(98, 0, 0, 0) == 1 + 105);
+static_assert(loopIterationsPerPass(98, 2, 1, 3, 0) == 106 + 3 * (1 + 3 * 105 + 2 * 101));
+static_assert(loopIterationsPerSample(98, 2, 1, 2) == 1 + 3 * 107 + 2 * 103);
 static_assert(loopIterationsPerPass(256, 4, 1, samplesPerPassWithinCap(256, 4, 1)) <
               gpu::kLavapipeLoopCap);
 static_assert(loopIterationsPerPass(256, 4, 1, samplesPerPassWithinCap(256, 4, 1) + 1) >=

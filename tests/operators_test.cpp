@@ -219,10 +219,9 @@ TEST(Operators, LimitedRepeatWithCount) {
 // A child that sits off-centre in its cell (here, mostly in the next cell
 // over) is reached only from the far side; the evaluator must consider the
 // neighbour on either side, not only the one toward the point.
-// BUG (open): evaluator.cpp and glsl_emitter.cpp both take only the neighbour
-// on the point's side of the cell centre, so ~40% of these points get the
-// wrong distance (some the wrong sign). Enable when repeat is fixed.
-TEST(Operators, DISABLED_RepeatWithOffCentreChild) {
+// (Both once took only the neighbour on the point's side: ~40% of these
+// points got the wrong distance.)
+TEST(Operators, RepeatWithOffCentreChild) {
   const Compiled c = compile("repeat(cell: [1, 0, 0]) { translate([0.9, 0, 0]) { sphere(radius: 0.3) } }");
   auto child = [](dvec3 q) { return sphere(q - dvec3(0.9, 0, 0), 0.3); };
   int wrong = 0;

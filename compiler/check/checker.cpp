@@ -107,7 +107,9 @@ class Checker {
     for (const std::string& name : order_) {
       Binding& b = bindings_[name];
       if (b.state == Binding::State::Unresolved) resolve(name, b);
-      if (!b.used) diags_.warning(b.statement->name_range, "'" + name + "' is never used");
+      // An unused material gets its own warning below.
+      if (!b.used && b.value.type != Value::Type::Material)
+        diags_.warning(b.statement->name_range, "'" + name + "' is never used");
     }
     for (size_t i = 0; i < scene_.materials.size(); ++i)
       if (!material_used_[i])
@@ -128,8 +130,25 @@ class Checker {
 
   // ---- names -------------------------------------------------------------
 
+  // Definitions resolve recursively (a `let` using another resolves it
+  // first); a chain deeper than this is reported, not recursed into.
+  static constexpr int kMaxDefinitionDepth = 200;
+  int resolve_depth_ = 0;
+
   const Value& resolve(const std::string& name, Binding& b) {
     if (b.state == Binding::State::Done) return b.value;
+    if (resolve_depth_ >= kMaxDefinitionDepth) {
+      diags_.error(b.statement->name_range,
+                   "definitions refer to each other more than " +
+                       std::to_string(kMaxDefinitionDepth) + " levels deep");
+      b.state = Binding::State::Done;
+      return b.value;
+    }
+    struct DepthGuard {
+      int& depth;
+      explicit DepthGuard(int& d) : depth(d) { ++depth; }
+      ~DepthGuard() { --depth; }
+    } guard(resolve_depth_);
     b.state = Binding::State::Resolving;
     const ast::Statement& s = *b.statement;
     auto define = options_.defines.find(name);

@@ -416,50 +416,61 @@ class SceneWriter {
                      const std::string& inherited) {
     const ir::Node& c = *n.children[0];
     const dvec3 cell = n.vec.value();
-    const std::string q = var(f, "p");
-    const std::string alt = var(f, "p");
-    f.code << "  vec3 " << q << " = " << p << ";" << lineComment(n) << " repeat\n";
-    f.code << "  vec3 " << alt << " = " << p << ";\n";
-    bool needs[3] = {false, false, false};
     static const char* kAxis = "xyz";
+    // Per repeated axis: the cell index, and whether the child reaches past
+    // its cell (then the cells on both sides are tried too, as in the
+    // evaluator: an off-centre child can be nearest from either side).
+    std::string index[3];
+    int span[3] = {0, 0, 0};
+    f.code << "  // line " << n.range.line() << " repeat\n";
     for (int a = 0; a < 3; ++a) {
       if (cell[a] == 0) continue;
       const std::string s = glslFloat(cell[a]);
       const std::string x = p + "." + kAxis[a];
-      const std::string i = var(f, "i");
+      index[a] = var(f, "i");
       if (n.count[a] == 0) {
-        f.code << "  float " << i << " = round(" << x << " / " << s << ");\n";
+        f.code << "  float " << index[a] << " = round(" << x << " / " << s << ");\n";
       } else {
         const double half = (n.count[a] - 1) * 0.5;
-        f.code << "  float " << i << " = clamp(round(" << x << " / " << s << " + " << glslFloat(half)
+        f.code << "  float " << index[a] << " = clamp(round(" << x << " / " << s << " + " << glslFloat(half)
                << "), 0.0, " << glslFloat(n.count[a] - 1) << ") - " << glslFloat(half) << ";\n";
       }
-      f.code << "  " << q << "." << kAxis[a] << " = " << x << " - " << s << " * " << i << ";\n";
       const double reach = c.bounds.finite() ? std::max(std::fabs(c.bounds.lo[a]), std::fabs(c.bounds.hi[a])) : 1e300;
-      needs[a] = reach > cell[a] / 2;
-      if (needs[a]) {
-        // The neighbour cell toward the point: the child reaches into this one.
-        std::string j = i + " + (" + q + "." + kAxis[a] + " >= 0.0 ? 1.0 : -1.0)";
-        if (n.count[a] > 0) {
-          const double half = (n.count[a] - 1) * 0.5;
-          j = "clamp(" + j + ", " + glslFloat(-half) + ", " + glslFloat(half) + ")";
-        }
-        f.code << "  " << alt << "." << kAxis[a] << " = " << x << " - " << s << " * (" << j << ");\n";
-      }
+      span[a] = reach > cell[a] / 2 ? 1 : 0;
     }
-    std::vector<std::string> points = {q};
-    for (int mask = 1; mask < 8; ++mask) {
-      if (((mask & 1) && !needs[0]) || ((mask & 2) && !needs[1]) || ((mask & 4) && !needs[2])) continue;
+    auto point = [&](const int d[3]) {
       std::string comps;
-      for (int a = 0; a < 3; ++a) comps += std::string(comps.empty() ? "" : ", ") + ((mask & (1 << a)) ? alt : q) + "." + kAxis[a];
-      points.push_back("vec3(" + comps + ")");
-    }
-    if (points.size() == 1) return node(c, q, f, mat, inherited);
-    // Several cells: evaluate the child through a function, not inlined 2^k times.
+      for (int a = 0; a < 3; ++a) {
+        std::string comp = p + "." + kAxis[a];
+        if (cell[a] != 0) {
+          std::string j = index[a];
+          if (d[a] != 0) {
+            j = index[a] + (d[a] > 0 ? " + 1.0" : " - 1.0");
+            if (n.count[a] > 0) {
+              const double half = (n.count[a] - 1) * 0.5;
+              j = "clamp(" + j + ", " + glslFloat(-half) + ", " + glslFloat(half) + ")";
+            }
+            j = "(" + j + ")";
+          }
+          comp += " - " + glslFloat(cell[a]) + " * " + j;
+        }
+        comps += (comps.empty() ? "" : ", ") + comp;
+      }
+      return "vec3(" + comps + ")";
+    };
+    std::vector<std::string> points;
+    for (int dx = -span[0]; dx <= span[0]; ++dx)
+      for (int dy = -span[1]; dy <= span[1]; ++dy)
+        for (int dz = -span[2]; dz <= span[2]; ++dz) {
+          const int d[3] = {dx, dy, dz};
+          const std::string q = var(f, "p");
+          f.code << "  vec3 " << q << " = " << point(d) << ";\n";
+          points.push_back(q);
+        }
+    if (points.size() == 1) return node(c, points[0], f, mat, inherited);
+    // Several cells: evaluate the child through a function, not inlined per cell.
     std::string fn;
-    if (!c.definition.empty()) {
-      fn.clear();
-    } else {
+    if (c.definition.empty()) {
       auto key = std::make_pair(&c, mat);
       auto it = node_functions_.find(key);
       if (it == node_functions_.end()) {

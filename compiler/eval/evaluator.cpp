@@ -106,36 +106,39 @@ EvalResult Evaluator::evalNode(const ir::Node& n, const dvec3& p, int inherited)
       return child(0, side < 0 ? p - 2 * side * nn : p);
     }
     case ir::NodeKind::Repeat: {
+      // A child that reaches past its cell may be nearest from a neighbour
+      // cell on either side (an off-centre child), so such axes try the
+      // cells i - 1, i and i + 1.
       const dvec3 cell = n.vec.value();
       const ir::Node& c = *n.children[0];
-      dvec3 q = p;
-      dvec3 alt = p;  // the neighbour cell toward p, per axis that needs it
-      bool needs[3] = {false, false, false};
+      dvec3 index(0);
+      int span[3] = {0, 0, 0};
       for (int a = 0; a < 3; ++a) {
         if (cell[a] == 0) continue;
-        const double i = repeatCellIndex(p[a], cell[a], n.count[a]);
-        q[a] = p[a] - cell[a] * i;
+        index[a] = repeatCellIndex(p[a], cell[a], n.count[a]);
         const double reach = c.bounds.finite()
                                  ? std::max(std::fabs(c.bounds.lo[a]), std::fabs(c.bounds.hi[a]))
                                  : std::numeric_limits<double>::infinity();
-        needs[a] = reach > cell[a] / 2;
-        double j = i + (q[a] >= 0 ? 1 : -1);
-        if (n.count[a] > 0) {
-          const double half = (n.count[a] - 1) * 0.5;
-          j = std::clamp(j, -half, half);
-        }
-        alt[a] = p[a] - cell[a] * j;
+        span[a] = reach > cell[a] / 2 ? 1 : 0;
       }
-      EvalResult best = child(0, q);
-      for (int mask = 1; mask < 8; ++mask) {
-        if (((mask & 1) && !needs[0]) || ((mask & 2) && !needs[1]) || ((mask & 4) && !needs[2]))
-          continue;
-        dvec3 r = q;
-        for (int a = 0; a < 3; ++a)
-          if (mask & (1 << a)) r[a] = alt[a];
-        EvalResult e = child(0, r);
-        if (e.distance < best.distance) best = e;
-      }
+      EvalResult best{std::numeric_limits<double>::infinity(), mat};
+      for (int dx = -span[0]; dx <= span[0]; ++dx)
+        for (int dy = -span[1]; dy <= span[1]; ++dy)
+          for (int dz = -span[2]; dz <= span[2]; ++dz) {
+            dvec3 q = p;
+            const int d[3] = {dx, dy, dz};
+            for (int a = 0; a < 3; ++a) {
+              if (cell[a] == 0) continue;
+              double j = index[a] + d[a];
+              if (n.count[a] > 0) {
+                const double half = (n.count[a] - 1) * 0.5;
+                j = std::clamp(j, -half, half);
+              }
+              q[a] = p[a] - cell[a] * j;
+            }
+            EvalResult e = child(0, q);
+            if (e.distance < best.distance) best = e;
+          }
       return best;
     }
     case ir::NodeKind::Elongate: {

@@ -201,7 +201,7 @@ class Analyzer {
                                ? std::max(std::fabs(child.bounds.lo[a]), std::fabs(child.bounds.hi[a]))
                                : kInf;
       if (reach > cell[a] / 2) {
-        cells_evaluated *= 2;
+        cells_evaluated *= 3;
         n.exact = false;
         if (reach > cell[a] * 1.5)
           diags_.warning(n.range, "the repeated shape reaches more than one cell beyond its own "
