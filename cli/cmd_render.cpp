@@ -124,6 +124,15 @@ int runRender(const CommandLine& cl) {
       }
       std::cerr << "sdfc: primary ray steps: mean " << (pixels ? sum / pixels : 0) << ", max " << peak
                 << " (budget " << compiled.emitted.limits.max_steps << ")\n";
+      if (o.view == gpu::kViewIterations) {
+        double total = 0, most = 0;
+        for (size_t i = 0; i < pixels; ++i) {
+          total += out.color.rgba[i * 4];
+          most = std::max<double>(most, out.color.rgba[i * 4]);
+        }
+        std::cerr << "sdfc: loop iterations" << (cl.count_evaluations ? " + primitive evaluations" : "")
+                  << " per pixel: mean " << (pixels ? total / pixels : 0) << ", max " << most << "\n";
+      }
     }
     if (!quiet)
       std::cerr << "sdfc: wrote " << path << " (" << out.samples_done << " spp in "

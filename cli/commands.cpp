@@ -29,6 +29,8 @@ void registerCommands(CLI::App& app, CommandLine& cl) {
     sub->add_flag("--paper-baseline", cl.paper_baseline,
                   "march like the paper: fixed epsilon 1e-3, 256 steps, max distance 100");
     sub->add_flag("--white-noise", cl.white_noise, "PCG hash sampler instead of Owen-scrambled Sobol");
+    sub->add_flag("--count-evaluations", cl.count_evaluations,
+                  "instrument: each primitive evaluation adds 1 to --view iterations");
   };
 
   CLI::App* check = app.add_subcommand("check", "report the scene's diagnostics");

@@ -33,6 +33,7 @@ struct CommandLine {
   bool optimize = false;
   bool paper_baseline = false;
   bool white_noise = false;
+  bool count_evaluations = false;
   // render
   std::string size;
   int spp = 0, bounces = -1, light_samples = -1;

@@ -293,7 +293,8 @@ float march(vec3 ro, vec3 rd, float t_max, float side, bool refine, out int step
       // do not bracket a descent, and never farther than 8 |d| from the hit.
       float slope = (d - d_prev) / max(t - t_prev, 1e-30);
       if (i > 0 && slope < 0.0) t_next = t - d / slope;
-      t_next = clamp(t_next, t_hit - 8.0 * abs(d_hit), t_hit + 8.0 * abs(d_hit));
+      // ... nor past t_max (an analytic plane may lie just beyond the hit).
+      t_next = clamp(t_next, t_hit - 8.0 * abs(d_hit), min(t_hit + 8.0 * abs(d_hit), t_max));
     }
     t_prev = t;
     d_prev = d;
@@ -420,8 +421,12 @@ vec3 tracePath(vec3 ro, vec3 rd, int max_bounces, bool record_aov) {
 
     vec3 p = ro + rd * t;
     float eps = hitEps(t);
-    vec3 n = sceneNormal(p, eps);  // outward: the gradient of sdScene
-    Material m = sdMaterial(sdMaterialId(p));
+    vec3 n;
+    Material m;
+    {
+      n = sceneNormal(p, eps);  // outward: the gradient of sdScene
+      m = sdMaterial(sdMaterialId(p));
+    }
     if (record_aov && depth == 0) {
       g_aov_normal = n;
       g_aov_dist = t;

@@ -72,23 +72,57 @@ class SceneWriter {
   // Returns the scene code: helper and primitive functions, definitions,
   // sdScene, sdMaterialId, sdMaterial, sdSky and the constants.
   std::string write(const MarchLimits& limits, EmitStats& stats) {
-    std::ostringstream body;
+    // Planes directly in the scene are intersected analytically by the
+    // kernel, not marched: a ray grazing a ground plane would otherwise crawl
+    // toward the horizon in tiny steps, and every evaluation pays for them.
+    ir::Node root = *scene_.root;
+    if (options_.with_kernel && options_.analytic_planes && root.kind == ir::NodeKind::Union &&
+        root.smooth.isConst() && root.smooth.value == 0) {
+      std::vector<ir::NodeRef> kept;
+      for (const ir::NodeRef& c : root.children) {
+        bool constant = c->kind == ir::NodeKind::Primitive && c->primitive == PrimitiveKind::Plane &&
+                        c->definition.empty();
+        for (const ir::Scalar& a : c->args) constant = constant && a.isConst();
+        if (!constant || planes_.size() >= 8) {
+          kept.push_back(c);
+          continue;
+        }
+        const dvec3 n = glm::normalize(dvec3(c->args[0].value, c->args[1].value, c->args[2].value));
+        const int material = c->material >= 0 ? c->material : std::max(root.material, 0);
+        planes_.push_back({n, c->args[3].value, material, c->range.line()});
+      }
+      if (!planes_.empty()) {
+        root.children = kept;
+        if (kept.empty()) {
+          // Nothing left to march: a primitive far outside the view stands in.
+          auto far = std::make_shared<ir::Node>();
+          far->kind = ir::NodeKind::Primitive;
+          far->primitive = PrimitiveKind::Sphere;
+          far->args = {ir::constant(1)};
+          auto moved = std::make_shared<ir::Node>();
+          moved->kind = ir::NodeKind::Affine;
+          moved->offset = dvec3(-1e30);
+          moved->children = {far};
+          root.children = {moved};
+        }
+      }
+    }
     // Distance function.
     {
       Function f = beginFunction("float sdScene(vec3 p)", "p");
-      const std::string d = node(*scene_.root, "p", f, false, "-1");
+      const std::string d = node(root, "p", f, false, "-1");
       f.code << "  return " << d << ";\n}\n";
       functions_ << f.code.str();
     }
     // Material id of the nearest surface.
-    const int uniform = uniformMaterial(*scene_.root, -1);
+    const int uniform = uniformMaterial(root, -1);
     {
       std::ostringstream f;
       if (uniform != kMixed) {
         f << "int sdMaterialId(vec3 p) { return " << std::max(uniform, 0) << "; }\n";
       } else {
         Function fn = beginFunction("int sdMaterialId(vec3 p)", "p");
-        const std::string dm = node(*scene_.root, "p", fn, true, "-1.0");
+        const std::string dm = node(root, "p", fn, true, "-1.0");
         fn.code << "  return int(" << dm << ".y);\n}\n";
         f << fn.code.str();
       }
@@ -105,6 +139,29 @@ class SceneWriter {
     out << "const float kScenePixelCone = " << glslFloat(limits.pixel_cone) << ";\n";
     out << "const float kSceneStepScale = " << glslFloat(limits.step_scale) << ";\n";
     lights(out);
+    if (!planes_.empty()) {
+      out << "// Planes intersected analytically (dot(p, n) <= offset is solid).\n";
+      out << "const int kNumPlanes = " << planes_.size() << ";\n";
+      out << "const vec4 kPlanes[kNumPlanes] = vec4[](";
+      for (size_t i = 0; i < planes_.size(); ++i)
+        out << (i ? ", " : "") << "vec4(" << glslFloat(planes_[i].normal.x) << ", " << glslFloat(planes_[i].normal.y)
+            << ", " << glslFloat(planes_[i].normal.z) << ", " << glslFloat(planes_[i].offset) << ")";
+      out << ");  // line";
+      for (const auto& pl : planes_) out << " " << pl.line;
+      out << "\nconst int kPlaneMaterial[kNumPlanes] = int[](";
+      for (size_t i = 0; i < planes_.size(); ++i) out << (i ? ", " : "") << planes_[i].material;
+      out << ");\n";
+      // Straight-line code, not a loop: loops count against lavapipe's cap.
+      out << "// Nearest hit on a plane from outside its solid, or 3e38; `index` names it.\n";
+      out << "float sdPlanesHit(vec3 ro, vec3 rd, out int index) {\n  float t = 3.0e38;\n  index = -1;\n";
+      for (size_t i = 0; i < planes_.size(); ++i) {
+        const std::string k = "kPlanes[" + std::to_string(i) + "]";
+        out << "  {\n    float c = dot(rd, " << k << ".xyz), h = dot(ro, " << k << ".xyz) - " << k << ".w;\n"
+            << "    if (c < 0.0 && h > 0.0 && -h / c < t) {\n      t = -h / c;\n      index = " << i
+            << ";\n    }\n  }\n";
+      }
+      out << "  return t;\n}\n";
+    }
     out << "\n// ---- scene helpers and primitives (only those the scene uses) ----\n";
     out << helpers_.str();
     out << "\n// ---- scene distance ----\n";
@@ -125,6 +182,18 @@ class SceneWriter {
   std::ostringstream helpers_;
   std::ostringstream functions_;
   std::set<std::string> helper_names_;
+  struct AnalyticPlane {
+    dvec3 normal;
+    double offset;
+    int material;
+    int line;
+  };
+  std::vector<AnalyticPlane> planes_;
+
+ public:
+  bool hasAnalyticPlanes() const { return !planes_.empty(); }
+
+ private:
   std::map<std::pair<const ir::Node*, bool>, std::string> node_functions_;
   int bounded_ = 0;
   int function_count_ = 0;
@@ -243,6 +312,7 @@ class SceneWriter {
     const std::string d = var(f, "d");
     f.code << lineDirective(n) << "  float " << d << " = " << call << ";" << lineComment(n) << " "
            << info.name << "\n";
+    if (options_.count_evaluations) f.code << "  g_loop_iterations++;\n";
     return d;
   }
 
@@ -271,6 +341,7 @@ class SceneWriter {
     const std::string d = var(f, "d");
     f.code << "  float " << d << " = " << name << "(" << p << ", " << n.args[1].glsl() << ");"
            << lineComment(n) << " menger\n";
+    if (options_.count_evaluations) f.code << "  g_loop_iterations++;\n";
     return d;
   }
 
@@ -591,6 +662,7 @@ EmitResult emitGlsl(const ir::Scene& scene, const EmitOptions& options) {
   result.stats.features = sceneFeatures(scene, options);
   SceneWriter writer(scene, options);
   const std::string scene_code = writer.write(result.limits, result.stats);
+  if (writer.hasAnalyticPlanes()) result.stats.features.insert("SDFC_HAS_PLANES");
   std::ostringstream out;
   out << "#version 450\n";
   if (options.line_directives) out << "#extension GL_GOOGLE_cpp_style_line_directive : require\n";

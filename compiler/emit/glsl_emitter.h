@@ -20,6 +20,13 @@ struct EmitOptions {
   MarchPolicy march;
   // Subtrees at least this costly (in primitive evaluations) get a bound check.
   double bound_cost_threshold = 3;
+  // Instrumentation: every primitive evaluation a lane really performs adds
+  // one to the kernel's loop counter, so `--view iterations` shows the
+  // logical work (lavapipe masks skipped code rather than jumping over it).
+  bool count_evaluations = false;
+  // Planes directly in the scene are intersected analytically by the kernel
+  // (kernel emission only: sdScene then leaves them out).
+  bool analytic_planes = true;
 };
 
 struct EmitStats {

@@ -13,7 +13,19 @@ const int kRefineSteps = 2;
 // along the ray (exact for a plane, quadratic near any smooth surface), each kept
 // only if it lands nearer the surface: the hit band alone leaves an error of up
 // to eps / cos(angle), far above 1e-4 of the distance at a pixel-cone epsilon.
+#ifdef SDFC_HAS_PLANES
+// The analytic plane (kPlanes) the last march() stopped on, or -1.
+int g_plane_hit = -1;
+#endif
 float march(vec3 ro, vec3 rd, float t_max, float side, bool refine, out int steps) {
+#ifdef SDFC_HAS_PLANES
+  // Planes are not in sdScene: intersect them here and march no farther.
+  g_plane_hit = -1;
+  int plane = -1;
+  float t_plane = side > 0.0 ? sdPlanesHit(ro, rd, plane) : 3.0e38;
+  if (t_plane < t_max) t_max = t_plane;
+  else plane = -1;
+#endif
   float t = 0.0;
   float t_prev = 0.0, d_prev = 0.0;
   float t_hit = -1.0, d_hit = 0.0;
@@ -44,13 +56,20 @@ float march(vec3 ro, vec3 rd, float t_max, float side, bool refine, out int step
       // do not bracket a descent, and never farther than 8 |d| from the hit.
       float slope = (d - d_prev) / max(t - t_prev, 1e-30);
       if (i > 0 && slope < 0.0) t_next = t - d / slope;
-      t_next = clamp(t_next, t_hit - 8.0 * abs(d_hit), t_hit + 8.0 * abs(d_hit));
+      // ... nor past t_max (an analytic plane may lie just beyond the hit).
+      t_next = clamp(t_next, t_hit - 8.0 * abs(d_hit), min(t_hit + 8.0 * abs(d_hit), t_max));
     }
     t_prev = t;
     d_prev = d;
     t = t_next;
     if (t_hit < 0.0 && t > t_max) break;
   }
+#ifdef SDFC_HAS_PLANES
+  if (t_hit < 0.0 && plane >= 0) {
+    g_plane_hit = plane;
+    return t_plane;
+  }
+#endif
   return t_hit >= 0.0 ? max(t_hit, 0.0) : -1.0;
 }
 
@@ -285,8 +304,18 @@ vec3 tracePath(vec3 ro, vec3 rd, int max_bounces, bool record_aov) {
 
     vec3 p = ro + rd * t;
     float eps = hitEps(t);
-    vec3 n = sceneNormal(p, eps);  // outward: the gradient of sdScene
-    Material m = sdMaterial(sdMaterialId(p));
+    vec3 n;
+    Material m;
+#ifdef SDFC_HAS_PLANES
+    if (g_plane_hit >= 0) {
+      n = kPlanes[g_plane_hit].xyz;
+      m = sdMaterial(kPlaneMaterial[g_plane_hit]);
+    } else
+#endif
+    {
+      n = sceneNormal(p, eps);  // outward: the gradient of sdScene
+      m = sdMaterial(sdMaterialId(p));
+    }
     if (record_aov && depth == 0) {
       g_aov_normal = n;
       g_aov_dist = t;
