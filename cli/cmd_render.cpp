@@ -101,7 +101,10 @@ int runRender(const CommandLine& cl) {
   tone.curve = cl.aces ? ToneCurve::AcesFit : ToneCurve::Clamp;
   const bool quiet = cl.quiet;
   if (!quiet)
-    std::cerr << "sdfc: compiled in " << std::lround(compiled.times.total() * 1000) << " ms, pipeline in "
+    std::cerr << "sdfc: compiled in " << std::lround(compiled.times.total() * 1000) << " ms (parse+check "
+              << std::lround((compiled.times.parse + compiled.times.check + compiled.times.passes) * 1000)
+              << ", emit " << std::lround(compiled.times.emit * 1000) << ", SPIR-V "
+              << std::lround(compiled.times.spirv * 1000) << "), pipeline in "
               << std::lround(renderer.pipelineSeconds() * 1000) << " ms\n";
   for (size_t f = 0; f < times.size(); ++f) {
     o.time = times[f];

@@ -27,6 +27,7 @@ struct CommandLine {
   // compile
   std::string emit = "glsl";
   bool line_directives = false;
+  int timings = 0;  // compile: repeat the compilation this many times and print stage times
   bool no_bounds = false;
   bool force_bounds = false;  // render: bounds even on a CPU device
   bool no_fuse = false;
