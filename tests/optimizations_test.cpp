@@ -1,0 +1,184 @@
+// One test per optimization of the back end, each proving that it happened
+// (in the IR, the emitted text or the counted work) and that the image does
+// not change beyond Monte Carlo noise.
+#include <gtest/gtest.h>
+
+#include <regex>
+
+#include "driver/compile.h"
+#include "image_io.h"
+#include "scene_render.h"
+#include "vulkan_context.h"
+
+namespace sdfc {
+namespace {
+
+CompiledScene compileText(const std::string& text, CompileOptions options = {}) {
+  Diagnostics diags;
+  CompiledScene c = compileSource("t.sdf", text, options, diags);
+  EXPECT_TRUE(c.ok) << diags.format();
+  return c;
+}
+
+size_t count(const std::string& haystack, const std::string& needle) {
+  size_t n = 0;
+  for (size_t at = haystack.find(needle); at != std::string::npos; at = haystack.find(needle, at + 1)) ++n;
+  return n;
+}
+
+// The body of one emitted function, for checks on what it evaluates.
+std::string functionBody(const std::string& glsl, const std::string& signature) {
+  const size_t start = glsl.find(signature);
+  if (start == std::string::npos) return "";
+  return glsl.substr(start, glsl.find("\n}\n", start) - start);
+}
+
+const char* kCsgScene = R"(
+camera(position: [0, 2, 6], target: [0, 0.5, 0])
+sky(color: [0.7, 0.8, 0.9])
+scene {
+  plane(normal: [0, 1, 0])
+  translate([1.5, 0.5, 0]) { rotate(axis: [0, 1, 0], degrees: 30) { scale(0.5) { box(size: [1, 1, 1]) } } }
+  translate([-1.5, 0.6, 0]) {
+    union { sphere(radius: 0.5) translate([0, 0.6, 0]) { sphere(radius: 0.3) } torus(major: 0.6, minor: 0.1) }
+  }
+}
+)";
+
+TEST(Optimizations, TransformChainsFuseIntoOneAffineMap) {
+  CompileOptions fused, unfused;
+  unfused.fuse_transforms = false;
+  const std::string ir = ir::dump(compileText(kCsgScene, fused).scene);
+  const std::string raw = ir::dump(compileText(kCsgScene, unfused).scene);
+  // translate -> rotate -> scale is one affine node with the scale folded in.
+  EXPECT_NE(ir.find("affine linear="), std::string::npos) << ir;
+  EXPECT_NE(ir.find("scale=0.5"), std::string::npos) << ir;
+  EXPECT_EQ(count(ir, "rotate"), 0u) << ir;
+  EXPECT_EQ(count(raw, "rotate"), 1u) << raw;
+  EXPECT_LT(count(ir, "\n"), count(raw, "\n"));
+}
+
+TEST(Optimizations, IdentityTransformsVanish) {
+  const std::string ir =
+      ir::dump(compileText("scene { translate([0, 0, 0]) { rotate(axis: [1, 0, 0], degrees: 0) { sphere(radius: 1) } } }").scene);
+  EXPECT_EQ(count(ir, "affine"), 0u) << ir;
+  EXPECT_EQ(count(ir, "translate"), 0u) << ir;
+}
+
+TEST(Optimizations, OnlyUsedPrimitivesAndMaterialModelsAreEmitted) {
+  const std::string glsl = compileText(kCsgScene).emitted.glsl;
+  EXPECT_NE(glsl.find("float sdBox("), std::string::npos);
+  EXPECT_EQ(glsl.find("float sdCone("), std::string::npos);
+  EXPECT_EQ(glsl.find("sdMenger"), std::string::npos);
+  // No glass, mirror or metal: none of their code, no refraction at all.
+  EXPECT_EQ(glsl.find("refract("), std::string::npos);
+  EXPECT_EQ(glsl.find("fresnelDielectric"), std::string::npos);
+  EXPECT_EQ(glsl.find("MAT_GLASS)"), std::string::npos);
+  EXPECT_EQ(glsl.find("ggx"), std::string::npos);
+  EXPECT_EQ(glsl.find("Ggx"), std::string::npos);
+  // A static scene never reads the time; no sun means no sun code.
+  EXPECT_EQ(glsl.find("cam_forward.w"), std::string::npos);
+  EXPECT_EQ(glsl.find("kSunDir"), std::string::npos);
+  EXPECT_EQ(glsl.find("#ifdef SDFC_"), std::string::npos) << "feature blocks must be resolved";
+
+  const std::string glass = compileText(
+      "sun(direction: [0, 1, 0])\nscene { sphere(radius: 1, material: glass(ior: 1.5)) "
+      "translate([0, sin(time), 0]) { box(size: [1, 1, 1]) } }").emitted.glsl;
+  EXPECT_NE(glass.find("refract("), std::string::npos);
+  EXPECT_NE(glass.find("cam_forward.w"), std::string::npos);
+  EXPECT_NE(glass.find("kSunDir"), std::string::npos);
+  EXPECT_GT(glass.size(), glsl.size());
+}
+
+TEST(Optimizations, PlanesAreIntersectedAnalyticallyNotMarched) {
+  const std::string glsl = compileText(kCsgScene).emitted.glsl;
+  EXPECT_NE(glsl.find("float sdPlanesHit("), std::string::npos);
+  EXPECT_EQ(functionBody(glsl, "float sdScene(vec3 p)").find("sdPlane("), std::string::npos);
+  CompileOptions marched;
+  marched.emit.analytic_planes = false;
+  const std::string plain = compileText(kCsgScene, marched).emitted.glsl;
+  EXPECT_NE(functionBody(plain, "float sdScene(vec3 p)").find("sdPlane("), std::string::npos);
+}
+
+TEST(Optimizations, MengerIsUnrolledToItsLevel) {
+  const std::string glsl = compileText("scene { menger(level: 3, size: 1) }").emitted.glsl;
+  const std::string body = functionBody(glsl, "float sdMenger3(");
+  ASSERT_FALSE(body.empty());
+  EXPECT_EQ(body.find("for ("), std::string::npos);  // a loop would count against lavapipe's cap
+  EXPECT_EQ(count(body, "cell /= 3.0"), 2u);
+}
+
+TEST(Optimizations, NamedShapesBecomeOneFunctionCalledAtEachUse) {
+  const std::string glsl = compileText(
+      "let post = union { box(size: [0.2, 2, 0.2]) translate([0, 1, 0]) { sphere(radius: 0.2) } }\n"
+      "scene { translate([1, 0, 0]) { post } translate([-1, 0, 0]) { post } }").emitted.glsl;
+  EXPECT_EQ(count(glsl, "float sd_post(vec3 p)"), 1u);
+  EXPECT_EQ(count(functionBody(glsl, "float sdScene(vec3 p)"), "sd_post("), 2u);
+}
+
+// Bounding volumes: the emitted checks exist, the counted primitive
+// evaluations per pixel fall, and the image is unchanged beyond noise.
+TEST(Optimizations, BoundingVolumesSkipWorkWithoutChangingTheImage) {
+  const std::string scene = std::string(R"(
+camera(position: [0, 3, 9], target: [0, 0.5, 0], fov: 40)
+sky(color: [0.8, 0.85, 0.9])
+sun(direction: [0.3, 1, 0.4])
+let tower = union { cylinder(radius: 0.4, height: 2) translate([0, 1.3, 0]) { cone(radius: 0.5, height: 0.8) }
+                    translate([0, 0.8, 0]) { torus(major: 0.45, minor: 0.08) } }
+scene {
+  plane(normal: [0, 1, 0])
+  translate([-2, 1, 0]) { tower } translate([0, 1, 0]) { tower } translate([2, 1, 0]) { tower }
+  translate([0, 0.5, 3]) { union { sphere(radius: 0.5) box(size: [2, 0.2, 0.2]) box(size: [0.2, 0.2, 2]) } }
+}
+)");
+  CompileOptions bounded, unbounded;
+  unbounded.emit.bounding_volumes = false;
+  bounded.emit.count_evaluations = unbounded.emit.count_evaluations = true;
+  bounded.emit.march.image_height = unbounded.emit.march.image_height = 48;
+  const CompiledScene with = compileText(scene, bounded);
+  const CompiledScene without = compileText(scene, unbounded);
+  EXPECT_GE(with.emitted.stats.bounded_subtrees, 3);
+  EXPECT_NE(with.emitted.glsl.find("sdBound("), std::string::npos);
+  EXPECT_EQ(without.emitted.glsl.find("sdBound("), std::string::npos);
+
+  VulkanContext context;
+  createContext(context);
+  RenderOverrides o;
+  o.width = 64;
+  o.height = 48;
+  auto work = [&](const CompiledScene& c) {
+    Renderer renderer(context, c.spirv);
+    RenderOverrides v = o;
+    v.view = gpu::kViewIterations;
+    v.spp = 1;
+    v.bounces = 0;
+    const FloatImage it = renderer.render(cameraFor(c.scene), renderSettingsFor(c, v)).color;
+    double sum = 0;
+    for (uint32_t i = 0; i < it.width * it.height; ++i) sum += it.rgba[i * 4];
+    return sum / (it.width * it.height);
+  };
+  const double work_with = work(with), work_without = work(without);
+  EXPECT_LT(work_with, 0.5 * work_without) << "loop iterations + primitive evaluations per pixel";
+  std::printf("[ bounds   ] counted work per pixel: %.1f with bounds, %.1f without (%.2fx)\n", work_with,
+              work_without, work_with / work_without);
+
+  // Same image: the difference is below the noise between two seeds.
+  auto image = [&](const CompiledScene& c, uint32_t seed) {
+    Renderer renderer(context, c.spirv);
+    RenderOverrides v = o;
+    v.spp = 16;
+    v.seed = seed;
+    return renderer.render(cameraFor(c.scene), renderSettingsFor(c, v)).color;
+  };
+  CompileOptions plain_bounded, plain_unbounded;
+  plain_unbounded.emit.bounding_volumes = false;
+  plain_bounded.emit.march.image_height = plain_unbounded.emit.march.image_height = 48;
+  const CompiledScene a = compileText(scene, plain_bounded), b = compileText(scene, plain_unbounded);
+  const FloatImage ia = image(a, 0), ib = image(b, 0), ib2 = image(b, 1);
+  EXPECT_LE(relMse(ia, ib), 0.5 * relMse(ib2, ib)) << "bounds changed the image beyond noise";
+  destroyContext(context);
+  EXPECT_EQ(validationMessageCount(), 0);
+}
+
+}  // namespace
+}  // namespace sdfc
