@@ -30,8 +30,10 @@ ROOT = os.path.dirname(HERE)
 # epsilon and step budget derived from the scene, Owen-scrambled Sobol, no
 # denoiser) in one respect, except "baseline", the paper-style tracer.
 CONFIGS = {
+    # `render` leaves bounding volumes out on CPU devices (lavapipe masks
+    # branches instead of jumping); "bounds" forces them in to measure that.
     "derived": [],
-    "no-bounds": ["--no-bounds"],
+    "bounds": ["--bounds"],
     "paper-eps": ["--paper-baseline"],
     "white-noise": ["--white-noise"],
     "bilateral": ["--denoise", "bilateral"],
@@ -142,6 +144,8 @@ def time_to_error(points, target):
     """Time at which a log-log piecewise-linear error(time) curve reaches
     `target`; (time, how) with how = interpolated / extrapolated / None."""
     pts = sorted((t, e) for t, e in points if t > 0 and e > 0)
+    if len(pts) < 2:
+        return None, None  # too few finite measurements to place a curve
     lt = np.log([p[0] for p in pts])
     le = np.log([p[1] for p in pts])
     lg = np.log(target)

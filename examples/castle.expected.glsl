@@ -246,7 +246,7 @@ const float kSunCosAngle = 0.999390827;
 const vec3 kSunRadiance = vec3(783.791869, 728.926438, 642.709333);
 // Planes intersected analytically (dot(p, n) <= offset is solid).
 const int kNumPlanes = 1;
-const vec4 kPlanes[kNumPlanes] = vec4[](vec4(0.0, 1.0, 0.0, 0.0));  // line 81
+const vec4 kPlanes[kNumPlanes] = vec4[](vec4(0.0, 1.0, 0.0, 0.0));  // line 83
 const int kPlaneMaterial[kNumPlanes] = int[](0);
 // Nearest hit on a plane from outside its solid, or 3e38; `index` names it.
 float sdPlanesHit(vec3 ro, vec3 rd, out int index) {
@@ -391,11 +391,11 @@ float sd_walls(vec3 p) {
    }
   }
   d0 = d1;
-  vec3 p5 = p + vec3(0.0, -1.0, -5.0);  // line 70 transform
-  float d6 = sdBox(p5, vec3(1.6, 2.0, 1.2), 0.0);  // line 70 box
+  vec3 p5 = p + vec3(0.0, -0.9, -5.0);  // line 72 transform
+  float d6 = sdBox(p5, vec3(1.6, 2.2, 1.2), 0.0);  // line 72 box
   d0 = max(d0, -d6);
-  vec3 p7 = mat3(1.0, 0.0, 0.0, 0.0, 6.123234e-17, -1.0, 0.0, 1.0, 6.123234e-17) * p + vec3(0.0, -5.0, 2.0);  // line 71 transform
-  float d8 = sdCylinder(p7, 0.8, 1.2);  // line 71 cylinder
+  vec3 p7 = mat3(1.0, 0.0, 0.0, 0.0, 6.123234e-17, -1.0, 0.0, 1.0, 6.123234e-17) * p + vec3(0.0, -5.0, 2.0);  // line 73 transform
+  float d8 = sdCylinder(p7, 0.8, 1.2);  // line 73 cylinder
   d0 = max(d0, -d8);
   return d0;
 }
@@ -428,33 +428,33 @@ float sd_pointed(vec3 p) {
   }
   return d0;
 }
-// keep  // line 74
+// keep  // line 76
 float sd_keep(vec3 p) {
-  float d0 = 1e30;  // line 74 union
-  vec3 p1 = p + vec3(0.0, -2.5, 1.0);  // line 75 transform
-  float d2 = sdBox(p1, vec3(4.0, 5.0, 3.0), 0.05);  // line 75 box
+  float d0 = 1e30;  // line 76 union
+  vec3 p1 = p + vec3(0.0, -2.5, 1.0);  // line 77 transform
+  float d2 = sdBox(p1, vec3(4.0, 5.0, 3.0), 0.05);  // line 77 box
   d0 = min(d0, d2);
-  vec3 p3 = p + vec3(0.0, -6.21243542, 1.0);  // line 77 transform
-  float d4 = sdTriPrism(p3, 4.2, 3.2);  // line 77 prism
+  vec3 p3 = p + vec3(0.0, -6.21243542, 1.0);  // line 79 transform
+  float d4 = sdTriPrism(p3, 4.2, 3.2);  // line 79 prism
   d0 = min(d0, d4);
   return d0;
 }
 float sdScene(vec3 p) {
-  float d0 = 1e30;  // line 80 union
+  float d0 = 1e30;  // line 82 union
   float b1 = sdBound(p, vec3(0.0, 4.31865328, 0.0), vec3(6.3, 4.31865328, 6.3));
   if (subgroupAny(b1 < d0)) {
    if (b1 > 0.990104874) {
     d0 = min(d0, b1);
    } else {
-  float d2 = 1e30;  // line 82 union
+  float d2 = 1e30;  // line 84 union
   float b3 = sdBound(p, vec3(0.0, 4.15, 0.0), vec3(6.3, 4.15, 6.3));
   if (subgroupAny(b3 < d2)) {
    if (b3 > 0.982865708) {
     d2 = min(d2, b3);
    } else {
-  vec3 p4 = p - 2.0 * min(dot(p, vec3(1.0, 0.0, 0.0)) - 0.0, 0.0) * vec3(1.0, 0.0, 0.0);  // line 85 reflect
-  vec3 p5 = p4 - 2.0 * min(dot(p4, vec3(0.0, 0.0, 1.0)) - 0.0, 0.0) * vec3(0.0, 0.0, 1.0);  // line 85 reflect
-  vec3 p6 = p5 + vec3(-5.0, 0.0, -5.0);  // line 85 transform
+  vec3 p4 = p - 2.0 * min(dot(p, vec3(1.0, 0.0, 0.0)) - 0.0, 0.0) * vec3(1.0, 0.0, 0.0);  // line 87 reflect
+  vec3 p5 = p4 - 2.0 * min(dot(p4, vec3(0.0, 0.0, 1.0)) - 0.0, 0.0) * vec3(0.0, 0.0, 1.0);  // line 87 reflect
+  vec3 p6 = p5 + vec3(-5.0, 0.0, -5.0);  // line 87 transform
   d2 = min(d2, sd_tower(p6));
    }
   }
@@ -471,8 +471,8 @@ float sdScene(vec3 p) {
    if (b8 > 0.382426464) {
     d2 = min(d2, b8);
    } else {
-  vec3 p9 = p - 2.0 * min(dot(p, vec3(1.0, 0.0, 0.0)) - 0.0, 0.0) * vec3(1.0, 0.0, 0.0);  // line 87 reflect
-  vec3 p10 = p9 + vec3(-1.5, 0.0, -5.2);  // line 87 transform
+  vec3 p9 = p - 2.0 * min(dot(p, vec3(1.0, 0.0, 0.0)) - 0.0, 0.0) * vec3(1.0, 0.0, 0.0);  // line 89 reflect
+  vec3 p10 = p9 + vec3(-1.5, 0.0, -5.2);  // line 89 transform
   d2 = min(d2, sd_pointed(p10));
    }
   }
@@ -485,8 +485,8 @@ float sdScene(vec3 p) {
    if (b11 > 0.17402622) {
     d0 = min(d0, b11);
    } else {
-  vec3 p12 = mat3(0.866025404, 0.0, 0.5, 0.0, 1.0, 0.0, -0.5, 0.0, 0.866025404) * p + vec3(0.855513627, -0.8, -8.28179307);  // line 91 transform
-  float d13 = sdMenger2(p12, 1.6);  // line 91 menger
+  vec3 p12 = mat3(0.866025404, 0.0, 0.5, 0.0, 1.0, 0.0, -0.5, 0.0, 0.866025404) * p + vec3(0.855513627, -0.8, -8.28179307);  // line 93 transform
+  float d13 = sdMenger2(p12, 1.6);  // line 93 menger
   d0 = min(d0, d13);
    }
   }
@@ -538,29 +538,29 @@ vec2 sdm_pointed(vec3 p, float inherited) {
   }
   return d0;
 }
-// keep  // line 74
+// keep  // line 76
 vec2 sdm_keep(vec3 p, float inherited) {
-  vec2 d0 = vec2(1e30, -1.0);  // line 74 union
-  vec3 p1 = p + vec3(0.0, -2.5, 1.0);  // line 75 transform
-  float d2 = sdBox(p1, vec3(4.0, 5.0, 3.0), 0.05);  // line 75 box
+  vec2 d0 = vec2(1e30, -1.0);  // line 76 union
+  vec3 p1 = p + vec3(0.0, -2.5, 1.0);  // line 77 transform
+  float d2 = sdBox(p1, vec3(4.0, 5.0, 3.0), 0.05);  // line 77 box
   vec2 m3 = vec2(d2, inherited);
   d0 = vec2(min(d0.x, m3.x), m3.x < d0.x ? m3.y : d0.y);
-  vec3 p4 = p + vec3(0.0, -6.21243542, 1.0);  // line 77 transform
-  float d5 = sdTriPrism(p4, 4.2, 3.2);  // line 77 prism
+  vec3 p4 = p + vec3(0.0, -6.21243542, 1.0);  // line 79 transform
+  float d5 = sdTriPrism(p4, 4.2, 3.2);  // line 79 prism
   vec2 m6 = vec2(d5, 2.0);
   d0 = vec2(min(d0.x, m6.x), m6.x < d0.x ? m6.y : d0.y);
   return d0;
 }
 int sdMaterialId(vec3 p) {
-  vec2 d0 = vec2(1e30, -1.0);  // line 80 union
+  vec2 d0 = vec2(1e30, -1.0);  // line 82 union
   float b1 = sdBound(p, vec3(0.0, 4.31865328, 0.0), vec3(6.3, 4.31865328, 6.3));
   if (subgroupAny(b1 < d0.x)) {
-  vec2 d2 = vec2(1e30, -1.0);  // line 82 union
+  vec2 d2 = vec2(1e30, -1.0);  // line 84 union
   float b3 = sdBound(p, vec3(0.0, 4.15, 0.0), vec3(6.3, 4.15, 6.3));
   if (subgroupAny(b3 < d2.x)) {
-  vec3 p4 = p - 2.0 * min(dot(p, vec3(1.0, 0.0, 0.0)) - 0.0, 0.0) * vec3(1.0, 0.0, 0.0);  // line 85 reflect
-  vec3 p5 = p4 - 2.0 * min(dot(p4, vec3(0.0, 0.0, 1.0)) - 0.0, 0.0) * vec3(0.0, 0.0, 1.0);  // line 85 reflect
-  vec3 p6 = p5 + vec3(-5.0, 0.0, -5.0);  // line 85 transform
+  vec3 p4 = p - 2.0 * min(dot(p, vec3(1.0, 0.0, 0.0)) - 0.0, 0.0) * vec3(1.0, 0.0, 0.0);  // line 87 reflect
+  vec3 p5 = p4 - 2.0 * min(dot(p4, vec3(0.0, 0.0, 1.0)) - 0.0, 0.0) * vec3(0.0, 0.0, 1.0);  // line 87 reflect
+  vec3 p6 = p5 + vec3(-5.0, 0.0, -5.0);  // line 87 transform
   d2 = vec2(min(d2.x, sdm_tower(p6, 1.0).x), sdm_tower(p6, 1.0).x < d2.x ? sdm_tower(p6, 1.0).y : d2.y);
   }
   float b7 = sdBound(p, vec3(0.0, 1.75, 0.0), vec3(5.35, 1.75, 5.35));
@@ -570,8 +570,8 @@ int sdMaterialId(vec3 p) {
   }
   float b9 = sdBound(p, vec3(0.0, 3.0, 5.2), vec3(2.25, 3.0, 0.75));
   if (subgroupAny(b9 < d2.x)) {
-  vec3 p10 = p - 2.0 * min(dot(p, vec3(1.0, 0.0, 0.0)) - 0.0, 0.0) * vec3(1.0, 0.0, 0.0);  // line 87 reflect
-  vec3 p11 = p10 + vec3(-1.5, 0.0, -5.2);  // line 87 transform
+  vec3 p10 = p - 2.0 * min(dot(p, vec3(1.0, 0.0, 0.0)) - 0.0, 0.0) * vec3(1.0, 0.0, 0.0);  // line 89 reflect
+  vec3 p11 = p10 + vec3(-1.5, 0.0, -5.2);  // line 89 transform
   d2 = vec2(min(d2.x, sdm_pointed(p11, 1.0).x), sdm_pointed(p11, 1.0).x < d2.x ? sdm_pointed(p11, 1.0).y : d2.y);
   }
   d2 = vec2(min(d2.x, sdm_keep(p, 1.0).x), sdm_keep(p, 1.0).x < d2.x ? sdm_keep(p, 1.0).y : d2.y);
@@ -579,8 +579,8 @@ int sdMaterialId(vec3 p) {
   }
   float b12 = sdBound(p, vec3(3.4, 0.8, 7.6), vec3(1.09282032, 0.8, 1.09282032));
   if (subgroupAny(b12 < d0.x)) {
-  vec3 p13 = mat3(0.866025404, 0.0, 0.5, 0.0, 1.0, 0.0, -0.5, 0.0, 0.866025404) * p + vec3(0.855513627, -0.8, -8.28179307);  // line 91 transform
-  float d14 = sdMenger2(p13, 1.6);  // line 91 menger
+  vec3 p13 = mat3(0.866025404, 0.0, 0.5, 0.0, 1.0, 0.0, -0.5, 0.0, 0.866025404) * p + vec3(0.855513627, -0.8, -8.28179307);  // line 93 transform
+  float d14 = sdMenger2(p13, 1.6);  // line 93 menger
   vec2 m15 = vec2(d14, 3.0);
   d0 = vec2(min(d0.x, m15.x), m15.x < d0.x ? m15.y : d0.y);
   }
@@ -673,7 +673,10 @@ vec3 sceneNormal(vec3 p, float h) {
     vec3 k = vec3(i == 0 || i == 3, i >= 2, i == 1 || i == 3) * 2.0 - 1.0;
     n += k * sdScene(p + k * h);
   }
-  return normalize(n);
+  // A degenerate field (coplanar CSG faces make a zero-width sheet whose
+  // taps cancel) has no gradient: a NaN here would poison the denoisers.
+  float len = length(n);
+  return len > 0.0 ? n / len : vec3(0.0, 1.0, 0.0);
 }
 
 float maxComponent(vec3 v) { return max(v.x, max(v.y, v.z)); }

@@ -333,7 +333,10 @@ vec3 sceneNormal(vec3 p, float h) {
     vec3 k = vec3(i == 0 || i == 3, i >= 2, i == 1 || i == 3) * 2.0 - 1.0;
     n += k * sdScene(p + k * h);
   }
-  return normalize(n);
+  // A degenerate field (coplanar CSG faces make a zero-width sheet whose
+  // taps cancel) has no gradient: a NaN here would poison the denoisers.
+  float len = length(n);
+  return len > 0.0 ? n / len : vec3(0.0, 1.0, 0.0);
 }
 
 float maxComponent(vec3 v) { return max(v.x, max(v.y, v.z)); }
