@@ -112,9 +112,11 @@ int runRender(const CommandLine& cl) {
     RenderOutput out = renderer.render(cameraFor(compiled.scene), settings,
                                        quiet ? ProgressCallback{} : makeTerminalProgress("render"),
                                        interrupt);
-    FloatImage image = out.color;
+    // Write out.color in place unless denoised: a copy is a full-size image (memory).
+    FloatImage denoised;
     if (o.view == gpu::kViewBeauty && denoiser && *denoiser != Denoiser::None)
-      image = denoise(*denoiser, out.color, out.normal_depth, out.albedo_steps);
+      denoised = denoise(*denoiser, out.color, out.normal_depth, out.albedo_steps);
+    const FloatImage& image = denoised.empty() ? out.color : denoised;
     const std::string path = times.size() > 1 ? framePath(cl.output, static_cast<int>(f)) : cl.output;
     writeImage(path, image, tone);
     if (!quiet) {

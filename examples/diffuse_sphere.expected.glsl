@@ -30,7 +30,7 @@ SDFC_CONST uint kViewIterations = 5u;
 // iterations in total (Mesa's LP_MAX_TGSI_LOOP_ITERATIONS).
 SDFC_CONST uint kLavapipeLoopCap = 65535u;
 
-// Push constants: 96 bytes, under the 128 every Vulkan device guarantees.
+// Push constants: 112 bytes, under the 128 every Vulkan device guarantees.
 struct FrameParams {
   vec4 cam_origin;   // xyz: eye; w: tan(vertical fov / 2)
   vec4 cam_right;    // xyz: unit right; w: aperture radius (0 = pinhole)
@@ -44,6 +44,13 @@ struct FrameParams {
   uint view;         // one of kView*
   uint max_bounces;
   uint light_samples;
+  // Framebuffer origin within the image: the renderer draws the image in row
+  // bands with a band-sized target (memory), and gl_FragCoord is band-relative.
+  // Pixel = gl_FragCoord + (tile_x, tile_y), so random numbers stay per image pixel.
+  uint tile_x;
+  uint tile_y;
+  uint tile_pad0;
+  uint tile_pad1;
 };
 
 // Fragment outputs (all RGBA32F attachments, one pixel per invocation):
@@ -53,7 +60,7 @@ struct FrameParams {
 //  location 2: primary hit: albedo (rgb), march steps of the primary ray (w).
 
 #ifdef __cplusplus
-static_assert(sizeof(FrameParams) == 96, "push constant layout");
+static_assert(sizeof(FrameParams) == 112, "push constant layout");
 }  // namespace sdfc::gpu
 #endif
 // ---- kernel prelude: interface, materials, random numbers, sampling ----
@@ -520,7 +527,8 @@ vec3 heatMap(float x) {
 }
 
 void main() {
-  uvec2 pixel = uvec2(gl_FragCoord.xy);
+  // Absolute image pixel: the target may hold one band of the image (FrameParams).
+  uvec2 pixel = uvec2(gl_FragCoord.xy) + uvec2(frame.tile_x, frame.tile_y);
   bool trace = frame.view == kViewBeauty || frame.view == kViewIterations;
   int count = trace ? int(frame.sample_count) : 0;
   vec3 sum = vec3(0.0);

@@ -1,5 +1,6 @@
 #include "render_pipeline.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <string>
@@ -283,7 +284,10 @@ void destroyRenderTarget(RenderTarget& target, const VulkanContext& context) {
 }
 
 void runPass(const VulkanContext& context, const RenderPipeline& pipeline, RenderTarget& target,
-             const void* push_constants, double timeout_seconds) {
+             const void* push_constants, double timeout_seconds, uint32_t rows,
+             uint32_t readback_count) {
+  if (rows == 0 || rows > target.height) rows = target.height;
+  readback_count = std::min(readback_count, kAttachmentCount);
   const double clamped = std::fmax(0.0, std::fmin(timeout_seconds, 1.0e9));
   const uint64_t timeout_ns = static_cast<uint64_t>(clamped * 1e9);
   if (target.pending) {
@@ -302,7 +306,7 @@ void runPass(const VulkanContext& context, const RenderPipeline& pipeline, Rende
   VkRenderPassBeginInfo rp{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
   rp.renderPass = pipeline.render_pass;
   rp.framebuffer = target.framebuffer;
-  rp.renderArea = {{0, 0}, {target.width, target.height}};
+  rp.renderArea = {{0, 0}, {target.width, rows}};
   vkCmdBeginRenderPass(cmd, &rp, VK_SUBPASS_CONTENTS_INLINE);
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.pipeline);
   const VkViewport viewport{0, 0, float(target.width), float(target.height), 0, 1};
@@ -315,11 +319,11 @@ void runPass(const VulkanContext& context, const RenderPipeline& pipeline, Rende
 
   // The render pass left the images in TRANSFER_SRC_OPTIMAL (with a dependency).
   const VkDeviceSize image_bytes = target.floatsPerImage() * sizeof(float);
-  for (uint32_t i = 0; i < kAttachmentCount; ++i) {
+  for (uint32_t i = 0; i < readback_count; ++i) {
     VkBufferImageCopy region{};
     region.bufferOffset = image_bytes * i;
     region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-    region.imageExtent = {target.width, target.height, 1};
+    region.imageExtent = {target.width, rows, 1};
     vkCmdCopyImageToBuffer(cmd, target.images[i], VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
                            target.staging, 1, &region);
   }

@@ -49,10 +49,13 @@ void createRenderTarget(RenderTarget& target, const VulkanContext& context,
 void destroyRenderTarget(RenderTarget& target, const VulkanContext& context);
 
 // Records, submits and waits for one draw with `push_constants` (sizeof(gpu::FrameParams)
-// bytes) followed by the copy to the staging buffer. Throws RuntimeError when the fence
+// bytes) over the target's top `rows` rows (0 = all), followed by the copy of attachments
+// [0, readback_count) to the staging buffer, each packed as width x rows at its usual
+// offset (attachment i at mapped + i * floatsPerImage()). Throws RuntimeError when the fence
 // is not signalled within `timeout_seconds`; after that the device may still be busy,
 // so destroy functions wait for idle first.
 void runPass(const VulkanContext& context, const RenderPipeline& pipeline, RenderTarget& target,
-             const void* push_constants, double timeout_seconds);
+             const void* push_constants, double timeout_seconds, uint32_t rows = 0,
+             uint32_t readback_count = kAttachmentCount);
 
 }  // namespace sdfc

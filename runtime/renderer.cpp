@@ -104,32 +104,89 @@ RenderOutput Renderer::render(const CameraDesc& camera, const RenderSettings& se
                  settings.loop_iterations_per_sample, settings.loop_iterations_per_pass,
                  gpu::kLavapipeLoopCap);
 
-  ensureTarget(settings.width, settings.height);
-  gpu::FrameParams params = makeFrameParams(camera, settings.width, settings.height, settings.time);
+  // The image is drawn in full-width bands of about kBandPixels pixels with a band-sized
+  // target, so device images and staging stay small whatever the output size.
+  const uint32_t width = settings.width, height = settings.height;
+  const uint32_t band_rows = std::clamp<uint32_t>(
+      uint32_t(kBandPixels / std::max<uint32_t>(width, 1)), 1, std::max<uint32_t>(height, 1));
+  const uint32_t band_count = (height + band_rows - 1) / std::max<uint32_t>(band_rows, 1);
+  ensureTarget(width, band_rows);
+  gpu::FrameParams params = makeFrameParams(camera, width, height, settings.time);
   params.seed = settings.seed;
   params.view = settings.view;
   params.max_bounces = settings.max_bounces;
   params.light_samples = settings.light_samples;
 
-  const size_t n = target_.floatsPerImage();
-  // Running sums of pass mean * pass samples, in pass order (deterministic).
-  std::vector<double> sums(n * kAttachmentCount, 0.0);
-
   RenderOutput out;
   out.pipeline_seconds = pipeline_.create_seconds;
   out.samples_per_pass = per_pass;
+  const size_t n = size_t(width) * height * 4;
+  // The outputs are appended band by band in the final pass: reserving without
+  // zero-filling keeps their pages untouched until written, while the band sums
+  // they replace are freed.
+  out.color.width = out.normal_depth.width = out.albedo_steps.width = width;
+  out.color.height = out.normal_depth.height = out.albedo_steps.height = height;
+  out.color.rgba.reserve(n);
+  out.normal_depth.rgba.reserve(n);
+  out.albedo_steps.rgba.reserve(n);
+  // Running color sums of pass mean * pass samples per band, in pass order
+  // (deterministic). Empty until a non-final pass adds to them.
+  std::vector<std::vector<double>> sums(band_count);
+
+  // Draws band b with `count` samples; `final` passes read back the AOVs too (identical in
+  // every pass: the unjittered primary ray) and turn the band's sums into output floats.
+  auto drawBand = [&](uint32_t b, uint32_t count, bool final) {
+    const uint32_t y0 = b * band_rows, rows = std::min(band_rows, height - y0);
+    params.tile_x = 0;
+    params.tile_y = y0;
+    params.sample_count = count;
+    runPass(context_, pipeline_, target_, &params, settings.pass_timeout_seconds, rows,
+            final ? kAttachmentCount : 1);
+    const size_t band_floats = size_t(width) * rows * 4;
+    const float* pass = target_.mapped;
+    const double weight = count;
+    std::vector<double>& sum = sums[b];
+    if (!final) {
+      if (sum.empty()) sum.assign(band_floats, 0.0);
+      for (size_t i = 0; i < band_floats; ++i) sum[i] += double(pass[i]) * weight;
+      return;
+    }
+    // Divide (not multiply by a reciprocal) so mergeRenders reproduces this exactly.
+    // count_done >= 1: a zero-sample final pass only follows completed passes.
+    const double count_done = double(out.samples_done + count);
+    // resize() value-initializes only the new band: pages are touched as written.
+    auto grow = [band_floats](FloatImage& image) {
+      const size_t base = image.rgba.size();
+      image.rgba.resize(base + band_floats);
+      return image.rgba.data() + base;
+    };
+    float* color = grow(out.color);
+    for (size_t i = 0; i < band_floats; ++i) {
+      double value = sum.empty() ? 0.0 : sum[i];
+      if (count > 0) value += double(pass[i]) * weight;
+      color[i] = static_cast<float>(value / count_done);
+    }
+    std::vector<double>().swap(sum);
+    // + 0.0f maps -0 to +0, as the former double accumulation (0.0 + x) did.
+    const float* normal_depth = target_.mapped + target_.floatsPerImage();
+    const float* albedo_steps = normal_depth + target_.floatsPerImage();
+    float* nd = grow(out.normal_depth);
+    float* as = grow(out.albedo_steps);
+    for (size_t i = 0; i < band_floats; ++i) {
+      nd[i] = normal_depth[i] + 0.0f;
+      as[i] = albedo_steps[i] + 0.0f;
+    }
+  };
+
   while (out.samples_done < total) {
     if (interrupt && interrupt->load()) {
       out.interrupted = true;
       break;
     }
     const uint32_t count = std::min(per_pass, total - out.samples_done);
+    const bool final = out.samples_done + count == total;
     params.sample_base = settings.first_sample + out.samples_done;
-    params.sample_count = count;
-    runPass(context_, pipeline_, target_, &params, settings.pass_timeout_seconds);
-    const float* pass = target_.mapped;
-    const double weight = count;
-    for (size_t i = 0; i < sums.size(); ++i) sums[i] += double(pass[i]) * weight;
+    for (uint32_t b = 0; b < band_count; ++b) drawBand(b, count, final);
     out.samples_done += count;
     ++out.passes;
 
@@ -143,14 +200,18 @@ RenderOutput Renderer::render(const CameraDesc& camera, const RenderSettings& se
       progress(info);
     }
   }
-
-  FloatImage* images[kAttachmentCount] = {&out.color, &out.normal_depth, &out.albedo_steps};
-  // Divide (not multiply by a reciprocal) so mergeRenders reproduces this exactly.
-  const double count_done = out.samples_done ? double(out.samples_done) : 1.0;
-  for (uint32_t k = 0; k < kAttachmentCount; ++k) {
-    *images[k] = FloatImage(settings.width, settings.height);
-    for (size_t i = 0; i < n; ++i)
-      images[k]->rgba[i] = static_cast<float>(sums[k * n + i] / count_done);
+  if (out.interrupted) {
+    if (out.samples_done == 0) {
+      // Nothing rendered: zero images, as before any pass.
+      out.color = FloatImage(width, height);
+      out.normal_depth = FloatImage(width, height);
+      out.albedo_steps = FloatImage(width, height);
+    } else {
+      // The AOVs were not read back yet: a zero-sample pass traces only the primary
+      // ray (the same values as any pass) while the sums become the mean.
+      params.sample_base = settings.first_sample + out.samples_done;
+      for (uint32_t b = 0; b < band_count; ++b) drawBand(b, 0, true);
+    }
   }
   out.seconds = secondsSince(start);
   if (progress) {

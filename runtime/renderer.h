@@ -50,6 +50,9 @@ struct RenderSettings {
 
 constexpr uint64_t kAutoPixelSamplesPerPass = 1u << 20;
 constexpr uint32_t kAutoMaxSamplesPerPass = 64;
+// render() draws full-width bands of about this many pixels (at least one row), so
+// its device images and staging buffer do not grow with the output size.
+constexpr uint64_t kBandPixels = 1u << 17;
 
 // Samples per pass the renderer uses for `settings` (>= 1).
 uint32_t chooseSamplesPerPass(const RenderSettings& settings);

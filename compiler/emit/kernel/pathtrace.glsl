@@ -444,7 +444,8 @@ vec3 heatMap(float x) {
 }
 
 void main() {
-  uvec2 pixel = uvec2(gl_FragCoord.xy);
+  // Absolute image pixel: the target may hold one band of the image (FrameParams).
+  uvec2 pixel = uvec2(gl_FragCoord.xy) + uvec2(frame.tile_x, frame.tile_y);
   bool trace = frame.view == kViewBeauty || frame.view == kViewIterations;
   int count = trace ? int(frame.sample_count) : 0;
   vec3 sum = vec3(0.0);
