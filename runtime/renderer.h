@@ -10,7 +10,9 @@
 // sample_count) of every pixel (FrameParams), and the shader's random numbers depend
 // only on (pixel, sample index, seed). The CPU sums pass means weighted by their
 // sample counts in double, in pass order, so memory does not grow with spp and the
-// same settings give bit-identical images.
+// same settings give bit-identical images. Each pass is drawn in full-width bands
+// (kBandPixels) with a band-sized target; the AOV attachments, identical in every
+// pass, are read back only in the final pass.
 #pragma once
 #include <atomic>
 #include <cstdint>
@@ -59,8 +61,8 @@ uint32_t chooseSamplesPerPass(const RenderSettings& settings);
 
 struct RenderOutput {
   FloatImage color;         // mean radiance (beauty) or the debug view value, a = 1
-  FloatImage normal_depth;  // sample-weighted mean of attachment 1 over the passes
-  FloatImage albedo_steps;  // sample-weighted mean of attachment 2 over the passes
+  FloatImage normal_depth;  // attachment 1 (the same in every pass; read back once)
+  FloatImage albedo_steps;  // attachment 2 (the same in every pass; read back once)
   uint32_t samples_done = 0;
   uint32_t passes = 0;
   uint32_t samples_per_pass = 0;
