@@ -109,7 +109,7 @@ class SceneWriter {
     }
     // Distance function.
     {
-      Function f = beginFunction("float sdScene(vec3 p)", "p");
+      Function f = beginFunction("float sdScene(vec3 p)");
       const std::string d = node(root, "p", f, false, "-1");
       f.code << "  return " << d << ";\n}\n";
       functions_ << f.code.str();
@@ -121,7 +121,7 @@ class SceneWriter {
       if (uniform != kMixed) {
         f << "int sdMaterialId(vec3 p) { return " << std::max(uniform, 0) << "; }\n";
       } else {
-        Function fn = beginFunction("int sdMaterialId(vec3 p)", "p");
+        Function fn = beginFunction("int sdMaterialId(vec3 p)");
         const std::string dm = node(root, "p", fn, true, "-1.0");
         fn.code << "  return int(" << dm << ".y);\n}\n";
         f << fn.code.str();
@@ -198,7 +198,7 @@ class SceneWriter {
   int bounded_ = 0;
   int function_count_ = 0;
 
-  Function beginFunction(const std::string& signature, const std::string&) {
+  Function beginFunction(const std::string& signature) {
     Function f;
     f.code << signature << " {\n";
     return f;
