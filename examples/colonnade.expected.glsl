@@ -309,10 +309,13 @@ int g_plane_hit = -1;
 float march(vec3 ro, vec3 rd, float t_max, float side, bool refine, out int steps) {
   // Planes are not in sdScene: intersect them here and march no farther.
   g_plane_hit = -1;
+  // An analytic hit counts at any distance short of the ray's end; only the
+  // marched part is limited to the scene's reach (kSceneMaxDist).
   int plane = -1;
   float t_plane = side > 0.0 ? sdPlanesHit(ro, rd, plane) : 3.0e38;
   if (t_plane < t_max) t_max = t_plane;
   else plane = -1;
+  t_max = min(t_max, kSceneMaxDist);
   float t = 0.0;
   float t_prev = 0.0, d_prev = 0.0;
   float t_hit = -1.0, d_hit = 0.0;
@@ -491,7 +494,7 @@ vec3 tracePath(vec3 ro, vec3 rd, int max_bounces, bool record_aov) {
   for (int depth = loopZero(); depth <= max_bounces; depth++) {
     g_loop_iterations++;
     int steps;
-    float t = march(ro, rd, kSceneMaxDist, side, true, steps);
+    float t = march(ro, rd, 3.0e38, side, true, steps);
     // Sphere lights are not in sdScene: test them analytically, nearest wins.
     int light_hit = -1;
     float t_light = t < 0.0 ? 3.0e38 : t;

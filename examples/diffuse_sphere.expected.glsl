@@ -275,10 +275,13 @@ int g_plane_hit = -1;
 float march(vec3 ro, vec3 rd, float t_max, float side, bool refine, out int steps) {
   // Planes are not in sdScene: intersect them here and march no farther.
   g_plane_hit = -1;
+  // An analytic hit counts at any distance short of the ray's end; only the
+  // marched part is limited to the scene's reach (kSceneMaxDist).
   int plane = -1;
   float t_plane = side > 0.0 ? sdPlanesHit(ro, rd, plane) : 3.0e38;
   if (t_plane < t_max) t_max = t_plane;
   else plane = -1;
+  t_max = min(t_max, kSceneMaxDist);
   float t = 0.0;
   float t_prev = 0.0, d_prev = 0.0;
   float t_hit = -1.0, d_hit = 0.0;
@@ -373,7 +376,7 @@ float misBsdfWeight(float bsdf_pdf, float light_pdf) {
 bool sampleLight(int index, vec3 p, vec2 u, out vec3 wi, out float dist, out vec3 radiance) {
   if (index == 0) {
     wi = toWorld(sampleUniformCone(u, 1.0 - kSunCosAngle), kSunDir);
-    dist = kSceneMaxDist;
+    dist = 3.0e38;  // to infinity: march() limits the marched part to kSceneMaxDist
     radiance = kSunRadiance;
     return true;
   }
@@ -432,7 +435,7 @@ vec3 tracePath(vec3 ro, vec3 rd, int max_bounces, bool record_aov) {
   for (int depth = loopZero(); depth <= max_bounces; depth++) {
     g_loop_iterations++;
     int steps;
-    float t = march(ro, rd, kSceneMaxDist, side, true, steps);
+    float t = march(ro, rd, 3.0e38, side, true, steps);
     if (t < 0.0) {
       if (record_aov && depth == 0) g_aov_steps = steps;
       vec3 sky = sdSky(rd);

@@ -270,6 +270,7 @@ const int kRefineSteps = 2;
 // only if it lands nearer the surface: the hit band alone leaves an error of up
 // to eps / cos(angle), far above 1e-4 of the distance at a pixel-cone epsilon.
 float march(vec3 ro, vec3 rd, float t_max, float side, bool refine, out int steps) {
+  t_max = min(t_max, kSceneMaxDist);
   float t = 0.0;
   float t_prev = 0.0, d_prev = 0.0;
   float t_hit = -1.0, d_hit = 0.0;
@@ -360,7 +361,7 @@ float misBsdfWeight(float bsdf_pdf, float light_pdf) {
 bool sampleLight(int index, vec3 p, vec2 u, out vec3 wi, out float dist, out vec3 radiance) {
   if (index == 0) {
     wi = toWorld(sampleUniformCone(u, 1.0 - kSunCosAngle), kSunDir);
-    dist = kSceneMaxDist;
+    dist = 3.0e38;  // to infinity: march() limits the marched part to kSceneMaxDist
     radiance = kSunRadiance;
     return true;
   }
@@ -419,7 +420,7 @@ vec3 tracePath(vec3 ro, vec3 rd, int max_bounces, bool record_aov) {
   for (int depth = loopZero(); depth <= max_bounces; depth++) {
     g_loop_iterations++;
     int steps;
-    float t = march(ro, rd, kSceneMaxDist, side, true, steps);
+    float t = march(ro, rd, 3.0e38, side, true, steps);
     if (t < 0.0) {
       if (record_aov && depth == 0) g_aov_steps = steps;
       vec3 sky = sdSky(rd);
