@@ -100,6 +100,14 @@ TEST(Optimizations, PlanesAreIntersectedAnalyticallyNotMarched) {
   EXPECT_NE(functionBody(plain, "float sdScene(vec3 p)").find("sdPlane("), std::string::npos);
 }
 
+// With every child a plane, sdScene keeps a far placeholder; nodes the
+// compiler makes have no source line, and their comments must stay comments.
+TEST(Optimizations, APlaneOnlySceneStillCompiles) {
+  const CompiledScene c = compileText("scene { plane(normal: [0, 1, 0]) }");
+  EXPECT_FALSE(c.spirv.empty());
+  EXPECT_NE(c.emitted.glsl.find("float sdPlanesHit("), std::string::npos);
+}
+
 TEST(Optimizations, MengerIsUnrolledToItsLevel) {
   const std::string glsl = compileText("scene { menger(level: 3, size: 1) }").emitted.glsl;
   const std::string body = functionBody(glsl, "float sdMenger3(");

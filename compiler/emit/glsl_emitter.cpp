@@ -214,7 +214,8 @@ class SceneWriter {
 
   static std::string lineComment(const ir::Node& n) {
     const int line = n.range.line();
-    return line > 0 ? "  // line " + std::to_string(line) : "";
+    // Always a comment, so the node name callers append stays inside it.
+    return line > 0 ? "  // line " + std::to_string(line) : "  //";
   }
 
   std::string lineDirective(const ir::Node& n) {
