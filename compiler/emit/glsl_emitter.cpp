@@ -260,15 +260,18 @@ class SceneWriter {
     }
   }
 
+  // Emits `n` as a function the first time (named after `label`, the
+  // definition's name by default) and returns a call of it at `p`.
   std::string callFunction(const ir::Node& n, const std::string& p, Function& f, bool mat,
-                           const std::string& inherited) {
+                           const std::string& inherited, std::string label = "") {
+    if (label.empty()) label = n.definition;
     auto key = std::make_pair(&n, mat);
     auto it = node_functions_.find(key);
     std::string name;
     if (it != node_functions_.end()) {
       name = it->second;
     } else {
-      name = (mat ? "sdm_" : "sd_") + n.definition;
+      name = (mat ? "sdm_" : "sd_") + label;
       for (const auto& [k, v] : node_functions_)
         if (v == name) name += "_" + std::to_string(node_functions_.size());
       node_functions_[key] = name;
@@ -277,7 +280,7 @@ class SceneWriter {
       copy.definition.clear();
       Function g;
       g.code << lineDirective(n);
-      g.code << "// " << n.definition << lineComment(n) << "\n";
+      g.code << "// " << label << lineComment(n) << "\n";
       g.code << (mat ? "vec2 " : "float ") << name << "(vec3 p" << (mat ? ", float inherited" : "")
              << ") {\n";
       const std::string r = node(copy, "p", g, mat, mat ? "inherited" : "-1.0");
@@ -507,8 +510,7 @@ class SceneWriter {
         f.code << "  float " << index[a] << " = clamp(round(" << x << " / " << s << " + " << glslFloat(half)
                << "), 0.0, " << glslFloat(n.count[a] - 1) << ") - " << glslFloat(half) << ";\n";
       }
-      const double reach = c.bounds.finite() ? std::max(std::fabs(c.bounds.lo[a]), std::fabs(c.bounds.hi[a])) : 1e300;
-      span[a] = reach > cell[a] / 2 ? 1 : 0;
+      span[a] = repeatNeedsNeighbours(n, a) ? 1 : 0;
     }
     auto point = [&](const int d[3]) {
       std::string comps;
@@ -541,25 +543,9 @@ class SceneWriter {
         }
     if (points.size() == 1) return node(c, points[0], f, mat, inherited);
     // Several cells: evaluate the child through a function, not inlined per cell.
-    std::string fn;
-    if (c.definition.empty()) {
-      auto key = std::make_pair(&c, mat);
-      auto it = node_functions_.find(key);
-      if (it == node_functions_.end()) {
-        ir::Node copy = c;
-        copy.definition = "cell" + std::to_string(node_functions_.size());
-        callFunction(copy, "p", f, mat, inherited);  // emits the function
-        // Remember it under the real node so later uses share it.
-        node_functions_[key] = node_functions_[std::make_pair(static_cast<const ir::Node*>(&copy), mat)];
-        node_functions_.erase(std::make_pair(static_cast<const ir::Node*>(&copy), mat));
-      }
-      fn = node_functions_[key];
-    }
+    const std::string label = c.definition.empty() ? "cell" : c.definition;
     const std::string acc = var(f, "d");
-    auto eval = [&](const std::string& pt) {
-      if (!c.definition.empty()) return node(c, pt, f, mat, inherited);
-      return fn + "(" + pt + (mat ? ", " + inherited : "") + ")";
-    };
+    auto eval = [&](const std::string& pt) { return callFunction(c, pt, f, mat, inherited, label); };
     f.code << "  " << (mat ? "vec2 " : "float ") << acc << " = " << eval(points[0]) << ";\n";
     for (size_t i = 1; i < points.size(); ++i) {
       const std::string r = var(f, "r");

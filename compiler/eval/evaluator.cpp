@@ -1,6 +1,7 @@
 #include "eval/evaluator.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -45,10 +46,11 @@ EvalResult Evaluator::evalNode(const ir::Node& n, const dvec3& p, int inherited)
   auto child = [&](size_t i, const dvec3& q) { return evalNode(*n.children[i], q, mat); };
   switch (n.kind) {
     case ir::NodeKind::Primitive: {
-      std::vector<double> args;
-      for (const ir::Scalar& s : n.args) args.push_back(s.at(t));
-      const PrimitiveInfo& info = primitiveInfo(n.primitive);
-      return {info.distance(args.data(), p), mat};
+      // A fixed array: this runs for every primitive at every point (the mesher
+      // spent a fifth of its time in malloc when it was a vector).
+      std::array<double, kMaxPrimitiveArgs> args{};
+      for (size_t i = 0; i < n.args.size(); ++i) args[i] = n.args[i].at(t);
+      return {primitiveInfo(n.primitive).distance(args.data(), p), mat};
     }
     case ir::NodeKind::Union: {
       const double k = n.smooth.at(t);
@@ -110,16 +112,12 @@ EvalResult Evaluator::evalNode(const ir::Node& n, const dvec3& p, int inherited)
       // cell on either side (an off-centre child), so such axes try the
       // cells i - 1, i and i + 1.
       const dvec3 cell = n.vec.value();
-      const ir::Node& c = *n.children[0];
       dvec3 index(0);
       int span[3] = {0, 0, 0};
       for (int a = 0; a < 3; ++a) {
         if (cell[a] == 0) continue;
         index[a] = repeatCellIndex(p[a], cell[a], n.count[a]);
-        const double reach = c.bounds.finite()
-                                 ? std::max(std::fabs(c.bounds.lo[a]), std::fabs(c.bounds.hi[a]))
-                                 : std::numeric_limits<double>::infinity();
-        span[a] = reach > cell[a] / 2 ? 1 : 0;
+        span[a] = repeatNeedsNeighbours(n, a) ? 1 : 0;
       }
       EvalResult best{std::numeric_limits<double>::infinity(), mat};
       for (int dx = -span[0]; dx <= span[0]; ++dx)

@@ -196,14 +196,10 @@ class Analyzer {
         n.bounds.lo[a] -= spread;
         n.bounds.hi[a] += spread;
       }
-      // A child reaching past its cell's border needs the neighbour cell too.
-      const double reach = child.bounds.finite()
-                               ? std::max(std::fabs(child.bounds.lo[a]), std::fabs(child.bounds.hi[a]))
-                               : kInf;
-      if (reach > cell[a] / 2) {
+      if (repeatNeedsNeighbours(n, a)) {
         cells_evaluated *= 3;
         n.exact = false;
-        if (reach > cell[a] * 1.5)
+        if (repeatReach(n, a) > cell[a] * 1.5)
           diags_.warning(n.range, "the repeated shape reaches more than one cell beyond its own "
                                   "along axis " + std::string(1, "xyz"[a]) +
                                   "; only neighbouring cells are checked, so its distance may be "
@@ -215,6 +211,11 @@ class Analyzer {
 };
 
 }  // namespace
+
+double repeatReach(const ir::Node& repeat, int axis) {
+  const Aabb& b = repeat.children[0]->bounds;
+  return b.finite() ? std::max(std::fabs(b.lo[axis]), std::fabs(b.hi[axis])) : kInf;
+}
 
 void analyze(ir::Scene& scene, Diagnostics& diags) {
   if (!scene.root) return;

@@ -29,6 +29,15 @@ struct MarchPolicy {
 
 MarchLimits deriveMarchLimits(const ir::Scene& scene, const MarchPolicy& policy);
 
+// How far a repeat node's child reaches from its cell centre along `axis`
+// (infinite when unbounded). Past half a cell, the cells on either side can
+// hold the nearest copy: analysis, evaluator and emitter all decide by this.
+double repeatReach(const ir::Node& repeat, int axis);
+inline bool repeatNeedsNeighbours(const ir::Node& repeat, int axis) {
+  const double cell = repeat.vec.value()[axis];
+  return cell != 0 && repeatReach(repeat, axis) > cell / 2;
+}
+
 // Rotation by `degrees` about unit `axis` (right-handed), as a matrix.
 glm::dmat3 rotationMatrix(glm::dvec3 axis, double degrees);
 

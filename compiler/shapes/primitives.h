@@ -52,6 +52,8 @@ const std::vector<PrimitiveInfo>& primitiveCatalogue();
 const PrimitiveInfo* findPrimitive(const std::string& name);
 const PrimitiveInfo& primitiveInfo(PrimitiveKind kind);
 int flattenedParamCount(const PrimitiveInfo& info);
+// The most flattened parameters any primitive takes (box and plane take 4).
+constexpr size_t kMaxPrimitiveArgs = 8;
 // GLSL of the 2D box helper some primitives share (sdBox2).
 const char* box2Glsl();
 
