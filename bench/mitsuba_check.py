@@ -55,6 +55,9 @@ def render_mitsuba(w, h, spp, bounces, seed):
         "integrator": {"type": "path", "max_depth": bounces + 1},
         "sensor": {
             "type": "perspective", "fov": 40, "fov_axis": "y",
+            # The default far clip (1e4) drops the ground within 0.02 pixel of
+            # the horizon: measured as 1.6% more sky in the horizon row.
+            "far_clip": 1e9,
             "to_world": T().look_at(origin=[0, 1.2, 4.5], target=[0, 0.6, 0], up=[0, 1, 0]),
             "film": {"type": "hdrfilm", "width": w, "height": h, "rfilter": {"type": "box"}},
             "sampler": {"type": "independent", "sample_count": spp, "seed": seed},
