@@ -274,6 +274,8 @@ float march(vec3 ro, vec3 rd, float t_max, float side, out int steps) {
   float t_hit = -1.0, d_hit = 0.0;    // the sample nearest the surface since then
   bool crossed = false;               // a sample since the stop lies inside
   bool narrow = false;                // band narrowed to kSceneHitEps after a near miss
+  float t_first = -1.0, d_first = 0.0; // the first, unconfirmed stop
+  bool exhausted = false;             // out of steps, still closing in
   int refined = 0;
   steps = 0;
   for (int i = loopZero(); i < kSceneMaxSteps + kRefineSteps; i++) {
@@ -289,6 +291,8 @@ float march(vec3 ro, vec3 rd, float t_max, float side, out int steps) {
         if (crossed || narrow || abs(d_hit) <= kSceneHitEps) break;
         // Unconfirmed: march on from the stop, which is safe (d_stop > 0).
         narrow = true;
+        t_first = t_stop;
+        d_first = d_stop;
         refined = 0;
         t_prev = t_stop;
         d_prev = d_stop;
@@ -307,22 +311,33 @@ float march(vec3 ro, vec3 rd, float t_max, float side, out int steps) {
         d_hit = d;
         crossed = d <= 0.0;
       } else if (i + 1 >= kSceneMaxSteps) {
-        break;  // out of steps: a miss
+        // Out of steps: a miss, unless still closing in after a stop.
+        exhausted = d <= d_prev;
+        break;
       }
     }
     float t_next = t + d * kSceneStepScale;
     if (t_stop >= 0.0) {
       // Secant on d(t) through the last two samples; a plain step if they
-      // do not bracket a descent, and never farther than 8 |d| from the hit.
+      // do not bracket a descent, and never farther than 64 |d| from the hit
+      // (a face met at 1 degree is 57 |d| ahead).
       float slope = (d - d_prev) / max(t - t_prev, 1e-30);
       if (i > 0 && slope < 0.0) t_next = t - d / slope;
       // ... nor past t_max (an analytic plane may lie just beyond the hit).
-      t_next = clamp(t_next, t_hit - 8.0 * abs(d_hit), min(t_hit + 8.0 * abs(d_hit), t_max));
+      t_next = clamp(t_next, t_hit - 64.0 * abs(d_hit), min(t_hit + 64.0 * abs(d_hit), t_max));
     }
     t_prev = t;
     d_prev = d;
     t = t_next;
     if (t_stop < 0.0 && t > t_max) break;
+  }
+  // Out of steps while resolving a stop and still closing in: a ray grazing a
+  // face converges too slowly to confirm it in budget, one passing a silhouette
+  // within a hair has not reached its closest point; keep the stop, the answer
+  // of a plain pixel-cone tracer. A ray already moving away is a miss.
+  if (t_hit < 0.0 && exhausted && t_first >= 0.0) {
+    t_hit = t_first;
+    d_hit = d_first;
   }
   g_hit_offness = abs(d_hit);
   return t_hit >= 0.0 ? max(t_hit, 0.0) : -1.0;
@@ -451,7 +466,7 @@ vec3 tracePath(vec3 ro, vec3 rd, int max_bounces, bool record_aov) {
     vec3 n;
     Material m;
     {
-      n = sceneNormal(p, eps);  // outward: the gradient of sdScene
+      n = sceneNormal(p, min(eps, 4.0 * kSceneHitEps));  // outward: the gradient of sdScene
       m = sdMaterial(sdMaterialId(p));
     }
     if (record_aov && depth == 0) {
