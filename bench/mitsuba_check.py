@@ -124,11 +124,12 @@ def render_sdfc(sdfc, scene_path, seed, out, flags=()):
     run = subprocess.run([sdfc, "render", scene_path, "-o", out, "--seed", str(seed), *flags],
                          check=True, capture_output=True, text=True)
     wall = time.perf_counter() - start
-    m = re.search(r"spp in ([0-9.]+)s", run.stderr)
-    return read_pfm(out), wall, float(m.group(1)) if m else wall
+    # "(N spp in X s, R spp/s)": N / R has more digits than X.
+    m = re.search(r"\(([0-9]+) spp in [0-9.]+s, ([0-9.e+-]+) spp/s\)", run.stderr)
+    return read_pfm(out), wall, int(m.group(1)) / float(m.group(2)) if m else wall
 
 
-def render_mitsuba(name, w, h, spp, bounces, seed):
+def render_mitsuba(name, w, h, spp, bounces, seed, sampler="independent"):
     """Image, wall time of scene build + render, and the render's own time."""
     import mitsuba as mi
     mi.set_variant("scalar_rgb")
@@ -147,7 +148,7 @@ def render_mitsuba(name, w, h, spp, bounces, seed):
             "far_clip": 1e9,
             "to_world": T().look_at(origin=c["position"], target=c["target"], up=[0, 1, 0]),
             "film": {"type": "hdrfilm", "width": w, "height": h, "rfilter": {"type": "box"}},
-            "sampler": {"type": "independent", "sample_count": spp, "seed": seed},
+            "sampler": {"type": sampler, "sample_count": spp, "seed": seed},
         },
         "sky": {"type": "constant", "radiance": rgb([1, 1, 1])},
         # The infinite plane as a rectangle 2e5 on a side.
@@ -295,28 +296,36 @@ def cmd_efficiency(args):
                 e = noise_rmse(s1, s2)
                 pts["sdfc"].append((min(ws1, ws2), e))
                 pts["sdfc render"].append((min(rs1, rs2), e))
-                m1, wm1, rm1 = render_mitsuba(name, w, h, spp, args.bounces, 1)
-                m2, wm2, rm2 = render_mitsuba(name, w, h, spp, args.bounces, 2)
+                m1, wm1, rm1 = render_mitsuba(name, w, h, spp, args.bounces, 1, args.mitsuba_sampler)
+                m2, wm2, rm2 = render_mitsuba(name, w, h, spp, args.bounces, 2, args.mitsuba_sampler)
                 e = noise_rmse(m1, m2)
                 pts["Mitsuba"].append((min(wm1, wm2), e))
                 pts["Mitsuba render"].append((min(rm1, rm2), e))
                 print(f"{name} {spp:5d} spp: sdfc RMSE {pts['sdfc'][-1][1]:.4f} in {pts['sdfc'][-1][0]:.2f} s "
                       f"(render {pts['sdfc render'][-1][0]:.2f} s); Mitsuba RMSE {e:.4f} in "
                       f"{pts['Mitsuba'][-1][0]:.2f} s (render {pts['Mitsuba render'][-1][0]:.2f} s)", flush=True)
+            # Agreement at the largest spp, from the same four renders.
+            ms, ses = mean_and_error(s1, s2)
+            mm, sem = mean_and_error(m1, m2)
+            z = z_scores(ms, ses, mm, sem)
             target = pts["Mitsuba"][-1][1]
             t = {k: time_to_error(v, target) for k, v in pts.items()}
             rows.append({"scene": name, "target_rmse": target, **{f"time {k}": v for k, v in t.items()},
                          "ratio": t["sdfc"] / t["Mitsuba"],
+                         "mean_diff_percent": float(np.max(np.abs(ms - mm) / mm) * 100),
+                         "z_max": float(z.max()),
                          "ratio render": t["sdfc render"] / t["Mitsuba render"]})
-    print(f"\nequal-error wall time, {w}x{h}, {args.bounces} bounces, target = Mitsuba's RMSE at "
-          f"{args.spp_list[-1]} spp (sdfc / Mitsuba; below 1 = sdfc faster)")
-    print(f"{'scene':22s} {'target':>8s} {'sdfc s':>8s} {'Mitsuba s':>10s} {'ratio':>6s} {'render only':>12s}")
+    print(f"\nequal-error wall time, {w}x{h}, {args.bounces} bounces, Mitsuba sampler {args.mitsuba_sampler}, "
+          f"target = Mitsuba's RMSE at {args.spp_list[-1]} spp (sdfc / Mitsuba; below 1 = sdfc faster)")
+    print(f"{'scene':22s} {'target':>8s} {'sdfc s':>8s} {'Mitsuba s':>10s} {'ratio':>6s} {'render only':>12s} "
+          f"{'mean diff':>10s} {'s.e.':>5s}")
     for r in rows:
         print(f"{r['scene']:22s} {r['target_rmse']:8.4f} {r['time sdfc']:8.2f} {r['time Mitsuba']:10.2f} "
-              f"{r['ratio']:6.2f} {r['ratio render']:12.2f}")
+              f"{r['ratio']:6.2f} {r['ratio render']:12.2f} {r['mean_diff_percent']:9.4f}% {r['z_max']:5.2f}")
     if args.json:
         with open(args.json, "w") as f:
             json.dump({"width": w, "height": h, "bounces": args.bounces, "spp": args.spp_list,
+                       "mitsuba_sampler": args.mitsuba_sampler, "threads": os.cpu_count(),
                        "rows": rows}, f, indent=1)
     return 0
 
@@ -333,6 +342,8 @@ def main():
     ap.add_argument("--scenes", default=",".join(SCENES))
     ap.add_argument("--reference", default=REFERENCE_JSON)
     ap.add_argument("--json", default=None, help="efficiency: write the table here")
+    ap.add_argument("--mitsuba-sampler", default="independent",
+                    help="efficiency: Mitsuba's sampler (independent, multijitter, ldsampler, ...)")
     args = ap.parse_args()
     args.width, args.height = map(int, args.size.split("x"))
     args.scenes = args.scenes.split(",")
