@@ -100,7 +100,7 @@ int runMesh(const CommandLine& cl) {
   const TriangleMesh& mesh = result.mesh;
   const auto finish_start = std::chrono::steady_clock::now();
   try {
-    writeMeshFile(cl.output, encodeMesh(mesh, scene, *format, cl.time));
+    writeFileAtomically(cl.output, encodeMesh(mesh, scene, *format, cl.time));
   } catch (const std::exception& e) {
     std::cerr << "sdfc: error: " << e.what() << "\n";
     return kExitIo;

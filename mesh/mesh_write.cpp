@@ -241,19 +241,4 @@ std::string encodeMesh(const TriangleMesh& mesh, const ir::Scene& scene, MeshFor
   return {};
 }
 
-void writeMeshFile(const std::string& path, const std::string& bytes) {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream f(tmp, std::ios::binary);
-    if (!f || !f.write(bytes.data(), std::streamsize(bytes.size())) || !f.flush()) {
-      std::remove(tmp.c_str());
-      throw std::runtime_error("cannot write '" + path + "'");
-    }
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    std::remove(tmp.c_str());
-    throw std::runtime_error("cannot write '" + path + "'");
-  }
-}
-
 }  // namespace sdfc

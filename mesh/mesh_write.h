@@ -19,7 +19,4 @@ std::optional<MeshFormat> meshFormatFor(const std::string& path);
 std::string encodeMesh(const TriangleMesh& mesh, const ir::Scene& scene, MeshFormat format,
                        double time = 0);
 
-// Writes through "<path>.tmp" and a rename, so readers never see half a file.
-void writeMeshFile(const std::string& path, const std::string& bytes);
-
 }  // namespace sdfc

@@ -9,6 +9,7 @@
 #include <sstream>
 #include <tiny_gltf.h>
 
+#include "cli/cli_support.h"
 #include "driver/compile.h"
 #include "mesh_write.h"
 #include "mesher.h"
@@ -167,14 +168,14 @@ TEST(MeshExport, FormatsByExtensionAndAtomicWrite) {
   EXPECT_EQ(meshFormatFor("x.stl"), MeshFormat::Stl);
   EXPECT_EQ(meshFormatFor("x.obj"), std::nullopt);
   const std::string path = std::string(SDFC_BINARY_DIR) + "/mesh_export_test.stl";
-  writeMeshFile(path, "hello");
+  writeFileAtomically(path, "hello");
   std::ifstream in(path, std::ios::binary);
   std::stringstream got;
   got << in.rdbuf();
   EXPECT_EQ(got.str(), "hello");
   EXPECT_FALSE(std::ifstream(path + ".tmp").good());
   std::remove(path.c_str());
-  EXPECT_THROW(writeMeshFile("/nonexistent-dir/x.stl", "x"), std::runtime_error);
+  EXPECT_THROW(writeFileAtomically("/nonexistent-dir/x.stl", "x"), std::runtime_error);
 }
 
 }  // namespace
