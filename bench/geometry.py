@@ -20,7 +20,7 @@ def steps_from_heatmap(img, budget):
 
 def reference_roots(sdfc, scene, width, height, cache_dir):
     """Exact roots for every pixel-centre ray, cached by scene and size."""
-    key = sb.file_hash([scene], f"roots{width}x{height}")
+    key = sb.file_hash([scene, sdfc], f"roots{width}x{height}")  # sdfc: its evaluator
     path = os.path.join(cache_dir, f"roots_{os.path.basename(scene)}_{key}.npz")
     if os.path.exists(path):
         d = np.load(path)

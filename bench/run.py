@@ -57,7 +57,8 @@ def log(msg):
 def reference(args, scene, size):
     """Converged image and its own noise (per-pixel variance of the mean),
     from two independent halves; cached by scene text and settings."""
-    key = sb.file_hash([scene], f"ref{size}:{args.ref_spp}:{' '.join(REFERENCE_FLAGS)}")
+    # The binary embeds the kernel: a reference from another build is stale.
+    key = sb.file_hash([scene, args.sdfc], f"ref{size}:{args.ref_spp}:{' '.join(REFERENCE_FLAGS)}")
     path = os.path.join(args.cache, f"ref_{os.path.basename(scene)}_{key}.npz")
     if os.path.exists(path):
         d = np.load(path)
