@@ -14,6 +14,7 @@ CompileOptions compileOptionsFrom(const CommandLine& cl) {
   o.emit.line_directives = cl.line_directives;
   o.emit.sobol = !cl.white_noise;
   o.emit.march.paper_baseline = cl.paper_baseline;
+  o.emit.scene_box = !cl.paper_baseline;  // the paper marches every ray from the camera
   o.emit.count_evaluations = cl.count_evaluations;
   o.fuse_transforms = !cl.no_fuse;
   o.optimize_spirv = cl.optimize;

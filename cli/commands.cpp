@@ -28,7 +28,7 @@ void registerCommands(CLI::App& app, CommandLine& cl) {
     sub->add_flag("--no-fuse", cl.no_fuse, "do not fuse transform chains");
     sub->add_flag("-O,--optimize", cl.optimize, "run spirv-opt's performance passes");
     sub->add_flag("--paper-baseline", cl.paper_baseline,
-                  "march like the paper: fixed epsilon 1e-3, 256 steps, max distance 100");
+                  "march like the paper: fixed epsilon 1e-3, 256 steps, max distance 100, no scene box");
     sub->add_flag("--white-noise", cl.white_noise, "PCG hash sampler instead of Owen-scrambled Sobol");
     sub->add_flag("--count-evaluations", cl.count_evaluations,
                   "instrument: each primitive evaluation adds 1 to --view iterations");

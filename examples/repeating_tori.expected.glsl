@@ -269,7 +269,7 @@ float g_hit_offness = 0.0;
 float march(vec3 ro, vec3 rd, float t_max, float side, out int steps) {
   t_max = min(t_max, kSceneMaxDist);
   float t = 0.0;
-  float t_prev = 0.0, d_prev = 0.0;
+  float t_prev = t, d_prev = 0.0;
   float t_stop = -1.0, d_stop = 0.0;  // where the march entered the hit band
   float t_hit = -1.0, d_hit = 0.0;    // the sample nearest the surface since then
   bool crossed = false;               // a sample since the stop lies inside
@@ -278,7 +278,8 @@ float march(vec3 ro, vec3 rd, float t_max, float side, out int steps) {
   bool exhausted = false;             // out of steps, still closing in
   int refined = 0;
   steps = 0;
-  for (int i = loopZero(); i < kSceneMaxSteps + kRefineSteps; i++) {
+  // (t > t_max: no marched surface on this ray; the loop body breaks at once.)
+  for (int i = loopZero(); i < kSceneMaxSteps + kRefineSteps && t <= t_max; i++) {
     g_loop_iterations++;
     float d = side * sdScene(ro + rd * t);
     if (t_stop >= 0.0) {

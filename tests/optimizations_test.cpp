@@ -188,5 +188,61 @@ scene {
   EXPECT_EQ(validationMessageCount(), 0);
 }
 
+// The scene box: rays march only inside the box around the marched part, so
+// rays that miss the scene take no steps; the image does not change.
+TEST(Optimizations, SceneBoxCutsStepsWithoutChangingTheImage) {
+  const std::string scene = R"(
+camera(position: [0, 2, 9], target: [0, 0.5, 0], fov: 40)
+sky(color: [0.8, 0.85, 0.9])
+scene {
+  plane(normal: [0, 1, 0])
+  translate([-1, 0.6, 0]) { sphere(radius: 0.6) }
+  translate([1, 0.5, 0]) { box(size: 1) }
+}
+)";
+  CompileOptions boxed, unboxed;
+  unboxed.emit.scene_box = false;
+  boxed.emit.march.image_height = unboxed.emit.march.image_height = 48;
+  const CompiledScene with = compileText(scene, boxed), without = compileText(scene, unboxed);
+  EXPECT_NE(with.emitted.glsl.find("kSceneBoxLo"), std::string::npos);
+  EXPECT_EQ(without.emitted.glsl.find("kSceneBoxLo"), std::string::npos);
+  // An unbounded part (a repetition without limits) gets no box.
+  EXPECT_EQ(compileText("scene { repeat(cell: [2, 0, 2]) { sphere(radius: 0.5) } }")
+                .emitted.glsl.find("kSceneBoxLo"),
+            std::string::npos);
+
+  VulkanContext context;
+  createContext(context);
+  RenderOverrides o;
+  o.width = 64;
+  o.height = 48;
+  auto iterations = [&](const CompiledScene& c) {
+    Renderer renderer(context, c.spirv);
+    RenderOverrides v = o;
+    v.view = gpu::kViewIterations;
+    v.spp = 1;
+    v.bounces = 1;
+    const FloatImage it = renderer.render(cameraFor(c.scene), renderSettingsFor(c, v)).color;
+    double sum = 0;
+    for (uint32_t i = 0; i < it.width * it.height; ++i) sum += it.rgba[i * 4];
+    return sum / (it.width * it.height);
+  };
+  const double work_with = iterations(with), work_without = iterations(without);
+  EXPECT_LT(work_with, 0.7 * work_without) << "loop iterations per pixel";
+  std::printf("[ box      ] loop iterations per pixel: %.1f with the scene box, %.1f without\n", work_with,
+              work_without);
+  auto image = [&](const CompiledScene& c, uint32_t seed) {
+    Renderer renderer(context, c.spirv);
+    RenderOverrides v = o;
+    v.spp = 16;
+    v.seed = seed;
+    return renderer.render(cameraFor(c.scene), renderSettingsFor(c, v)).color;
+  };
+  const FloatImage ia = image(with, 0), ib = image(without, 0), ib2 = image(without, 1);
+  EXPECT_LE(relMse(ia, ib), 0.5 * relMse(ib2, ib)) << "the scene box changed the image beyond noise";
+  destroyContext(context);
+  EXPECT_EQ(validationMessageCount(), 0);
+}
+
 }  // namespace
 }  // namespace sdfc

@@ -130,6 +130,17 @@ class SceneWriter {
     }
     stats.bounded_subtrees = bounded_;
     stats.functions = function_count_;
+    // The marched part's box: the root's bounds, or with planes taken out,
+    // the union of what is left (the far placeholder has none: no box).
+    Aabb box = root.bounds;
+    if (!planes_.empty()) {
+      box = Aabb();
+      for (const ir::NodeRef& c : root.children) box = box.unite(c->bounds);
+    }
+    // Padded by a few hit epsilons and float32 ulps of its corners.
+    const double pad = 4 * limits.hit_epsilon +
+                       8 * std::ldexp(1.0, -23) * std::max(glm::length(box.lo), glm::length(box.hi));
+    has_scene_box_ = options_.with_kernel && options_.scene_box && !box.empty() && box.finite();
 
     std::ostringstream out;
     out << "// ---- scene constants (derived per scene by the compiler) ----\n";
@@ -138,6 +149,14 @@ class SceneWriter {
     out << "const float kSceneHitEps = " << glslFloat(limits.hit_epsilon) << ";\n";
     out << "const float kScenePixelCone = " << glslFloat(limits.pixel_cone) << ";\n";
     out << "const float kSceneStepScale = " << glslFloat(limits.step_scale) << ";\n";
+    if (has_scene_box_) {
+      const Aabb b = box.grow(pad);
+      out << "// The marched part of the scene lies in this box.\n";
+      out << "const vec3 kSceneBoxLo = vec3(" << glslFloat(b.lo.x) << ", " << glslFloat(b.lo.y) << ", "
+          << glslFloat(b.lo.z) << ");\n";
+      out << "const vec3 kSceneBoxHi = vec3(" << glslFloat(b.hi.x) << ", " << glslFloat(b.hi.y) << ", "
+          << glslFloat(b.hi.z) << ");\n";
+    }
     lights(out);
     if (!planes_.empty()) {
       out << "// Planes intersected analytically (dot(p, n) <= offset is solid).\n";
@@ -189,9 +208,11 @@ class SceneWriter {
     int line;
   };
   std::vector<AnalyticPlane> planes_;
+  bool has_scene_box_ = false;
 
  public:
   bool hasAnalyticPlanes() const { return !planes_.empty(); }
+  bool hasSceneBox() const { return has_scene_box_; }
 
  private:
   std::map<std::pair<const ir::Node*, bool>, std::string> node_functions_;
@@ -650,6 +671,7 @@ EmitResult emitGlsl(const ir::Scene& scene, const EmitOptions& options) {
   SceneWriter writer(scene, options);
   const std::string scene_code = writer.write(result.limits, result.stats);
   if (writer.hasAnalyticPlanes()) result.stats.features.insert("SDFC_HAS_PLANES");
+  if (writer.hasSceneBox()) result.stats.features.insert("SDFC_HAS_SCENE_BOX");
   std::ostringstream out;
   out << "#version 450\n";
   if (options.line_directives) out << "#extension GL_GOOGLE_cpp_style_line_directive : require\n";

@@ -27,6 +27,10 @@ struct EmitOptions {
   // Planes directly in the scene are intersected analytically by the kernel
   // (kernel emission only: sdScene then leaves them out).
   bool analytic_planes = true;
+  // A finite marched part gets a bounding box: march() only steps where the
+  // ray is inside it, so rays that miss or leave the scene stop at once
+  // (kernel emission only).
+  bool scene_box = true;
 };
 
 struct EmitStats {

@@ -39,7 +39,18 @@ float march(vec3 ro, vec3 rd, float t_max, float side, out int steps) {
 #endif
   t_max = min(t_max, kSceneMaxDist);
   float t = 0.0;
-  float t_prev = 0.0, d_prev = 0.0;
+#ifdef SDFC_HAS_SCENE_BOX
+  // March only inside the box around the marched part (slab test): a ray that
+  // misses it, or the part of one beyond it, takes no steps.
+  {
+    vec3 inv = 1.0 / (rd + vec3(equal(rd, vec3(0.0))) * 1e-30);
+    vec3 ta = (kSceneBoxLo - ro) * inv, tb = (kSceneBoxHi - ro) * inv;
+    vec3 near = min(ta, tb), far = max(ta, tb);
+    t = max(max(max(near.x, near.y), near.z), 0.0);
+    t_max = min(t_max, min(min(far.x, far.y), far.z));
+  }
+#endif
+  float t_prev = t, d_prev = 0.0;
   float t_stop = -1.0, d_stop = 0.0;  // where the march entered the hit band
   float t_hit = -1.0, d_hit = 0.0;    // the sample nearest the surface since then
   bool crossed = false;               // a sample since the stop lies inside
@@ -48,7 +59,8 @@ float march(vec3 ro, vec3 rd, float t_max, float side, out int steps) {
   bool exhausted = false;             // out of steps, still closing in
   int refined = 0;
   steps = 0;
-  for (int i = loopZero(); i < kSceneMaxSteps + kRefineSteps; i++) {
+  // (t > t_max: no marched surface on this ray; the loop body breaks at once.)
+  for (int i = loopZero(); i < kSceneMaxSteps + kRefineSteps && t <= t_max; i++) {
     g_loop_iterations++;
     float d = side * sdScene(ro + rd * t);
     if (t_stop >= 0.0) {
