@@ -387,12 +387,13 @@ float march(vec3 ro, vec3 rd, float t_max, float side, out int steps) {
     float t_next = t + d * kSceneStepScale;
     if (t_stop >= 0.0) {
       // Secant on d(t) through the last two samples; a plain step if they
-      // do not bracket a descent, and never farther than 64 |d| from the hit
-      // (a face met at 1 degree is 57 |d| ahead).
+      // do not bracket a descent, and never farther than 8 |d| from the hit:
+      // longer jumps tunnelled through the rims of a level-5 Menger sponge's
+      // holes (0.17% of primary rays at 64 |d|).
       float slope = (d - d_prev) / max(t - t_prev, 1e-30);
       if (i > 0 && slope < 0.0) t_next = t - d / slope;
       // ... nor past t_max (an analytic plane may lie just beyond the hit).
-      t_next = clamp(t_next, t_hit - 64.0 * abs(d_hit), min(t_hit + 64.0 * abs(d_hit), t_max));
+      t_next = clamp(t_next, t_hit - 8.0 * abs(d_hit), min(t_hit + 8.0 * abs(d_hit), t_max));
     }
     t_prev = t;
     d_prev = d;
