@@ -31,6 +31,8 @@ import time
 import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, HERE)
+import sdfbench as sb  # noqa: E402
 REFERENCE_JSON = os.path.join(HERE, "..", "tests", "mitsuba_reference.json")
 
 CAMERA = {"position": [0, 1.2, 4.5], "target": [0, 0.6, 0], "fov": 40}
@@ -268,21 +270,6 @@ def cmd_test(args):
     return 1 if failures else 0
 
 
-def time_to_error(points, target):
-    """Wall time to reach `target` RMSE by log-log interpolation (extrapolated
-    at the ends with the Monte Carlo slope -1/2)."""
-    pts = sorted(points)
-    t = np.log([p[0] for p in pts])
-    e = np.log([p[1] for p in pts])
-    lt = np.log(target)
-    for i in range(len(pts) - 1):
-        if (e[i] - lt) * (e[i + 1] - lt) <= 0 and e[i] != e[i + 1]:
-            f = (lt - e[i]) / (e[i + 1] - e[i])
-            return float(np.exp(t[i] + f * (t[i + 1] - t[i])))
-    j = 0 if lt > e[0] else len(pts) - 1
-    return float(np.exp(t[j] + (e[j] - lt) * 2))
-
-
 def cmd_efficiency(args):
     """Equal-error wall time: both renderers at several spp, noise RMSE from two
     seeds, time to reach the error Mitsuba reaches at its largest spp."""
@@ -309,7 +296,7 @@ def cmd_efficiency(args):
             mm, sem = mean_and_error(m1, m2)
             z = z_scores(ms, ses, mm, sem)
             target = pts["Mitsuba"][-1][1]
-            t = {k: time_to_error(v, target) for k, v in pts.items()}
+            t = {k: sb.time_to_error(v, target)[0] or float("nan") for k, v in pts.items()}
             rows.append({"scene": name, "target_rmse": target, **{f"time {k}": v for k, v in t.items()},
                          "ratio": t["sdfc"] / t["Mitsuba"],
                          "mean_diff_percent": float(np.max(np.abs(ms - mm) / mm) * 100),

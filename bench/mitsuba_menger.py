@@ -39,6 +39,10 @@ import time
 
 import numpy as np
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import sdfbench as sb  # noqa: E402
+from mitsuba_check import mean_and_error, read_pfm  # noqa: E402
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 
 # Camera, materials and sky shared by both renderers.
@@ -262,24 +266,6 @@ def timed(cmd, **kw):
     return proc, wall, int(lines[-1]) * 1024 if lines else 0
 
 
-def read_pfm(path):
-    with open(path, "rb") as f:
-        f.readline()
-        w, h = map(int, f.readline().split())
-        scale = float(f.readline())
-        data = np.frombuffer(f.read(), dtype="<f4" if scale < 0 else ">f4")
-    return data.reshape(h, w, 3)[::-1]
-
-
-def mean_and_error(a, b):
-    """Mean radiance of two independent renders and the standard error of
-    that mean, from their difference (as in bench/mitsuba_check.py)."""
-    mean = 0.5 * (a.mean(axis=(0, 1)) + b.mean(axis=(0, 1)))
-    diff = (a - b).reshape(-1, 3)
-    se = diff.std(axis=0) / np.sqrt(2) / np.sqrt(diff.shape[0]) / np.sqrt(2)
-    return mean, se
-
-
 def sdfc_render(sdfc, scene_path, out, seed, spp, bounces):
     proc, wall, rss = timed([sdfc, "render", scene_path, "-o", out, "--seed", str(seed),
                              "--spp", str(spp), "--bounces", str(bounces)])
@@ -293,20 +279,8 @@ def sdfc_render(sdfc, scene_path, out, seed, spp, bounces):
 
 
 def machine_info():
-    info = {"cores": str(os.cpu_count()), "cpu": "?", "device": "?", "driver": "?"}
-    try:
-        info["cores"] = subprocess.run(["nproc"], capture_output=True, text=True).stdout.strip()
-        for line in subprocess.run(["lscpu"], capture_output=True, text=True).stdout.splitlines():
-            key, _, value = line.partition(":")
-            if key.strip() == "Model name":
-                info["cpu"] = value.strip()
-        out = subprocess.run(["vulkaninfo", "--summary"], capture_output=True, text=True).stdout
-        for key in ("deviceName", "driverInfo"):
-            m = re.search(key + r"\s*=\s*(.*)", out)
-            if m:
-                info["device" if key == "deviceName" else "driver"] = m.group(1).strip()
-    except OSError:
-        pass
+    """sdfbench's machine line plus the RAM."""
+    info = sb.machine_info()
     info["mem"] = "?"
     try:
         with open("/proc/meminfo") as f:
@@ -494,7 +468,7 @@ def main():
             "",
             "## Machine",
             "",
-            f"- CPU: {info['cpu']}, {info['cores']} CPUs (`nproc`), {info['mem']} RAM",
+            f"- CPU: {info['cpu']}, {info['cores']} CPUs, {info['mem']} RAM",
             f"- Vulkan device: {info['device']}; driver: {info['driver']}",
             f"- LP_NUM_THREADS: {os.environ.get('LP_NUM_THREADS', 'unset (llvmpipe uses all CPUs)')}",
             f"- sdfc: `{args.sdfc}` (git {git}); Mitsuba 3 scalar_rgb (its own thread pool, all CPUs)",

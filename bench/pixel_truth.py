@@ -23,6 +23,8 @@ import itertools
 
 import numpy as np
 
+from mitsuba_menger import sponge_cells
+
 W, H = 160, 120
 CYLINDER = dict(center=np.array([0.7, 0.0, 0.3]), radius=0.35, height=0.8)
 
@@ -36,21 +38,9 @@ def camera(position, target, fov):
 
 
 def menger_boxes(level, size, lift):
-    """Kept cells: at each base-3 digit position at most one coordinate is 1."""
-    n = 3 ** level
-    cell = size / n
-    lo = []
-    for idx in itertools.product(range(n), repeat=3):
-        digits = np.array(idx)
-        keep = True
-        for _ in range(level):
-            if np.sum(digits % 3 == 1) >= 2:
-                keep = False
-                break
-            digits //= 3
-        if keep:
-            lo.append([idx[0] * cell - size / 2, idx[1] * cell + lift, idx[2] * cell - size / 2])
-    lo = np.array(lo)
+    """The sponge's kept cells (mitsuba_menger.py's rule) as boxes (lo, hi)."""
+    cell = size / 3 ** level
+    lo = sponge_cells(level) * cell + np.array([-size / 2, lift, -size / 2])
     return lo, lo + cell
 
 

@@ -145,27 +145,6 @@ def convergence(args, scene, size, configs, writer):
     return rows
 
 
-def time_to_error(points, target):
-    """Time at which a log-log piecewise-linear error(time) curve reaches
-    `target`; (time, how) with how = interpolated / extrapolated / None."""
-    pts = sorted((t, e) for t, e in points if t > 0 and e > 0)
-    if len(pts) < 2:
-        return None, None  # too few finite measurements to place a curve
-    lt = np.log([p[0] for p in pts])
-    le = np.log([p[1] for p in pts])
-    lg = np.log(target)
-    for i in range(len(pts) - 1):
-        if (le[i] - lg) * (le[i + 1] - lg) <= 0 and le[i] != le[i + 1]:
-            f = (lg - le[i]) / (le[i + 1] - le[i])
-            return float(np.exp(lt[i] + f * (lt[i + 1] - lt[i]))), "interpolated"
-    # Outside the measured range: extend the nearest segment if it descends.
-    i = 0 if le[0] < lg else len(pts) - 2
-    if len(pts) >= 2 and le[i + 1] < le[i]:
-        slope = (lt[i + 1] - lt[i]) / (le[i + 1] - le[i])
-        return float(np.exp(lt[i] + (lg - le[i]) * slope)), "extrapolated"
-    return None, None
-
-
 def equal_error(rows, metric, at=max):
     """Per config: time to reach the baseline's error at its largest spp
     (at=max) or smallest (at=min). The paper-style baseline is biased, so its
@@ -178,7 +157,7 @@ def equal_error(rows, metric, at=max):
     target, t_base = top[metric], top["time_s"]
     out = {}
     for c in dict.fromkeys(r["config"] for r in rows):
-        t, how = time_to_error([(r["time_s"], r[metric]) for r in rows if r["config"] == c], target)
+        t, how = sb.time_to_error([(r["time_s"], r[metric]) for r in rows if r["config"] == c], target)
         out[c] = {"time": t, "how": how, "speedup": t_base / t if t else None,
                   "target": target, "t_base": t_base}
     return out
