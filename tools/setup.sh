@@ -1,22 +1,68 @@
 #!/usr/bin/env bash
 # Installs what sdfc needs from Debian 12 (skipped when already present) and
 # builds it into ./build. Safe to run again.
+#
+# Every package is listed explicitly and installed with --no-install-recommends,
+# so this list is the whole truth: tools/fresh_machine_check.sh proves it on a
+# bare Debian root.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-packages=(cmake ninja-build g++ pkg-config
-  glslang-dev glslang-tools spirv-tools libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers
+
+packages=(
+  # build
+  cmake ninja-build g++ pkg-config
+  # GLSL -> SPIR-V as a library; glslang-dev's CMake config also imports
+  # /usr/bin/glslangValidator from glslang-tools
+  glslang-dev glslang-tools spirv-tools
+  # Vulkan, lavapipe (the CPU device), validation layers for the tests
+  libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers
+  # libraries
   libglm-dev libtinygltf-dev nlohmann-json3-dev libstb-dev libtinyexr-dev libcli11-dev
-  libgtest-dev python3-numpy python3-matplotlib clang)
+  # tests, benchmark smoke run, fuzzing
+  libgtest-dev python3-numpy python3-matplotlib clang
+)
+
+say() { echo "setup: $*"; }
+fail() {
+  echo "setup: error: $*" >&2
+  exit 1
+}
+
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
+
 if [ ${#missing[@]} -gt 0 ]; then
-  sudo_cmd=""
-  [ "$(id -u)" -eq 0 ] || sudo_cmd="sudo"
-  echo "setup: installing ${missing[*]}"
-  $sudo_cmd apt-get update -qq
-  DEBIAN_FRONTEND=noninteractive $sudo_cmd apt-get install -y -qq --no-install-recommends "${missing[@]}"
+  say "${#missing[@]} Debian package(s) missing: ${missing[*]}"
+  as_root=()
+  if [ "$(id -u)" -ne 0 ]; then
+    command -v sudo >/dev/null ||
+      fail "installing packages needs root, and sudo is not installed; as root run:
+  apt-get update && apt-get install --no-install-recommends ${missing[*]}
+then run this command again"
+    say "installing them needs root: running apt-get through sudo"
+    as_root=(sudo)
+  fi
+  say "apt-get update"
+  "${as_root[@]}" apt-get update -qq ||
+    fail "apt-get update failed (network or apt sources?); nothing was installed"
+  say "apt-get install (this takes a few minutes on a new machine)"
+  log=$(mktemp)
+  if ! DEBIAN_FRONTEND=noninteractive "${as_root[@]}" apt-get install -y -qq \
+      --no-install-recommends "${missing[@]}" > "$log" 2>&1; then
+    tail -n 20 "$log" >&2
+    rm -f "$log"
+    fail "apt-get could not install: ${missing[*]} (see apt's message above)"
+  fi
+  rm -f "$log"
+  for p in "${missing[@]}"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" ||
+      fail "package $p is still not installed after apt-get install"
+  done
+  say "packages installed"
 fi
+
+say "configuring and building into build/"
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo > /dev/null
 cmake --build build

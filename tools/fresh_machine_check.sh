@@ -1,0 +1,107 @@
+#!/usr/bin/env bash
+# The fresh-machine check: runs the README's two quick-start commands, verbatim,
+# in a bare Debian 12 root that has nothing installed beyond minbase, because
+# this machine (and CI's) already has packages a user's lacks and a green CI
+# here once hid a missing install step.
+#
+#   tools/fresh_machine_check.sh [--keep]
+#
+# Builds the root with mmdebstrap (cached as a tarball in $SDFC_FRESH_CACHE; the
+# bare root only, never its installed packages), copies a clean clone of HEAD
+# into it, and runs each command in a chroot inside private mount and PID
+# namespaces (so mounts and stray processes die with it). Prints each
+# command's wall time; fails on the first command that fails. Needs root.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+repo=$(pwd)
+
+keep=0
+[ "${1:-}" = "--keep" ] && keep=1
+if [ "$(id -u)" -ne 0 ]; then
+  echo "fresh_machine_check: needs root (it builds a Debian root and chroots into it)" >&2
+  exit 2
+fi
+
+cache=${SDFC_FRESH_CACHE:-/var/cache/sdfc}
+suite=bookworm
+tarball="$cache/fresh-root-$suite-minbase.tar"
+
+# The commands, read from the README's quick start so the two cannot drift.
+mapfile -t commands < <(awk '
+  /^## Quick start/ { in_section = 1; next }
+  in_section && /^## / { exit }
+  in_section && /^```/ { in_block = !in_block; next }
+  in_section && in_block && NF { sub(/[ \t]*#.*/, ""); print }
+' README.md)
+if [ ${#commands[@]} -ne 2 ]; then
+  echo "fresh_machine_check: expected 2 commands in README's quick start, found ${#commands[@]}" >&2
+  exit 1
+fi
+
+need_host_tool() {
+  command -v "$1" >/dev/null && return
+  echo "fresh_machine_check: installing $2 on this machine (to build the bare root)"
+  apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends "$2" >/dev/null
+}
+need_host_tool mmdebstrap mmdebstrap
+need_host_tool git git
+
+if [ ! -s "$tarball" ]; then
+  mkdir -p "$cache"
+  # The host's apt sources (the same mirror and security suite a user gets).
+  sources=/etc/apt/sources.list.d/debian.sources
+  [ -f "$sources" ] || sources=/etc/apt/sources.list
+  echo "fresh_machine_check: building a bare Debian 12 root ($tarball)"
+  mmdebstrap --quiet --variant=minbase "$suite" "$tarball.part" "$sources"
+  mv "$tarball.part" "$tarball"
+fi
+
+root=$(mktemp -d /var/tmp/sdfc-fresh-root.XXXXXX)
+cleanup() {
+  if [ "$keep" -eq 1 ]; then
+    echo "fresh_machine_check: root kept at $root"
+  else
+    rm -rf --one-file-system "$root"
+  fi
+}
+trap cleanup EXIT
+
+tar -C "$root" -xf "$tarball"
+cp /etc/resolv.conf "$root/etc/resolv.conf" 2>/dev/null || true
+# A clean clone of what is committed, as a user would have it.
+git clone --quiet --no-hardlinks "$repo" "$root/root/sdfc"
+
+status=0
+for cmd in "${commands[@]}"; do
+  echo "fresh_machine_check: \$ $cmd"
+  start=$(date +%s.%N)
+  set +e
+  unshare --mount --pid --fork --kill-child env -i \
+    HOME=/root PATH=/usr/local/sbin:/usr/local/bin:/usr/sbin:/usr/bin:/sbin:/bin \
+    TERM=dumb LANG=C.UTF-8 ROOT="$root" CMD="$cmd" bash -c '
+      set -e
+      mount --make-rprivate /
+      mount -t proc proc "$ROOT/proc"
+      mount --rbind /dev "$ROOT/dev"
+      mount -t sysfs sysfs "$ROOT/sys"
+      mount -t tmpfs tmpfs "$ROOT/dev/shm"
+      mount -t tmpfs tmpfs "$ROOT/run"
+      exec chroot "$ROOT" bash -c "cd /root/sdfc && $CMD"
+    ' 2>&1 | sed -u 's/^/  | /'
+  rc=${PIPESTATUS[0]}
+  set -e
+  wall=$(awk -v a="$start" -v b="$(date +%s.%N)" 'BEGIN { print b - a }')
+  printf 'fresh_machine_check: "%s" exited %d after %.0f s\n' "$cmd" "$rc" "$wall"
+  if [ "$rc" -ne 0 ]; then
+    status=1
+    break
+  fi
+done
+
+if [ "$status" -eq 0 ]; then
+  echo "fresh_machine_check: passed: the README's commands work on a bare Debian 12 root"
+else
+  echo "fresh_machine_check: FAILED" >&2
+fi
+exit "$status"
