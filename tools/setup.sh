@@ -45,11 +45,11 @@ then run this command again"
     as_root=(sudo)
   fi
   say "apt-get update"
-  "${as_root[@]}" apt-get update -qq ||
+  "${as_root[@]}" apt-get -o DPkg::Lock::Timeout=300 update -qq ||
     fail "apt-get update failed (network or apt sources?); nothing was installed"
   say "apt-get install (this takes a few minutes on a new machine)"
   log=$(mktemp)
-  if ! DEBIAN_FRONTEND=noninteractive "${as_root[@]}" apt-get install -y -qq \
+  if ! DEBIAN_FRONTEND=noninteractive "${as_root[@]}" apt-get -o DPkg::Lock::Timeout=300 install -y -qq \
       --no-install-recommends "${missing[@]}" > "$log" 2>&1; then
     tail -n 20 "$log" >&2
     rm -f "$log"
