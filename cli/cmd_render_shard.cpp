@@ -67,27 +67,20 @@ int runRenderShard(const CommandLine& cl, const RenderOverrides& o) {
   }
 
   Renderer renderer(context, compiled.spirv);
-  RenderSettings settings = job.settings;
-  settings.time = static_cast<float>(header.time);
-  settings.first_sample = header.samples.begin;
-  settings.spp = header.samples.count();
-  settings.max_samples_per_pass = job.plan.samples_per_pass;
-  settings.keep_sums = true;
   const bool fault = faultArmed(uint32_t(cl.shard_index));
   ProgressCallback progress = cl.quiet ? ProgressCallback{} : makeTerminalProgress("shard");
   if (fault)
     progress = [](const ProgressInfo& info) {
       if (info.passes_done >= 1 && !info.finished) std::raise(SIGKILL);
     };
-  const RenderOutput out = renderer.render(cameraFor(compiled.scene), settings, progress, installInterruptHandler());
+  farm::ShardImage shard;
+  shard.header = header;
+  const RenderOutput out = renderShard(renderer, compiled, job, header, shard.sums, progress, installInterruptHandler());
   if (fault) std::raise(SIGKILL);  // a one-pass shard: killed before its file is written
   if (out.interrupted) {
     std::cerr << "sdfc: interrupted; shard " << cl.shard_index << " not written\n";
     return kExitInterrupted;
   }
-  farm::ShardImage shard;
-  shard.header = header;
-  shard.sums = out.color_sums;
   farm::writeShard(path, shard);
   if (!cl.quiet)
     std::cerr << "sdfc: wrote " << path << " (samples [" << header.samples.begin << ", " << header.samples.end

@@ -105,4 +105,22 @@ bool shardComplete(const std::string& path, const farm::ShardHeader& expected, b
   }
 }
 
+RenderOutput renderShard(Renderer& renderer, const CompiledScene& compiled, const ShardJob& job,
+                         const farm::ShardHeader& header, std::vector<SampleSum>& sums,
+                         const ProgressCallback& progress, const std::atomic<bool>* interrupt) {
+  RenderSettings settings = job.settings;
+  settings.time = static_cast<float>(header.time);
+  settings.first_sample = header.samples.begin;
+  settings.spp = header.samples.count();
+  settings.max_samples_per_pass = job.plan.samples_per_pass;
+  settings.keep_sums = true;
+  RenderOutput out = renderer.render(cameraFor(compiled.scene), settings, progress, interrupt);
+  const size_t pixels = out.color_sums.size() / 4;
+  sums.resize(pixels * 3);  // r, g, b: alpha is always 1
+  for (size_t p = 0; p < pixels; ++p)
+    for (int c = 0; c < 3; ++c) sums[p * 3 + c] = out.color_sums[p * 4 + c];
+  std::vector<SampleSum>().swap(out.color_sums);
+  return out;
+}
+
 }  // namespace sdfc

@@ -37,6 +37,12 @@ std::string driverText(const VulkanContext& context);
 // (device and driver only when `with_device`): a finished task that resuming skips.
 bool shardComplete(const std::string& path, const farm::ShardHeader& expected, bool with_device);
 
+// Renders the shard `header` describes (its frame's time, its sample range, the
+// whole image's pass split) and leaves its exact r, g, b sums in `sums`.
+RenderOutput renderShard(Renderer& renderer, const CompiledScene& compiled, const ShardJob& job,
+                         const farm::ShardHeader& header, std::vector<SampleSum>& sums,
+                         const ProgressCallback& progress = {}, const std::atomic<bool>* interrupt = nullptr);
+
 // `sdfc render --shards K --shard-index I -o DIR`.
 int runRenderShard(const CommandLine& cl, const RenderOverrides& o);
 LoadedScene compileForDevice(const CommandLine& cl, const VulkanContext& context, const RenderOverrides& o);

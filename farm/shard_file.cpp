@@ -258,10 +258,10 @@ ShardHeader forEachSumWord(const std::string& path, Fn&& fn) {
 }  // namespace
 
 ShardImage readShard(const std::string& path) {
-  std::vector<unsigned __int128> words;
+  const ShardHeader header = readShardHeader(path);
+  std::vector<unsigned __int128> words(size_t(header.width) * header.height * 3, 0);
   ShardImage shard;
   shard.header = forEachSumWord(path, [&](size_t i, int word, uint32_t value) {
-    if (words.empty()) words.assign(size_t(shard.header.width) * shard.header.height * 3, 0);
     words[i] |= static_cast<unsigned __int128>(value) << (32 * word);
   });
   shard.sums.assign(words.begin(), words.end());

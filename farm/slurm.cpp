@@ -67,7 +67,8 @@ std::string queueState(const std::vector<std::string>& job_ids) {
   if (job_ids.empty()) return "";
   std::string list;
   for (const std::string& id : job_ids) list += (list.empty() ? "" : ",") + id;
-  const CommandResult r = runProgram({"squeue", "--noheader", "--jobs=" + list, "--format=%i %T %r"});
+  const CommandResult r =
+      runProgram({"squeue", "--noheader", "--states=all", "--jobs=" + list, "--format=%i %T %r"});
   return r.exit_code == 0 ? r.output : "";
 }
 

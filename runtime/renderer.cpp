@@ -53,11 +53,9 @@ RenderOutput mergeRenders(const RenderOutput& a, const RenderOutput& b) {
   if (out.samples_done == 0) return out;
   if (!a.color_sums.empty() && a.color_sums.size() == b.color_sums.size()) {
     const size_t pixels = out.color.pixelCount();
-    for (size_t i = 0; i < pixels * 3; ++i) out.color_sums[i] = a.color_sums[i] + b.color_sums[i];
-    for (size_t p = 0; p < pixels; ++p) {
-      for (int c = 0; c < 3; ++c)
-        out.color.rgba[p * 4 + c] = sampleMean(out.color_sums[p * 3 + c], out.samples_done);
-      out.color.rgba[p * 4 + 3] = 1.0f;
+    for (size_t i = 0; i < pixels * 4; ++i) {
+      out.color_sums[i] = a.color_sums[i] + b.color_sums[i];
+      out.color.rgba[i] = sampleMean(out.color_sums[i], out.samples_done);
     }
     return out;
   }
@@ -140,10 +138,10 @@ RenderOutput Renderer::render(const CameraDesc& camera, const RenderSettings& se
   out.color.rgba.reserve(n);
   out.normal_depth.rgba.reserve(n);
   out.albedo_steps.rgba.reserve(n);
-  // Running exact color sums (r, g, b) of pass mean * pass samples per band
+  // Running exact color sums (r, g, b, a) of pass mean * pass samples per band
   // (sample_sum.h). Empty until a non-final pass adds to them.
   std::vector<std::vector<SampleSum>> sums(band_count);
-  if (settings.keep_sums) out.color_sums.reserve(size_t(width) * height * 3);
+  if (settings.keep_sums) out.color_sums.reserve(size_t(width) * height * 4);
 
   // Draws band b with `count` samples; `final` passes read back the AOVs too (identical in
   // every pass: the unjittered primary ray) and turn the band's sums into output floats.
@@ -158,10 +156,9 @@ RenderOutput Renderer::render(const CameraDesc& camera, const RenderSettings& se
     const size_t band_floats = band_pixels * 4;
     const float* pass = target_.mapped;
     std::vector<SampleSum>& sum = sums[b];
-    if (sum.empty() && (!final || settings.keep_sums)) sum.assign(band_pixels * 3, 0);
+    if (sum.empty() && (!final || settings.keep_sums)) sum.assign(band_floats, 0);
     if (count > 0 && !sum.empty())
-      for (size_t p = 0; p < band_pixels; ++p)
-        for (int c = 0; c < 3; ++c) sum[p * 3 + c] += sampleTerm(pass[p * 4 + c], count);
+      for (size_t i = 0; i < band_floats; ++i) sum[i] += sampleTerm(pass[i], count);
     if (!final) return;
     // count_done >= 1: a zero-sample final pass only follows completed passes.
     const uint32_t count_done = out.samples_done + count;
@@ -172,13 +169,10 @@ RenderOutput Renderer::render(const CameraDesc& camera, const RenderSettings& se
       return image.rgba.data() + base;
     };
     float* color = grow(out.color);
-    for (size_t p = 0; p < band_pixels; ++p) {
-      for (int c = 0; c < 3; ++c) {
-        // A one-pass render never filled `sum`: its term is the whole sum.
-        const SampleSum value = sum.empty() ? sampleTerm(pass[p * 4 + c], count) : sum[p * 3 + c];
-        color[p * 4 + c] = sampleMean(value, count_done);
-      }
-      color[p * 4 + 3] = 1.0f;
+    for (size_t i = 0; i < band_floats; ++i) {
+      // A one-pass render never filled `sum`: its term is the whole sum.
+      const SampleSum value = sum.empty() ? sampleTerm(pass[i], count) : sum[i];
+      color[i] = sampleMean(value, count_done);
     }
     if (settings.keep_sums) out.color_sums.insert(out.color_sums.end(), sum.begin(), sum.end());
     std::vector<SampleSum>().swap(sum);

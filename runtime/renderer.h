@@ -67,8 +67,8 @@ struct RenderOutput {
   FloatImage color;         // mean radiance (beauty) or the debug view value, a = 1
   FloatImage normal_depth;  // attachment 1 (the same in every pass; read back once)
   FloatImage albedo_steps;  // attachment 2 (the same in every pass; read back once)
-  // With RenderSettings::keep_sums: the exact sum over samples of each pixel's r, g, b
-  // (3 per pixel, row-major); color = sampleMean(sum, samples_done).
+  // With RenderSettings::keep_sums: the exact sum over samples of each pixel's r, g, b, a
+  // (4 per pixel, row-major); color = sampleMean(sum, samples_done).
   std::vector<SampleSum> color_sums;
   uint32_t samples_done = 0;
   uint32_t passes = 0;
