@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <iostream>
+#include <map>
 #include <sstream>
 #include <unistd.h>
 
@@ -194,8 +195,36 @@ int showStatus(const CommandLine& cl) {
   if (record.values.count("video"))
     std::cout << "video: " << record.values["video"] << (fs::exists(record.values["video"]) ? "" : " (not yet)")
               << "\n";
-  const std::string queue = farm::queueState(record.job_ids);
-  std::cout << "slurm: " << (queue.empty() ? std::string("no job of this directory is queued or running\n") : "\n" + queue);
+  // squeue lines "id state reason" -> per job: state counts (array tasks grouped).
+  std::map<std::string, std::map<std::string, int>> states;
+  std::map<std::string, std::string> reasons;
+  std::istringstream queue(farm::queueState(record.job_ids));
+  std::string id, state, reason;
+  while (queue >> id >> state >> reason) {
+    const std::string job = id.substr(0, id.find('_'));
+    const size_t open = id.find('[');  // "12_[3-7]": pending tasks not yet split
+    int tasks = 1;
+    if (open != std::string::npos) {
+      std::string spec = id.substr(open + 1, id.find(']') - open - 1);
+      spec = spec.substr(0, spec.find('%'));
+      tasks = 0;
+      std::istringstream parts(spec);
+      for (std::string part; std::getline(parts, part, ',');) {
+        const size_t dash = part.find('-');
+        tasks += dash == std::string::npos ? 1 : std::stoi(part.substr(dash + 1)) - std::stoi(part.substr(0, dash)) + 1;
+      }
+    }
+    states[job][state] += tasks;
+    if (reason != "None") reasons[job] = reason;
+  }
+  if (states.empty()) std::cout << "slurm: no job of this directory is known to Slurm (finished long ago, or no Slurm here)\n";
+  for (const std::string& job : record.job_ids) {
+    if (!states.count(job)) continue;
+    std::cout << "slurm job " << job << ":";
+    for (const auto& [name, count] : states[job]) std::cout << " " << count << " " << name;
+    if (reasons.count(job)) std::cout << " (" << reasons[job] << ")";
+    std::cout << "\n";
+  }
   return kExitOk;
 }
 

@@ -57,8 +57,9 @@ std::string mergeScript(const JobScripts& job) {
     char rate[32];
     std::snprintf(rate, sizeof rate, "%.9g", job.plan.fps);
     s += shellJoin({"ffmpeg", "-y", "-loglevel", "error", "-framerate", rate, "-start_number",
-                    std::to_string(job.plan.first_frame), "-i", job.job_dir + "/frames/frame_%04d.png", "-c:v",
-                    "libx264", "-pix_fmt", "yuv420p", job.video}) +
+                    std::to_string(job.plan.first_frame), "-i", job.job_dir + "/frames/frame_%04d.png",
+                    // yuv420p needs even sides: pad odd ones by a pixel.
+                    "-vf", "pad=ceil(iw/2)*2:ceil(ih/2)*2", "-c:v", "libx264", "-pix_fmt", "yuv420p", job.video}) +
          "\n";
   }
   s += "echo \"sdfc farm: merged\" >&2\n";

@@ -64,6 +64,10 @@ ShardSet checkShards(const std::vector<std::string>& paths, int first_frame, int
     });
     uint32_t covered = 0;
     for (size_t i = 0; i < shards.size(); ++i) {
+      if (shards[i].second.time != shards[0].second.time)
+        throw FarmError(shards[i].first + " renders " + frameName(frame) + " at time " +
+                        std::to_string(shards[i].second.time) + ", " + shards[0].first + " at " +
+                        std::to_string(shards[0].second.time));
       const SampleRange& r = shards[i].second.samples;
       if (r.begin < covered)
         throw FarmError(shards[i].first + " overlaps " + shards[i - 1].first + " in " + frameName(frame) +
