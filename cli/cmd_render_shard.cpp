@@ -1,7 +1,9 @@
 // `sdfc render --shards K --shard-index I -o DIR`: one task of a farm job. Renders
 // its frame's sample range with the whole image's pass split and writes
 // DIR/shard_IIIII.exr (farm/shard_file.h); an existing matching shard is kept.
+#include <chrono>
 #include <csignal>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -81,12 +83,17 @@ int runRenderShard(const CommandLine& cl, const RenderOverrides& o) {
     std::cerr << "sdfc: interrupted; shard " << cl.shard_index << " not written\n";
     return kExitInterrupted;
   }
+  const auto write_start = std::chrono::steady_clock::now();
   farm::writeShard(path, shard);
+  const double write_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - write_start).count();
+  // Milliseconds: bench/farm_bench.py reads this line for the per-shard overhead.
   if (!cl.quiet)
-    std::cerr << "sdfc: wrote " << path << " (samples [" << header.samples.begin << ", " << header.samples.end
-              << ") of " << header.spp << (header.frame == farm::kNoFrame ? "" : ", frame " + std::to_string(header.frame))
-              << "; compile " << formatSeconds(compiled.times.total()) << ", pipeline "
-              << formatSeconds(renderer.pipelineSeconds()) << ", render " << formatSeconds(out.seconds) << ")\n";
+    std::fprintf(stderr, "sdfc: wrote %s (samples [%u, %u) of %u%s; compile %.0f ms, pipeline %.0f ms, render %.0f ms, write %.0f ms)\n",
+                 path.c_str(), header.samples.begin, header.samples.end, header.spp,
+                 header.frame == farm::kNoFrame ? "" : (", frame " + std::to_string(header.frame)).c_str(),
+                 compiled.times.total() * 1000, renderer.pipelineSeconds() * 1000, out.seconds * 1000,
+                 write_seconds * 1000);
   return kExitOk;
 }
 
