@@ -10,6 +10,9 @@
 #include "image_io.h"
 #include "progress.h"
 #include "scene_render.h"
+#include "shard_plan.h"
+#include "farm_support.h"
+#include "cli_support.h"
 
 namespace sdfc {
 namespace {
@@ -23,28 +26,30 @@ uint32_t viewId(const std::string& v) {
   return gpu::kViewBeauty;
 }
 
-// "out.png" + frame 7 -> "out_0007.png"
-std::string framePath(const std::string& path, int frame) {
-  const size_t dot = path.find_last_of('.');
-  char number[16];
-  std::snprintf(number, sizeof number, "_%04d", frame);
-  if (dot == std::string::npos) return path + number;
-  return path.substr(0, dot) + number + path.substr(dot);
-}
-
 }  // namespace
+
+LoadedScene compileForDevice(const CommandLine& cl, const VulkanContext& context,
+                             const RenderOverrides& o) {
+  CompileOptions options = compileOptionsFrom(cl);
+  if (o.height) options.emit.march.image_height = *o.height;
+  // Lavapipe masks both sides of every branch instead of jumping, so a
+  // bounding-volume check only adds work there (measured in bench/RESULTS.md).
+  if (context.properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU && !cl.force_bounds)
+    options.emit.bounding_volumes = false;
+  Diagnostics diags;
+  return loadScene(cl, diags, true, true, options, true);
+}
 
 int runRender(const CommandLine& cl) {
   RenderOverrides o;
   if (!cl.size.empty()) {
-    std::smatch m;
-    if (!std::regex_match(cl.size, m, std::regex(R"((\d{1,5})x(\d{1,5}))")) || std::stoi(m[1]) < 1 ||
-        std::stoi(m[2]) < 1 || std::stoi(m[1]) > 16384 || std::stoi(m[2]) > 16384) {
+    const auto size = parseImageSize(cl.size);
+    if (!size) {
       std::cerr << "sdfc: error: --size expects WxH with sides from 1 to 16384, e.g. 640x360\n";
       return kExitUsage;
     }
-    o.width = std::stoi(m[1]);
-    o.height = std::stoi(m[2]);
+    o.width = size->first;
+    o.height = size->second;
   }
   if (cl.spp > 0) o.spp = cl.spp;
   if (cl.bounces >= 0) o.bounces = cl.bounces;
@@ -52,6 +57,7 @@ int runRender(const CommandLine& cl) {
   o.view = viewId(cl.view);
   o.seed = cl.seed;
   o.time = cl.time;
+  if (cl.shards > 0 || cl.shard_index >= 0) return runRenderShard(cl, o);
   // Frame sequence: A-B:step over time.
   std::vector<double> times = {cl.time};
   if (!cl.frames.empty()) {
@@ -83,14 +89,7 @@ int runRender(const CommandLine& cl) {
     ~ContextGuard() { destroyContext(c); }
   } guard{context};
 
-  CompileOptions options = compileOptionsFrom(cl);
-  if (o.height) options.emit.march.image_height = *o.height;
-  // Lavapipe masks both sides of every branch instead of jumping, so a
-  // bounding-volume check only adds work there (measured in bench/RESULTS.md).
-  if (context.properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU && !cl.force_bounds)
-    options.emit.bounding_volumes = false;
-  Diagnostics diags;
-  LoadedScene loaded = loadScene(cl, diags, true, true, options, true);
+  LoadedScene loaded = compileForDevice(cl, context, o);
   if (loaded.exit_code != kExitOk) return loaded.exit_code;
   const CompiledScene& compiled = loaded.compiled;
 
@@ -117,7 +116,7 @@ int runRender(const CommandLine& cl) {
     if (o.view == gpu::kViewBeauty && denoiser && *denoiser != Denoiser::None)
       denoised = denoise(*denoiser, out.color, out.normal_depth, out.albedo_steps);
     const FloatImage& image = denoised.empty() ? out.color : denoised;
-    const std::string path = times.size() > 1 ? framePath(cl.output, static_cast<int>(f)) : cl.output;
+    const std::string path = times.size() > 1 ? farm::framePath(cl.output, static_cast<int>(f)) : cl.output;
     writeImage(path, image, tone);
     if (!quiet) {
       // Primary-ray march steps (attachment 2, w): the cost figure bounds are judged by.

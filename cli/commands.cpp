@@ -64,7 +64,18 @@ void registerCommands(CLI::App& app, CommandLine& cl) {
       ->check(CLI::IsMember({"beauty", "normal", "steps", "depth", "albedo", "iterations"}));
   render->add_option("--time", cl.time, "scene time in seconds");
   render->add_option("--frames", cl.frames,
-                     "A-B:step, a frame sequence over time; the output name gets a frame number");
+                     "A-B:step, a frame sequence over time; the output name gets a frame number "
+                     "(with --shards: frame numbers A-B at --fps)");
+  render->add_option("--shards", cl.shards,
+                     "render one shard of a job cut into this many sample ranges per image; "
+                     "-o is then the shard directory (docs/farm.md)")
+      ->check(CLI::Range(1, 1 << 20));
+  render->add_option("--shard-index", cl.shard_index,
+                     "which shard: 0 .. frames * shards - 1 (a Slurm array index or "
+                     "JOB_COMPLETION_INDEX)")
+      ->check(CLI::Range(0, 1 << 30));
+  render->add_option("--fps", cl.fps, "frames per second for --frames A-B with --shards (default 24)")
+      ->check(CLI::Range(0.001, 1e6));
   render->add_option("--seed", cl.seed, "random seed");
   render->add_option("--device", cl.device, "Vulkan device index (see `sdfc devices`)");
   render->add_option("--exposure", cl.exposure, "exposure in stops for PNG output");
@@ -93,6 +104,48 @@ void registerCommands(CLI::App& app, CommandLine& cl) {
   mesh->add_option("--time", cl.time, "scene time in seconds");
   mesh->add_flag("-q,--quiet", cl.quiet, "no progress output");
 
+  CLI::App* merge = app.add_subcommand(
+      "merge", "merge render shards into images, exactly (refuses shards that do not belong together)");
+  merge->add_option("shards", cl.inputs, "shard directories or shard_*.exr files")->required();
+  merge->add_option("-o,--output", cl.output,
+                    "image: .exr, .png or .pfm (animations: a frame number is added)")->required();
+  merge->add_option("--frames", cl.frames, "A-B: require these frames");
+  merge->add_flag("--png", cl.png, "also write an sRGB PNG beside each image");
+  merge->add_flag("-q,--quiet", cl.quiet, "no summary");
+  merge->callback([&cl] { cl.command = "merge"; });
+
+  CLI::App* farm = app.add_subcommand("farm", "render on a Slurm cluster (docs/farm.md)");
+  farm->require_subcommand(1);
+  CLI::App* submit = farm->add_subcommand(
+      "submit", "check the scene, then submit a shard array and a dependent merge job");
+  common(submit);
+  submit->add_option("-o,--output", cl.output, "job directory on the shared file system")->required();
+  submit->add_option("--spp", cl.spp, "samples per pixel")->check(CLI::Range(1, 1 << 20));
+  submit->add_option("--shards", cl.shards, "shards per image (sample ranges)")->check(CLI::Range(1, 1 << 16));
+  submit->add_option("--frames", cl.frames, "A-B: render frames A..B (time = frame / fps)");
+  submit->add_option("--fps", cl.fps, "frames per second (default 24)")->check(CLI::Range(0.001, 1e6));
+  submit->add_option("--size", cl.size, "WxH");
+  submit->add_option("--bounces", cl.bounces, "maximum path length")->check(CLI::Range(0, 64));
+  submit->add_option("--light-samples", cl.light_samples, "light samples per vertex")->check(CLI::Range(0, 16));
+  submit->add_option("--time", cl.time, "scene time of a still");
+  submit->add_option("--seed", cl.seed, "random seed");
+  submit->add_option("--video", cl.video, "encode the frames with ffmpeg into this file (animations)");
+  submit->add_option("--partition", cl.partition, "sbatch --partition");
+  submit->add_option("--account", cl.account, "sbatch --account");
+  submit->add_option("--time-limit", cl.time_limit, "sbatch --time per shard, e.g. 2:00:00");
+  submit->add_option("--sbatch-arg", cl.sbatch_args, "any further sbatch option, repeatable");
+  submit->add_option("--retries", cl.retries, "re-runs of a failed shard inside its job (default 1)")
+      ->check(CLI::Range(0, 100));
+  submit->add_option("--max-running", cl.max_running, "at most this many shards at once (--array %N)")
+      ->check(CLI::Range(0, 1 << 20));
+  submit->add_flag("--dry-run", cl.dry_run, "write the job scripts, print the sbatch commands, submit nothing");
+  submit->add_flag("--bounds", cl.force_bounds, "as `sdfc render --bounds`");
+  emit_flags(submit);
+  submit->callback([&cl] { cl.command = "farm"; cl.farm_command = "submit"; });
+  CLI::App* status = farm->add_subcommand("status", "progress of a farm job from its files and Slurm");
+  status->add_option("dir", cl.output, "job directory")->required();
+  status->callback([&cl] { cl.command = "farm"; cl.farm_command = "status"; });
+
   CLI::App* devices = app.add_subcommand("devices", "list Vulkan devices");
   devices->callback([&cl] { cl.command = "devices"; });
 }
@@ -104,6 +157,8 @@ int runCommand(const CommandLine& cl) {
   if (cl.command == "eval") return runEval(cl);
   if (cl.command == "mesh") return runMesh(cl);
   if (cl.command == "devices") return runDevices(cl);
+  if (cl.command == "merge") return runMerge(cl);
+  if (cl.command == "farm") return runFarm(cl);
   return kExitUsage;
 }
 

@@ -47,6 +47,20 @@ struct CommandLine {
   double exposure = 0;
   bool aces = false;
   bool quiet = false;
+  // render shards (farm/): task shard_index of a job cut into `shards` per image
+  int shards = 0;
+  int shard_index = -1;
+  double fps = 24;
+  // merge
+  std::vector<std::string> inputs;
+  bool png = false;
+  // farm submit / status
+  std::string farm_command;
+  std::string partition, account, time_limit, video;
+  std::vector<std::string> sbatch_args;
+  int retries = 1;
+  int max_running = 0;
+  bool dry_run = false;
   // eval
   std::string points;
   bool gradient = false;
@@ -66,5 +80,7 @@ int runRender(const CommandLine& cl);
 int runEval(const CommandLine& cl);
 int runMesh(const CommandLine& cl);
 int runDevices(const CommandLine& cl);
+int runMerge(const CommandLine& cl);
+int runFarm(const CommandLine& cl);
 
 }  // namespace sdfc

@@ -1,8 +1,18 @@
 #include "scene_render.h"
 
+#include <regex>
+
 #include "loop_budget.h"
 
 namespace sdfc {
+
+std::optional<std::pair<int, int>> parseImageSize(const std::string& text) {
+  std::smatch m;
+  if (!std::regex_match(text, m, std::regex(R"((\d{1,5})x(\d{1,5}))"))) return std::nullopt;
+  const int w = std::stoi(m[1]), h = std::stoi(m[2]);
+  if (w < 1 || h < 1 || w > 16384 || h > 16384) return std::nullopt;
+  return std::make_pair(w, h);
+}
 
 RenderSettings renderSettingsFor(const CompiledScene& compiled, const RenderOverrides& o) {
   const ir::RenderSettings& r = compiled.scene.render;

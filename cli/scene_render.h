@@ -21,6 +21,9 @@ struct RenderOverrides {
   double time = 0;
 };
 
+// "WxH" with sides 1..16384 -> {W, H}; nullopt otherwise.
+std::optional<std::pair<int, int>> parseImageSize(const std::string& text);
+
 RenderSettings renderSettingsFor(const CompiledScene& compiled, const RenderOverrides& o);
 CameraDesc cameraFor(const ir::Scene& scene);
 

@@ -51,6 +51,15 @@ RenderOutput mergeRenders(const RenderOutput& a, const RenderOutput& b) {
   out.seconds = a.seconds + b.seconds;
   out.interrupted = a.interrupted || b.interrupted;
   if (out.samples_done == 0) return out;
+  if (!a.color_sums.empty() && a.color_sums.size() == b.color_sums.size()) {
+    const size_t pixels = out.color.pixelCount();
+    for (size_t i = 0; i < pixels * 4; ++i) {
+      out.color_sums[i] = a.color_sums[i] + b.color_sums[i];
+      out.color.rgba[i] = sampleMean(out.color_sums[i], out.samples_done);
+    }
+    return out;
+  }
+  out.color_sums.clear();
   const double wa = a.samples_done, wb = b.samples_done, total = out.samples_done;
   auto merge = [&](const FloatImage& x, const FloatImage& y, FloatImage& result) {
     for (size_t i = 0; i < result.rgba.size(); ++i)
@@ -129,9 +138,10 @@ RenderOutput Renderer::render(const CameraDesc& camera, const RenderSettings& se
   out.color.rgba.reserve(n);
   out.normal_depth.rgba.reserve(n);
   out.albedo_steps.rgba.reserve(n);
-  // Running color sums of pass mean * pass samples per band, in pass order
-  // (deterministic). Empty until a non-final pass adds to them.
-  std::vector<std::vector<double>> sums(band_count);
+  // Running exact color sums (r, g, b, a) of pass mean * pass samples per band
+  // (sample_sum.h). Empty until a non-final pass adds to them.
+  std::vector<std::vector<SampleSum>> sums(band_count);
+  if (settings.keep_sums) out.color_sums.reserve(size_t(width) * height * 4);
 
   // Draws band b with `count` samples; `final` passes read back the AOVs too (identical in
   // every pass: the unjittered primary ray) and turn the band's sums into output floats.
@@ -142,18 +152,16 @@ RenderOutput Renderer::render(const CameraDesc& camera, const RenderSettings& se
     params.sample_count = count;
     runPass(context_, pipeline_, target_, &params, settings.pass_timeout_seconds, rows,
             final ? kAttachmentCount : 1);
-    const size_t band_floats = size_t(width) * rows * 4;
+    const size_t band_pixels = size_t(width) * rows;
+    const size_t band_floats = band_pixels * 4;
     const float* pass = target_.mapped;
-    const double weight = count;
-    std::vector<double>& sum = sums[b];
-    if (!final) {
-      if (sum.empty()) sum.assign(band_floats, 0.0);
-      for (size_t i = 0; i < band_floats; ++i) sum[i] += double(pass[i]) * weight;
-      return;
-    }
-    // Divide (not multiply by a reciprocal) so mergeRenders reproduces this exactly.
+    std::vector<SampleSum>& sum = sums[b];
+    if (sum.empty() && (!final || settings.keep_sums)) sum.assign(band_floats, 0);
+    if (count > 0 && !sum.empty())
+      for (size_t i = 0; i < band_floats; ++i) sum[i] += sampleTerm(pass[i], count);
+    if (!final) return;
     // count_done >= 1: a zero-sample final pass only follows completed passes.
-    const double count_done = double(out.samples_done + count);
+    const uint32_t count_done = out.samples_done + count;
     // resize() value-initializes only the new band: pages are touched as written.
     auto grow = [band_floats](FloatImage& image) {
       const size_t base = image.rgba.size();
@@ -162,11 +170,12 @@ RenderOutput Renderer::render(const CameraDesc& camera, const RenderSettings& se
     };
     float* color = grow(out.color);
     for (size_t i = 0; i < band_floats; ++i) {
-      double value = sum.empty() ? 0.0 : sum[i];
-      if (count > 0) value += double(pass[i]) * weight;
-      color[i] = static_cast<float>(value / count_done);
+      // A one-pass render never filled `sum`: its term is the whole sum.
+      const SampleSum value = sum.empty() ? sampleTerm(pass[i], count) : sum[i];
+      color[i] = sampleMean(value, count_done);
     }
-    std::vector<double>().swap(sum);
+    if (settings.keep_sums) out.color_sums.insert(out.color_sums.end(), sum.begin(), sum.end());
+    std::vector<SampleSum>().swap(sum);
     // + 0.0f maps -0 to +0, as the former double accumulation (0.0 + x) did.
     const float* normal_depth = target_.mapped + target_.floatsPerImage();
     const float* albedo_steps = normal_depth + target_.floatsPerImage();

@@ -9,8 +9,9 @@
 // A render is a sequence of passes; pass k draws samples [sample_base, sample_base +
 // sample_count) of every pixel (FrameParams), and the shader's random numbers depend
 // only on (pixel, sample index, seed). The CPU sums pass means weighted by their
-// sample counts in double, in pass order, so memory does not grow with spp and the
-// same settings give bit-identical images. Each pass is drawn in full-width bands
+// sample counts as exact fixed-point integers (sample_sum.h), so memory does not
+// grow with spp, the same settings give bit-identical images, and renders of
+// disjoint pass ranges add up to exactly the sums of one render of all of them. Each pass is drawn in full-width bands
 // (kBandPixels) with a band-sized target; the AOV attachments, identical in every
 // pass, are read back only in the final pass.
 #pragma once
@@ -22,6 +23,7 @@
 #include "float_image.h"
 #include "progress.h"
 #include "render_pipeline.h"
+#include "sample_sum.h"
 #include "shader_interface.h"
 #include "vulkan_context.h"
 
@@ -47,6 +49,8 @@ struct RenderSettings {
   uint32_t max_samples_per_pass = 0;
   // Index of the first sample; lets two renders [0,n) and [n,2n) be merged.
   uint32_t first_sample = 0;
+  // Also return the exact color sums (RenderOutput::color_sums): what a shard stores.
+  bool keep_sums = false;
   double pass_timeout_seconds = 60;
 };
 
@@ -63,6 +67,9 @@ struct RenderOutput {
   FloatImage color;         // mean radiance (beauty) or the debug view value, a = 1
   FloatImage normal_depth;  // attachment 1 (the same in every pass; read back once)
   FloatImage albedo_steps;  // attachment 2 (the same in every pass; read back once)
+  // With RenderSettings::keep_sums: the exact sum over samples of each pixel's r, g, b, a
+  // (4 per pixel, row-major); color = sampleMean(sum, samples_done).
+  std::vector<SampleSum> color_sums;
   uint32_t samples_done = 0;
   uint32_t passes = 0;
   uint32_t samples_per_pass = 0;
@@ -72,8 +79,9 @@ struct RenderOutput {
 };
 
 // Sample-weighted mean of two renders of the same size (e.g. samples [0,n) and
-// [n,m)), computed in double. Exactly equal to one render of both sample ranges
-// when each input was a single pass with the same split.
+// [n,m)). With color_sums in both (keep_sums), exactly equal to one render of both
+// sample ranges when their passes split the samples the same way; otherwise a
+// double-precision weighted mean of the float images.
 RenderOutput mergeRenders(const RenderOutput& a, const RenderOutput& b);
 
 class Renderer {

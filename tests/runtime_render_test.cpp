@@ -169,6 +169,7 @@ TEST_F(RuntimeRender, SplitRendersMergeToTheFullRender) {
   RenderSettings settings = smallSettings();
   settings.spp = 16;
   settings.max_samples_per_pass = 8;
+  settings.keep_sums = true;
   const RenderOutput full = renderer_->render(CameraDesc{}, settings);
   EXPECT_EQ(full.passes, 2u);
 

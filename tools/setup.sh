@@ -20,6 +20,8 @@ packages=(
   libglm-dev libtinygltf-dev nlohmann-json3-dev libstb-dev libtinyexr-dev libcli11-dev
   # tests, benchmark smoke run, fuzzing
   libgtest-dev python3-numpy python3-matplotlib clang
+  # the render farm's tests: a single-node Slurm cluster
+  slurmctld slurmd slurm-client munge
 )
 
 say() { echo "setup: $*"; }

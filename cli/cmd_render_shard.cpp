@@ -1,0 +1,100 @@
+// `sdfc render --shards K --shard-index I -o DIR`: one task of a farm job. Renders
+// its frame's sample range with the whole image's pass split and writes
+// DIR/shard_IIIII.exr (farm/shard_file.h); an existing matching shard is kept.
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+
+#include "farm_support.h"
+#include "progress.h"
+
+namespace sdfc {
+namespace {
+
+// Fault injection for the farm tests: SDFC_FAULT_KILL_SHARD=I makes task I kill
+// itself (SIGKILL, as a node failure or OOM kill would) after its first pass,
+// once: SDFC_FAULT_MARKER names a file created first, and its presence disarms it.
+bool faultArmed(uint32_t index) {
+  const char* shard = std::getenv("SDFC_FAULT_KILL_SHARD");
+  const char* marker = std::getenv("SDFC_FAULT_MARKER");
+  if (!shard || !marker || std::to_string(index) != shard) return false;
+  if (std::filesystem::exists(marker)) return false;
+  std::ofstream(marker) << "killed shard " << index << "\n";
+  return true;
+}
+
+}  // namespace
+
+int runRenderShard(const CommandLine& cl, const RenderOverrides& o) {
+  if (cl.shards <= 0 || cl.shard_index < 0) {
+    std::cerr << "sdfc: error: --shards and --shard-index go together\n";
+    return kExitUsage;
+  }
+  if (!cl.frames.empty() && cl.frames.find(':') != std::string::npos) {
+    std::cerr << "sdfc: error: with --shards, --frames takes frame numbers A-B (time = frame / --fps)\n";
+    return kExitUsage;
+  }
+  VulkanContext context;
+  ContextOptions context_options;
+  context_options.device_index = cl.device;
+  createContext(context, context_options);
+  struct ContextGuard {
+    VulkanContext& c;
+    ~ContextGuard() { destroyContext(c); }
+  } guard{context};
+  LoadedScene loaded = compileForDevice(cl, context, o);
+  if (loaded.exit_code != kExitOk) return loaded.exit_code;
+  const CompiledScene& compiled = loaded.compiled;
+
+  ShardJob job;
+  farm::ShardHeader header;
+  try {
+    job = shardJobFor(cl, o, compiled);
+    header = expectedHeader(job, uint32_t(cl.shard_index));
+  } catch (const farm::FarmError& e) {
+    std::cerr << "sdfc: error: " << e.what() << "\n";
+    return kExitUsage;
+  }
+  header.device = deviceText(context);
+  header.driver = driverText(context);
+  std::filesystem::create_directories(cl.output);
+  const std::string path = (std::filesystem::path(cl.output) / farm::shardFileName(cl.shard_index)).string();
+  if (shardComplete(path, header, true)) {
+    if (!cl.quiet) std::cerr << "sdfc: " << path << " is complete; skipped\n";
+    return kExitOk;
+  }
+
+  Renderer renderer(context, compiled.spirv);
+  const bool fault = faultArmed(uint32_t(cl.shard_index));
+  ProgressCallback progress = cl.quiet ? ProgressCallback{} : makeTerminalProgress("shard");
+  if (fault)
+    progress = [](const ProgressInfo& info) {
+      if (info.passes_done >= 1 && !info.finished) std::raise(SIGKILL);
+    };
+  farm::ShardImage shard;
+  shard.header = header;
+  const RenderOutput out = renderShard(renderer, compiled, job, header, shard.sums, progress, installInterruptHandler());
+  if (fault) std::raise(SIGKILL);  // a one-pass shard: killed before its file is written
+  if (out.interrupted) {
+    std::cerr << "sdfc: interrupted; shard " << cl.shard_index << " not written\n";
+    return kExitInterrupted;
+  }
+  const auto write_start = std::chrono::steady_clock::now();
+  farm::writeShard(path, shard);
+  const double write_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - write_start).count();
+  // Milliseconds: bench/farm_bench.py reads this line for the per-shard overhead.
+  if (!cl.quiet)
+    std::fprintf(stderr, "sdfc: wrote %s (samples [%u, %u) of %u%s; compile %.0f ms, pipeline %.0f ms, render %.0f ms, write %.0f ms)\n",
+                 path.c_str(), header.samples.begin, header.samples.end, header.spp,
+                 header.frame == farm::kNoFrame ? "" : (", frame " + std::to_string(header.frame)).c_str(),
+                 compiled.times.total() * 1000, renderer.pipelineSeconds() * 1000, out.seconds * 1000,
+                 write_seconds * 1000);
+  return kExitOk;
+}
+
+}  // namespace sdfc

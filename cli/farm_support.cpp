@@ -1,0 +1,126 @@
+#include "farm_support.h"
+
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+
+#include "spirv/glsl_to_spirv.h"
+
+namespace sdfc {
+
+bool renderOverridesFrom(const CommandLine& cl, RenderOverrides& o) {
+  if (!cl.size.empty()) {
+    const auto size = parseImageSize(cl.size);
+    if (!size) {
+      std::cerr << "sdfc: error: --size expects WxH with sides from 1 to 16384, e.g. 640x360\n";
+      return false;
+    }
+    o.width = size->first;
+    o.height = size->second;
+  }
+  if (cl.spp > 0) o.spp = cl.spp;
+  if (cl.bounces >= 0) o.bounces = cl.bounces;
+  if (cl.light_samples >= 0) o.light_samples = cl.light_samples;
+  o.seed = cl.seed;
+  o.time = cl.time;
+  return true;
+}
+
+namespace {
+// Source, -D values and every flag that changes the emitted shader.
+std::string sceneHash(const CommandLine& cl, const CompiledScene& compiled) {
+  std::string key = compiled.source ? compiled.source->text : std::string();
+  key += '\0';
+  for (const std::string& d : cl.defines) key += d + '\0';
+  key += std::to_string(cl.no_bounds) + std::to_string(cl.force_bounds) + std::to_string(cl.no_fuse) +
+         std::to_string(cl.optimize) + std::to_string(cl.paper_baseline) + std::to_string(cl.white_noise) +
+         std::to_string(cl.count_evaluations);
+  return farm::fingerprint(key.data(), key.size());
+}
+}  // namespace
+
+ShardJob shardJobFor(const CommandLine& cl, const RenderOverrides& o, const CompiledScene& compiled) {
+  ShardJob job;
+  job.settings = renderSettingsFor(compiled, o);
+  if (job.settings.view != gpu::kViewBeauty) throw farm::FarmError("shards render the beauty view only");
+  job.plan.spp = job.settings.spp;
+  job.plan.samples_per_pass = chooseSamplesPerPass(job.settings);
+  job.plan.slices = uint32_t(std::max(cl.shards, 1));
+  job.plan.fps = cl.fps;
+  if (!cl.frames.empty()) std::tie(job.plan.first_frame, job.plan.last_frame) = farm::parseFrameRange(cl.frames);
+  farm::splitSamples(job.plan.spp, job.plan.samples_per_pass, job.plan.slices);  // throws when too many
+
+  farm::ShardHeader& h = job.common;
+  h.scene_hash = sceneHash(cl, compiled);
+  h.kernel_hash = compiled.spirv.empty() ? "" : farm::fingerprint(compiled.spirv.data(), compiled.spirv.size() * 4);
+  h.version = kSdfcVersion;
+  const RenderSettings& s = job.settings;
+  h.settings = std::to_string(s.width) + "x" + std::to_string(s.height) + " spp=" + std::to_string(s.spp) +
+               " bounces=" + std::to_string(s.max_bounces) + " light_samples=" + std::to_string(s.light_samples);
+  h.width = s.width;
+  h.height = s.height;
+  h.seed = s.seed;
+  h.spp = s.spp;
+  h.samples_per_pass = job.plan.samples_per_pass;
+  h.slices = job.plan.slices;
+  return job;
+}
+
+farm::ShardHeader expectedHeader(const ShardJob& job, uint32_t index) {
+  const farm::ShardTask task = job.plan.task(index);
+  farm::ShardHeader h = job.common;
+  h.slice = task.slice;
+  h.frame = task.frame;
+  h.samples = task.samples;
+  h.time = task.frame == farm::kNoFrame ? double(job.settings.time) : job.plan.frameTime(task.frame);
+  return h;
+}
+
+std::string deviceText(const VulkanContext& context) { return context.deviceName(); }
+
+std::string driverText(const VulkanContext& context) {
+  const uint32_t v = context.properties.driverVersion, api = context.properties.apiVersion;
+  char text[96];
+  std::snprintf(text, sizeof text, "vendor %04x driver %u.%u.%u api %u.%u.%u", context.properties.vendorID,
+                v >> 22, (v >> 12) & 0x3ff, v & 0xfff, VK_API_VERSION_MAJOR(api), VK_API_VERSION_MINOR(api),
+                VK_API_VERSION_PATCH(api));
+  return text;
+}
+
+bool shardComplete(const std::string& path, const farm::ShardHeader& expected, bool with_device) {
+  if (!std::filesystem::exists(path)) return false;
+  try {
+    farm::ShardHeader found = farm::readShardHeader(path);
+    if (!with_device) {
+      found.device = expected.device;
+      found.driver = expected.driver;
+    }
+    if (expected.kernel_hash.empty()) found.kernel_hash = "";
+    return farm::headerMismatch(found, expected).empty() && found.slices == expected.slices &&
+           found.slice == expected.slice && found.frame == expected.frame &&
+           found.samples.begin == expected.samples.begin && found.samples.end == expected.samples.end &&
+           found.time == expected.time;
+  } catch (const farm::FarmError&) {
+    return false;  // unreadable or foreign: render it again
+  }
+}
+
+RenderOutput renderShard(Renderer& renderer, const CompiledScene& compiled, const ShardJob& job,
+                         const farm::ShardHeader& header, std::vector<SampleSum>& sums,
+                         const ProgressCallback& progress, const std::atomic<bool>* interrupt) {
+  RenderSettings settings = job.settings;
+  settings.time = static_cast<float>(header.time);
+  settings.first_sample = header.samples.begin;
+  settings.spp = header.samples.count();
+  settings.max_samples_per_pass = job.plan.samples_per_pass;
+  settings.keep_sums = true;
+  RenderOutput out = renderer.render(cameraFor(compiled.scene), settings, progress, interrupt);
+  const size_t pixels = out.color_sums.size() / 4;
+  sums.resize(pixels * 3);  // r, g, b: alpha is always 1
+  for (size_t p = 0; p < pixels; ++p)
+    for (int c = 0; c < 3; ++c) sums[p * 3 + c] = out.color_sums[p * 4 + c];
+  std::vector<SampleSum>().swap(out.color_sums);
+  return out;
+}
+
+}  // namespace sdfc

@@ -1,0 +1,58 @@
+// A shard on disk: a linear EXR holding one sample range of one image.
+//
+// Channels R, G, B (float) are the shard's own mean radiance, so any EXR viewer
+// shows it; sum.{R,G,B}.{0..3} (uint) are the exact fixed-point sums of its samples
+// (runtime/sample_sum.h, 128 bits as four 32-bit words, least significant first),
+// which `sdfc merge` adds. String attributes "sdfc.*" record everything a merge must
+// agree on (ShardHeader).
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "sample_sum.h"
+#include "shard_plan.h"
+
+namespace sdfc::farm {
+
+struct ShardHeader {
+  std::string scene_hash;   // source text, -D values and compile flags
+  std::string kernel_hash;  // the SPIR-V the shard ran
+  std::string version;      // sdfc version
+  std::string device;       // Vulkan device name
+  std::string driver;       // driver name and version
+  std::string settings;     // canonical render settings (size, spp, bounces, ...)
+  uint32_t width = 0, height = 0;
+  uint32_t seed = 0;
+  uint32_t spp = 0;               // of the whole image
+  uint32_t samples_per_pass = 0;  // pass split shared by every shard
+  uint32_t slices = 1;            // shards per image
+  uint32_t slice = 0;
+  int frame = kNoFrame;
+  double time = 0;                // scene time of the frame
+  SampleRange samples;
+};
+
+// Attributes two shards of one job must agree on (all but the slicing, range, frame
+// and time: shards of different slice counts still merge exactly, being pass-aligned).
+// Returns "" when they do, otherwise "field: 'a' vs 'b'".
+std::string headerMismatch(const ShardHeader& a, const ShardHeader& b);
+
+struct ShardImage {
+  ShardHeader header;
+  std::vector<SampleSum> sums;  // r, g, b per pixel, row-major
+};
+
+// Writes through "<path>.tmp" and a rename: a killed shard leaves no shard file.
+void writeShard(const std::string& path, const ShardImage& shard);
+// Throws FarmError naming the file when it is not a readable sdfc shard.
+ShardHeader readShardHeader(const std::string& path);
+ShardImage readShard(const std::string& path);
+// Adds the shard's sums to `total` (two's complement, modulo 2^128: exact while the
+// true sum fits a SampleSum) without keeping a copy; returns its header.
+ShardHeader addShard(const std::string& path, std::vector<unsigned __int128>& total);
+
+// 16 hex digits of FNV-1a 64 (a fingerprint, not a security measure).
+std::string fingerprint(const void* data, size_t size);
+
+}  // namespace sdfc::farm

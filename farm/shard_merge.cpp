@@ -1,0 +1,111 @@
+#include "shard_merge.h"
+
+#include <algorithm>
+#include <chrono>
+#include <filesystem>
+
+namespace sdfc::farm {
+namespace fs = std::filesystem;
+
+std::vector<std::string> findShards(const std::vector<std::string>& inputs) {
+  std::vector<std::string> paths;
+  for (const std::string& input : inputs) {
+    if (!fs::is_directory(input)) {
+      paths.push_back(input);
+      continue;
+    }
+    std::vector<std::string> found;
+    for (const auto& entry : fs::directory_iterator(input)) {
+      const std::string name = entry.path().filename().string();
+      if (entry.is_regular_file() && name.rfind("shard_", 0) == 0 && entry.path().extension() == ".exr")
+        found.push_back(entry.path().string());
+    }
+    if (found.empty()) throw FarmError(input + ": no shard_*.exr files in this directory");
+    std::sort(found.begin(), found.end());
+    paths.insert(paths.end(), found.begin(), found.end());
+  }
+  if (paths.empty()) throw FarmError("no shards to merge");
+  return paths;
+}
+
+namespace {
+std::string frameName(int frame) { return frame == kNoFrame ? "the still" : "frame " + std::to_string(frame); }
+std::string rangeText(const SampleRange& r) {
+  return "[" + std::to_string(r.begin) + ", " + std::to_string(r.end) + ")";
+}
+}  // namespace
+
+ShardSet checkShards(const std::vector<std::string>& paths, int first_frame, int last_frame) {
+  ShardSet set;
+  std::string reference_path;
+  for (const std::string& path : paths) {
+    const ShardHeader h = readShardHeader(path);
+    if (reference_path.empty()) {
+      set.reference = h;
+      reference_path = path;
+    } else if (const std::string why = headerMismatch(set.reference, h); !why.empty()) {
+      throw FarmError(path + " does not belong with " + reference_path + ": " + why);
+    }
+    if (h.samples_per_pass == 0 || h.samples.begin % h.samples_per_pass != 0 ||
+        (h.samples.end % h.samples_per_pass != 0 && h.samples.end != h.spp))
+      throw FarmError(path + ": sample range " + rangeText(h.samples) + " is not on passes of " +
+                      std::to_string(h.samples_per_pass) + " samples");
+    set.frames[h.frame].push_back({path, h});
+  }
+  if (set.frames.count(kNoFrame) && set.frames.size() > 1)
+    throw FarmError("a still's shards are mixed with an animation's (" + set.frames.at(kNoFrame)[0].first + ")");
+  if (first_frame != kNoFrame)
+    for (int f = first_frame; f <= last_frame; ++f)
+      if (!set.frames.count(f)) throw FarmError("missing all shards of frame " + std::to_string(f));
+  for (auto& [frame, shards] : set.frames) {
+    std::sort(shards.begin(), shards.end(), [](const auto& a, const auto& b) {
+      return a.second.samples.begin != b.second.samples.begin ? a.second.samples.begin < b.second.samples.begin
+                                                              : a.second.samples.end < b.second.samples.end;
+    });
+    uint32_t covered = 0;
+    for (size_t i = 0; i < shards.size(); ++i) {
+      if (shards[i].second.time != shards[0].second.time)
+        throw FarmError(shards[i].first + " renders " + frameName(frame) + " at time " +
+                        std::to_string(shards[i].second.time) + ", " + shards[0].first + " at " +
+                        std::to_string(shards[0].second.time));
+      const SampleRange& r = shards[i].second.samples;
+      if (r.begin < covered)
+        throw FarmError(shards[i].first + " overlaps " + shards[i - 1].first + " in " + frameName(frame) +
+                        ": samples " + rangeText(r) + " and " + rangeText(shards[i - 1].second.samples));
+      if (r.begin > covered)
+        throw FarmError("missing samples " + rangeText({covered, r.begin}) + " of " + frameName(frame) +
+                        " (before " + shards[i].first + ")");
+      covered = r.end;
+    }
+    if (covered != set.reference.spp)
+      throw FarmError("missing samples " + rangeText({covered, set.reference.spp}) + " of " + frameName(frame) +
+                      " (after " + shards.back().first + ")");
+  }
+  return set;
+}
+
+MergeStats mergeShards(const ShardSet& set,
+                       const std::function<void(int frame, const FloatImage& image)>& emit) {
+  const auto start = std::chrono::steady_clock::now();
+  MergeStats stats;
+  const ShardHeader& h = set.reference;
+  const size_t pixels = size_t(h.width) * h.height;
+  std::vector<unsigned __int128> total;
+  for (const auto& [frame, shards] : set.frames) {
+    total.assign(pixels * 3, 0);
+    for (const auto& [path, header] : shards) {
+      addShard(path, total);
+      ++stats.shards;
+    }
+    FloatImage image(h.width, h.height, 1.0f);
+    for (size_t p = 0; p < pixels; ++p)
+      for (int c = 0; c < 3; ++c)
+        image.rgba[p * 4 + c] = sampleMean(static_cast<SampleSum>(total[p * 3 + c]), h.spp);
+    emit(frame, image);
+    ++stats.frames;
+  }
+  stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return stats;
+}
+
+}  // namespace sdfc::farm

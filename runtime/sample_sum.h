@@ -1,0 +1,36 @@
+// Exact, order-independent sums of sample radiance.
+//
+// A pass returns each pixel's mean over its samples as a float; the renderer adds
+// mean * count per pass. In floating point that sum depends on the order of the
+// additions, so a render split into shards (sample ranges summed separately, then
+// added) would differ in the last bits from one process summing pass after pass.
+// Instead each term is turned into a fixed-point integer with 64 fraction bits
+// (exact for every float term of magnitude 2^-64 .. 2^62, which covers radiance
+// times any sample count), and integers add associatively: any split of the pass
+// sequence sums to the same bits. The mean is rounded to float once, at the end.
+#pragma once
+#include <cmath>
+#include <cstdint>
+
+namespace sdfc {
+
+using SampleSum = __int128;
+
+constexpr double kSampleSumScale = 18446744073709551616.0;  // 2^64: fraction bits
+constexpr double kSampleSumLimit = 4611686018427387904.0;   // 2^62: |term| cap
+
+// mean * count as fixed point. float * integer <= 2^32 is exact in double, and the
+// power-of-two scale is exact too, so only bits below 2^-64 are dropped.
+inline SampleSum sampleTerm(float mean, uint32_t count) {
+  double term = double(mean) * double(count);
+  if (!(std::fabs(term) < kSampleSumLimit)) term = std::isnan(term) ? 0.0 : std::copysign(kSampleSumLimit, term);
+  return static_cast<SampleSum>(term * kSampleSumScale);
+}
+
+// The mean of `count` samples whose sum is `sum`, rounded to float.
+inline float sampleMean(SampleSum sum, uint64_t count) {
+  if (count == 0) return 0.0f;
+  return static_cast<float>(static_cast<double>(sum) / kSampleSumScale / double(count));
+}
+
+}  // namespace sdfc
