@@ -17,6 +17,7 @@ CompileOptions compileOptionsFrom(const CommandLine& cl) {
   o.emit.scene_box = !cl.paper_baseline;  // the paper marches every ray from the camera
   o.emit.count_evaluations = cl.count_evaluations;
   o.fuse_transforms = !cl.no_fuse;
+  o.instancing.threshold = cl.instance_threshold;
   o.optimize_spirv = cl.optimize;
   return o;
 }

@@ -93,7 +93,7 @@ int runRender(const CommandLine& cl) {
   if (loaded.exit_code != kExitOk) return loaded.exit_code;
   const CompiledScene& compiled = loaded.compiled;
 
-  Renderer renderer(context, compiled.spirv);
+  Renderer renderer(context, compiled.spirv, compiled.emitted.scene_data);
   const std::atomic<bool>* interrupt = installInterruptHandler();
   ToneMap tone;
   tone.exposure_stops = static_cast<float>(cl.exposure);

@@ -21,6 +21,10 @@ void registerCommands(CLI::App& app, CommandLine& cl) {
     sub->add_option("--diagnostics-format", cl.diagnostics_format, "text or json")
         ->check(CLI::IsMember({"text", "json"}));
     sub->add_flag("--Werror", cl.werror, "treat warnings as errors");
+    sub->add_option("--instance-threshold", cl.instance_threshold,
+                    "copies of one shape in a union from which they become data + a hierarchy "
+                    "(default 32; 0 = always inline code)")
+        ->check(CLI::Range(0, 1 << 30));
     sub->callback([&cl, sub] { cl.command = sub->get_name(); });
   };
   auto emit_flags = [&](CLI::App* sub) {

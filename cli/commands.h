@@ -29,6 +29,7 @@ struct CommandLine {
   bool line_directives = false;
   int timings = 0;  // compile: repeat the compilation this many times and print stage times
   bool no_bounds = false;
+  int instance_threshold = 32;  // see passes/instancing.cpp; 0 = always inline
   bool force_bounds = false;  // render: bounds even on a CPU device
   bool no_fuse = false;
   bool optimize = false;

@@ -49,7 +49,9 @@ struct FrameParams {
   // Pixel = gl_FragCoord + (tile_x, tile_y), so random numbers stay per image pixel.
   uint tile_x;
   uint tile_y;
-  uint tile_pad0;
+  // Instance-hierarchy visits allowed per scene evaluation this pass (the
+  // renderer derives it from the loop cap; see runtime/loop_budget.h).
+  uint traversal_visits;
   uint tile_pad1;
 };
 

@@ -73,6 +73,30 @@ constexpr uint32_t samplesPerPassWithinCap(uint32_t max_steps, uint32_t max_boun
   return uint32_t((gpu::kLavapipeLoopCap - 1 - overhead) / per_sample);
 }
 
+// Instance hierarchies (compiler/emit: one loop per evaluation of an Instances
+// node, at most frame.traversal_visits iterations). Every scene evaluation in
+// the kernel sits in the body of a counted loop iteration, one per iteration
+// (march step, normal difference, the material id per bounce), except the
+// inside test each tracePath call makes before its bounce loop: so a pass makes
+// at most (its loop iterations + samples + 1) evaluations (+ 1: the AOV ray).
+// An evaluation may reach an Instances node through both sdScene and
+// sdMaterialId, but never more than `sets_per_evaluation` of them.
+constexpr uint64_t sceneEvaluationsPerPass(uint64_t kernel_iterations, uint32_t sample_count) {
+  return kernel_iterations + sample_count + 1;
+}
+
+// The most hierarchy visits per evaluation that keep a pass whose kernel loops
+// take `kernel_iterations` strictly below the cap (0: none fit).
+constexpr uint32_t traversalVisitsWithinCap(uint64_t kernel_iterations, uint32_t sample_count,
+                                            uint32_t sets_per_evaluation = 1) {
+  if (kernel_iterations + 1 >= gpu::kLavapipeLoopCap || sets_per_evaluation == 0) return 0;
+  const uint64_t evaluations =
+      sceneEvaluationsPerPass(kernel_iterations, sample_count) * sets_per_evaluation;
+  return uint32_t((gpu::kLavapipeLoopCap - 1 - kernel_iterations) / evaluations);
+}
+
+static_assert(traversalVisitsWithinCap(1000, 1) == (65535 - 1 - 1000) / 1002);
+
 static_assert(loopIterationsPerSample(98, 0, 0, 0) == 1 + 105);
 static_assert(loopIterationsPerPass(98, 2, 1, 3, 0) == 106 + 3 * (1 + 3 * 105 + 2 * 101));
 static_assert(loopIterationsPerSample(98, 2, 1, 2) == 1 + 3 * 107 + 2 * 103);

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstring>
+#include <string>
 #include <cmath>
 #include <string>
 
@@ -89,8 +91,71 @@ VkRenderPass createRenderPass(VkDevice device) {
 
 }  // namespace
 
+namespace {
+
+// A host-visible storage buffer holding `data`, with the descriptor set that
+// binds it (lavapipe's memory is host memory: no staging copy is needed).
+void createSceneBuffer(RenderPipeline& pipeline, const VulkanContext& context,
+                       const std::vector<float>& data) {
+  VkDevice device = context.device;
+  VkDescriptorSetLayoutBinding binding{};
+  binding.binding = 0;
+  binding.descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+  binding.descriptorCount = 1;
+  binding.stageFlags = VK_SHADER_STAGE_FRAGMENT_BIT;
+  VkDescriptorSetLayoutCreateInfo layout{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+  layout.bindingCount = 1;
+  layout.pBindings = &binding;
+  VK_CHECK(vkCreateDescriptorSetLayout(device, &layout, nullptr, &pipeline.set_layout));
+
+  const VkDeviceSize bytes = data.size() * sizeof(float);
+  if (bytes > context.properties.limits.maxStorageBufferRange)
+    throw RuntimeError("the scene's instance data (" + std::to_string(bytes) +
+                       " bytes) exceeds the device's storage buffer range");
+  VkBufferCreateInfo buffer{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
+  buffer.size = bytes;
+  buffer.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+  buffer.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
+  VK_CHECK(vkCreateBuffer(device, &buffer, nullptr, &pipeline.scene_buffer));
+  VkMemoryRequirements reqs;
+  vkGetBufferMemoryRequirements(device, pipeline.scene_buffer, &reqs);
+  VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+  alloc.allocationSize = reqs.size;
+  alloc.memoryTypeIndex = findMemoryType(context, reqs.memoryTypeBits,
+                                         VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT |
+                                             VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
+  VK_CHECK(vkAllocateMemory(device, &alloc, nullptr, &pipeline.scene_memory));
+  VK_CHECK(vkBindBufferMemory(device, pipeline.scene_buffer, pipeline.scene_memory, 0));
+  void* mapped = nullptr;
+  VK_CHECK(vkMapMemory(device, pipeline.scene_memory, 0, bytes, 0, &mapped));
+  std::memcpy(mapped, data.data(), bytes);
+  vkUnmapMemory(device, pipeline.scene_memory);
+
+  VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1};
+  VkDescriptorPoolCreateInfo pool{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+  pool.maxSets = 1;
+  pool.poolSizeCount = 1;
+  pool.pPoolSizes = &size;
+  VK_CHECK(vkCreateDescriptorPool(device, &pool, nullptr, &pipeline.descriptor_pool));
+  VkDescriptorSetAllocateInfo set{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+  set.descriptorPool = pipeline.descriptor_pool;
+  set.descriptorSetCount = 1;
+  set.pSetLayouts = &pipeline.set_layout;
+  VK_CHECK(vkAllocateDescriptorSets(device, &set, &pipeline.descriptor_set));
+  VkDescriptorBufferInfo info{pipeline.scene_buffer, 0, bytes};
+  VkWriteDescriptorSet write{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+  write.dstSet = pipeline.descriptor_set;
+  write.dstBinding = 0;
+  write.descriptorCount = 1;
+  write.descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+  write.pBufferInfo = &info;
+  vkUpdateDescriptorSets(device, 1, &write, 0, nullptr);
+}
+
+}  // namespace
+
 void createRenderPipeline(RenderPipeline& pipeline, const VulkanContext& context,
-                          const std::vector<uint32_t>& frag_spirv) {
+                          const std::vector<uint32_t>& frag_spirv, const std::vector<float>& scene_data) {
   pipeline = {};
   if (frag_spirv.empty()) throw RuntimeError("empty fragment SPIR-V");
   VkDevice device = context.device;
@@ -102,6 +167,11 @@ void createRenderPipeline(RenderPipeline& pipeline, const VulkanContext& context
     VkPipelineLayoutCreateInfo layout_info{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
     layout_info.pushConstantRangeCount = 1;
     layout_info.pPushConstantRanges = &range;
+    if (!scene_data.empty()) {
+      createSceneBuffer(pipeline, context, scene_data);
+      layout_info.setLayoutCount = 1;
+      layout_info.pSetLayouts = &pipeline.set_layout;
+    }
     VK_CHECK(vkCreatePipelineLayout(device, &layout_info, nullptr, &pipeline.layout));
 
     vert = createShaderModule(device, fullscreenVertexSpirv());
@@ -177,6 +247,10 @@ void destroyRenderPipeline(RenderPipeline& pipeline, const VulkanContext& contex
   if (pipeline.pipeline) vkDestroyPipeline(context.device, pipeline.pipeline, nullptr);
   if (pipeline.layout) vkDestroyPipelineLayout(context.device, pipeline.layout, nullptr);
   if (pipeline.render_pass) vkDestroyRenderPass(context.device, pipeline.render_pass, nullptr);
+  if (pipeline.descriptor_pool) vkDestroyDescriptorPool(context.device, pipeline.descriptor_pool, nullptr);
+  if (pipeline.set_layout) vkDestroyDescriptorSetLayout(context.device, pipeline.set_layout, nullptr);
+  if (pipeline.scene_buffer) vkDestroyBuffer(context.device, pipeline.scene_buffer, nullptr);
+  if (pipeline.scene_memory) vkFreeMemory(context.device, pipeline.scene_memory, nullptr);
   pipeline = {};
 }
 
@@ -309,6 +383,9 @@ void runPass(const VulkanContext& context, const RenderPipeline& pipeline, Rende
   rp.renderArea = {{0, 0}, {target.width, rows}};
   vkCmdBeginRenderPass(cmd, &rp, VK_SUBPASS_CONTENTS_INLINE);
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.pipeline);
+  if (pipeline.descriptor_set)
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.layout, 0, 1,
+                            &pipeline.descriptor_set, 0, nullptr);
   const VkViewport viewport{0, 0, float(target.width), float(target.height), 0, 1};
   vkCmdSetViewport(cmd, 0, 1, &viewport);
   vkCmdSetScissor(cmd, 0, 1, &rp.renderArea);

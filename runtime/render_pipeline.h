@@ -19,12 +19,22 @@ struct RenderPipeline {
   VkPipelineLayout layout = VK_NULL_HANDLE;
   VkPipeline pipeline = VK_NULL_HANDLE;
   double create_seconds = 0;  // vkCreateGraphicsPipelines alone (LLVM compile on lavapipe)
+  // The scene's storage buffer (instance hierarchies), set 0 binding 0; absent
+  // when the scene has none.
+  VkDescriptorSetLayout set_layout = VK_NULL_HANDLE;
+  VkDescriptorPool descriptor_pool = VK_NULL_HANDLE;
+  VkDescriptorSet descriptor_set = VK_NULL_HANDLE;
+  VkBuffer scene_buffer = VK_NULL_HANDLE;
+  VkDeviceMemory scene_memory = VK_NULL_HANDLE;
 };
 
 // Full-screen triangle vertex shader (compiled in process) + `frag_spirv`, push
 // constants = gpu::FrameParams for the fragment stage, dynamic viewport/scissor.
+// `scene_data` (vec4s), when not empty, is copied into a storage buffer bound
+// at set 0, binding 0 for the fragment stage.
 void createRenderPipeline(RenderPipeline& pipeline, const VulkanContext& context,
-                          const std::vector<uint32_t>& frag_spirv);
+                          const std::vector<uint32_t>& frag_spirv,
+                          const std::vector<float>& scene_data = {});
 void destroyRenderPipeline(RenderPipeline& pipeline, const VulkanContext& context);
 
 struct RenderTarget {

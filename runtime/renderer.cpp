@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cstdio>
 
+#include "loop_budget.h"
 #include "vk_check.h"
 
 namespace sdfc {
@@ -31,6 +32,10 @@ uint32_t chooseSamplesPerPass(const RenderSettings& settings) {
     limit = static_cast<uint32_t>(
         std::clamp<uint64_t>(kAutoPixelSamplesPerPass / pixels, 1, kAutoMaxSamplesPerPass));
   }
+  if (settings.instance_sets > 0 && settings.loop_iterations_per_sample > 0) {
+    // Fewer samples per pass leave more of the cap to hierarchy visits.
+    while (limit > 1 && traversalVisitsFor(settings, limit) < kMinTraversalVisits) limit /= 2;
+  }
   if (settings.loop_iterations_per_sample > 0) {
     // Strictly below the cap, as loop_budget.h's samplesPerPassWithinCap.
     const uint64_t room = gpu::kLavapipeLoopCap - 1 -
@@ -40,6 +45,15 @@ uint32_t chooseSamplesPerPass(const RenderSettings& settings) {
     limit = std::min(limit, std::max<uint32_t>(loop_limit, 1));
   }
   return std::max<uint32_t>(1, std::min(limit, std::max<uint32_t>(settings.spp, 1)));
+}
+
+uint32_t traversalVisitsFor(const RenderSettings& settings, uint32_t sample_count) {
+  if (settings.instance_sets == 0) return 0;
+  if (settings.loop_iterations_per_sample == 0) return kMinTraversalVisits;  // unknown kernel
+  const uint64_t kernel = uint64_t(settings.loop_iterations_per_pass) +
+                          uint64_t(sample_count) * settings.loop_iterations_per_sample;
+  return std::min(kMaxTraversalVisits,
+                  traversalVisitsWithinCap(kernel, sample_count, settings.instance_sets));
 }
 
 RenderOutput mergeRenders(const RenderOutput& a, const RenderOutput& b) {
@@ -71,9 +85,10 @@ RenderOutput mergeRenders(const RenderOutput& a, const RenderOutput& b) {
   return out;
 }
 
-Renderer::Renderer(const VulkanContext& context, const std::vector<uint32_t>& frag_spirv)
+Renderer::Renderer(const VulkanContext& context, const std::vector<uint32_t>& frag_spirv,
+                   const std::vector<float>& scene_data)
     : context_(context) {
-  createRenderPipeline(pipeline_, context_, frag_spirv);
+  createRenderPipeline(pipeline_, context_, frag_spirv, scene_data);
 }
 
 Renderer::~Renderer() {
@@ -112,6 +127,11 @@ RenderOutput Renderer::render(const CameraDesc& camera, const RenderSettings& se
                  "lavapipe's cap of %u; some pixels may be cut short\n",
                  settings.loop_iterations_per_sample, settings.loop_iterations_per_pass,
                  gpu::kLavapipeLoopCap);
+  if (settings.instance_sets > 0 && traversalVisitsFor(settings, 1) < 8)
+    std::fprintf(stderr,
+                 "sdfc: warning: the loop cap leaves %u hierarchy visits per scene evaluation; "
+                 "instances may be marched slowly or missed (fewer bounces or steps help)\n",
+                 traversalVisitsFor(settings, 1));
 
   // The image is drawn in full-width bands of about kBandPixels pixels with a band-sized
   // target, so device images and staging stay small whatever the output size.
@@ -150,6 +170,7 @@ RenderOutput Renderer::render(const CameraDesc& camera, const RenderSettings& se
     params.tile_x = 0;
     params.tile_y = y0;
     params.sample_count = count;
+    params.traversal_visits = traversalVisitsFor(settings, count);
     runPass(context_, pipeline_, target_, &params, settings.pass_timeout_seconds, rows,
             final ? kAttachmentCount : 1);
     const size_t band_pixels = size_t(width) * rows;

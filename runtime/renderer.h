@@ -44,6 +44,11 @@ struct RenderSettings {
   // Loop iterations of a pass independent of its sample count
   // (loopIterationsPerPassOverhead: the AOV ray).
   uint32_t loop_iterations_per_pass = 0;
+  // Instance hierarchies an evaluation may traverse (the emitter's
+  // instance_sets); 0 = none. Passes then take fewer samples so each scene
+  // evaluation keeps at least kMinTraversalVisits hierarchy visits, and
+  // frame.traversal_visits is set from the cap (traversalVisitsWithinCap).
+  uint32_t instance_sets = 0;
   // 0 = auto: about kAutoPixelSamplesPerPass pixel-samples per pass, at most 64 spp.
   // Deliberately not timing-based, so pass splits (and thus images) are reproducible.
   uint32_t max_samples_per_pass = 0;
@@ -56,6 +61,12 @@ struct RenderSettings {
 
 constexpr uint64_t kAutoPixelSamplesPerPass = 1u << 20;
 constexpr uint32_t kAutoMaxSamplesPerPass = 64;
+// Hierarchy visits per evaluation a pass aims to allow (passes shrink to one
+// sample for it), and the most it grants (a bound on one evaluation's work).
+constexpr uint32_t kMinTraversalVisits = 48;
+constexpr uint32_t kMaxTraversalVisits = 256;
+// frame.traversal_visits for a pass of `sample_count` samples under `settings`.
+uint32_t traversalVisitsFor(const RenderSettings& settings, uint32_t sample_count);
 // render() draws full-width bands of about this many pixels (at least one row), so
 // its device images and staging buffer do not grow with the output size.
 constexpr uint64_t kBandPixels = 1u << 17;
@@ -88,7 +99,10 @@ class Renderer {
  public:
   // Builds the pipeline for `frag_spirv` (a fragment shader following
   // shader_interface.h). The context must outlive the renderer.
-  Renderer(const VulkanContext& context, const std::vector<uint32_t>& frag_spirv);
+  // `scene_data` (vec4s) is bound as the storage buffer at set 0, binding 0
+  // when not empty (the emitter's EmitResult::scene_data).
+  Renderer(const VulkanContext& context, const std::vector<uint32_t>& frag_spirv,
+           const std::vector<float>& scene_data = {});
   ~Renderer();
   Renderer(const Renderer&) = delete;
   Renderer& operator=(const Renderer&) = delete;

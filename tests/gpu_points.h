@@ -92,8 +92,9 @@ struct GpuPoints {
 
 // Evaluates at centre + half * (2u - 1), u from the hash, at time `time`.
 inline GpuPoints runPoints(const VulkanContext& context, const std::vector<uint32_t>& spirv,
-                           glm::vec3 centre, glm::vec3 half, uint32_t seed, float time) {
-  Renderer renderer(context, spirv);
+                           glm::vec3 centre, glm::vec3 half, uint32_t seed, float time,
+                           const std::vector<float>& scene_data = {}) {
+  Renderer renderer(context, spirv, scene_data);
   gpu::FrameParams params{};
   params.cam_origin = glm::vec4(centre, 0);
   params.cam_right = glm::vec4(half, 0);

@@ -43,6 +43,10 @@ const std::vector<BuiltinSignature>& builtinSignatures() {
        {{"cell", ArgType::Vector3, ValueRule::NonNegative, kRequired, kConstant},
         {"count", ArgType::Vector3, ValueRule::NonNegative, kOptional, kConstant}},
        "repeat in cells (0 = not along that axis), count copies per axis (0 = infinite)"},
+      {"instances", BuiltinCategory::Operator,
+       {{"positions", ArgType::Any, ValueRule::Any, kRequired, kConstant},
+        {"smooth", ArgType::Number, ValueRule::NonNegative, kOptional, kConstant}},
+       "the block's shape at each position of a list or file(\"points.csv\")"},
       {"elongate", BuiltinCategory::Operator,
        {{"amount", ArgType::Vector3, ValueRule::NonNegative, kRequired, kTime}},
        "stretch by inserting `amount` of length at the centre"},
@@ -106,7 +110,7 @@ bool isBuiltinCallable(const std::string& name) {
 }
 
 bool isReservedName(const std::string& name) {
-  return isBuiltinCallable(name) || name == "time" || name == "pi";
+  return isBuiltinCallable(name) || name == "time" || name == "pi" || name == "file";
 }
 
 std::vector<std::string> allCallableNames() {

@@ -6,6 +6,7 @@
 #include <unordered_map>
 
 #include "check/builtins.h"
+#include "check/point_file.h"
 
 namespace sdfc {
 namespace {
@@ -215,6 +216,10 @@ class Checker {
     switch (e.kind) {
       case ast::ExprKind::Error: return {};
       case ast::ExprKind::Number: return number(ir::constant(e.number), e.range);
+      case ast::ExprKind::String:
+        diags_.error(e.range, "a string may only name a file, as in "
+                              "instances(positions: file(\"points.csv\"))");
+        return {};
       case ast::ExprKind::Name: return lookupName(e);
       case ast::ExprKind::Vector: {
         Value v;
@@ -316,6 +321,11 @@ class Checker {
   // ---- calls -------------------------------------------------------------
 
   Value evalCall(const ast::Expr& e) {
+    if (e.name == "file") {
+      diags_.error(e.name_range, "'file' may only give the positions of instances(...)");
+      return {};
+    }
+    if (e.name == "instances") return evalInstances(e, *findBuiltin("instances"));
     if (const int arity = ir::mathFunctionArity(e.name); arity >= 0) return evalMath(e, arity);
     if (const PrimitiveInfo* prim = findPrimitive(e.name)) return evalPrimitive(e, *prim);
     if (const BuiltinSignature* sig = findBuiltin(e.name)) {
@@ -743,6 +753,161 @@ class Checker {
       // The parameter is the full added length; the IR keeps half extents.
       node->vec = {ir::binary('*', v->x, ir::constant(0.5)), ir::binary('*', v->y, ir::constant(0.5)),
                    ir::binary('*', v->z, ir::constant(0.5))};
+    }
+    return shapeValue(node, e.range);
+  }
+
+  // ---- instances(positions: [[x, y, z], ...] | file("points.csv")) { shape } ----
+
+  // The positions are read from the syntax (a list of vectors is no value of
+  // the language): each row a constant [x, y, z] or [x, y, z, scale].
+  bool positionsFrom(const ast::Expr& arg, std::vector<PositionRow>& rows) {
+    if (arg.kind == ast::ExprKind::Call && arg.name == "file") {
+      if (arg.arguments.size() != 1 || !arg.arguments[0].name.empty() ||
+          arg.arguments[0].value->kind != ast::ExprKind::String || arg.has_block) {
+        diags_.error(arg.range, "'file' takes one string, the path of a CSV file: file(\"points.csv\")");
+        return false;
+      }
+      const ast::Expr& name = *arg.arguments[0].value;
+      const std::string path = resolveBesides(source_.path, name.name);
+      PointFile file = readPointFile(path);
+      if (!file.readable) {
+        diags_.error(name.range, "cannot read '" + path + "'");
+        return false;
+      }
+      if (file.bad_rows > 0) {
+        std::string message = "'" + name.name + "' has " + std::to_string(file.bad_rows) + " bad row" +
+                              (file.bad_rows == 1 ? "" : "s") + ": " + file.errors[0];
+        Diagnostic& d = diags_.error(name.range, message);
+        for (size_t i = 1; i < file.errors.size(); ++i)
+          d.notes.push_back({Severity::Note, name.range, file.errors[i], {}});
+        return false;
+      }
+      if (file.rows.empty()) {
+        diags_.error(name.range, "'" + name.name + "' holds no positions");
+        return false;
+      }
+      rows = std::move(file.rows);
+      return true;
+    }
+    if (arg.kind != ast::ExprKind::Vector) {
+      diags_.error(arg.range, "'positions' of 'instances' must be a list [[x, y, z], ...] or "
+                              "file(\"points.csv\")");
+      return false;
+    }
+    bool ok = true;
+    for (const ast::ExprPtr& item : arg.operands) {
+      Value v = evalExpr(*item);
+      if (v.type == Value::Type::Error) { ok = false; continue; }
+      bool constant = v.type == Value::Type::Vector;
+      for (const Scalar& s : v.vector) constant = constant && s.isConst();
+      if (v.type != Value::Type::Vector || (v.vector.size() != 3 && v.vector.size() != 4) || !constant) {
+        diags_.error(v.range, "each position must be a constant [x, y, z] or [x, y, z, scale]");
+        ok = false;
+        continue;
+      }
+      PositionRow row;
+      row.position = {v.vector[0].value, v.vector[1].value, v.vector[2].value};
+      if (v.vector.size() == 4) row.scale = v.vector[3].value;
+      if (!(row.scale > 0)) {
+        diags_.error(v.range, "the scale of a position must be positive, got " + fmt(row.scale));
+        ok = false;
+        continue;
+      }
+      rows.push_back(row);
+    }
+    return ok;
+  }
+
+  Value evalInstances(const ast::Expr& e, const BuiltinSignature& sig) {
+    const ast::Expr* positions = nullptr;
+    const ast::Expr* smooth = nullptr;
+    std::optional<Value> material;
+    bool ok = true;
+    size_t positional = 0;
+    for (const ast::Argument& a : e.arguments) {
+      std::string name = a.name;
+      if (name.empty()) name = positional < sig.args.size() ? sig.args[positional++].name : "";
+      if (name == "positions" && !positions) positions = a.value.get();
+      else if (name == "smooth" && !smooth) smooth = a.value.get();
+      else if (name == "material" && !material) material = evalExpr(*a.value);
+      else {
+        const std::string near = nearestName(name, {"positions", "smooth", "material"});
+        diags_.error(a.name.empty() ? a.value->range : a.name_range,
+                     name.empty() ? "'instances' takes at most 2 positional arguments"
+                                  : "'instances' has no parameter '" + name + "' (or it is given twice)" +
+                                        (near.empty() || near == name ? "" : "; did you mean '" + near + "'?"));
+        ok = false;
+      }
+    }
+    if (!positions && ok) {
+      diags_.error(e.range, "'instances' needs 'positions'");
+      ok = false;
+    }
+    std::vector<PositionRow> rows;
+    if (positions && !positionsFrom(*positions, rows)) ok = false;
+    std::vector<ir::NodeRef> children;
+    if (!e.has_block) {
+      diags_.error(e.range, "'instances' needs a block with the shape to place: 'instances(...) { ... }'");
+      ok = false;
+    }
+    for (const ast::ExprPtr& c : e.children) {
+      Value v = evalExpr(*c);
+      if (v.type == Value::Type::Error) { ok = false; continue; }
+      if (v.type != Value::Type::Shape) {
+        diags_.error(v.range, std::string("'instances' expects shapes in its block, not ") + typeName(v.type));
+        ok = false;
+        continue;
+      }
+      children.push_back(v.shape);
+    }
+    if (e.has_block && children.empty() && ok) {
+      diags_.error(e.range, "'instances' has an empty block");
+      return {};
+    }
+    Scalar k = ir::constant(0);
+    if (smooth) {
+      Value v = evalExpr(*smooth);
+      auto s = v.type == Value::Type::Error ? std::nullopt : numberArg(v, sig.args[1], "instances");
+      if (!s) ok = false;
+      else k = *s;
+    }
+    if (rows.size() > kMaxInstances) {
+      diags_.error(positions->range, "at most " + std::to_string(kMaxInstances) + " instances, got " +
+                                         std::to_string(rows.size()));
+      ok = false;
+    }
+    if (!ok) return {};
+    ir::NodeRef shape = children[0];
+    if (children.size() > 1) {
+      shape = std::make_shared<ir::Node>();
+      shape->kind = ir::NodeKind::Union;
+      shape->range = e.range;
+      shape->children = children;
+    }
+    auto set = std::make_shared<ir::InstanceSet>();
+    set->origin = "instances(...) of " + std::to_string(rows.size());
+    set->instances.reserve(rows.size());
+    for (const PositionRow& r : rows) {
+      // local = (p - position) / scale, distance * scale.
+      ir::Instance inst;
+      inst.offset = -r.position / r.scale;
+      if (r.scale != 1) {
+        inst.transform = static_cast<int>(set->transforms.size());
+        set->transforms.push_back({glm::dmat3(1.0 / r.scale), r.scale});
+      }
+      set->instances.push_back(inst);
+    }
+    auto node = std::make_shared<ir::Node>();
+    node->kind = ir::NodeKind::Instances;
+    node->range = e.range;
+    node->smooth = k;
+    node->children = {shape};
+    node->instances = set;
+    if (material && material->type != Value::Type::Error) {
+      BoundArgs args;
+      args.material = material;
+      node->material = materialOf(args);
     }
     return shapeValue(node, e.range);
   }

@@ -20,6 +20,8 @@ constexpr int kMaxRepeatCount = 10000;
 constexpr int kMaxImageSide = 16384;
 constexpr int kMaxSamples = 1 << 20;
 constexpr int kMaxBounces = 64;
+// Instance indices reach the shader as float32 values: exact below 2^24.
+constexpr size_t kMaxInstances = size_t(1) << 23;
 
 ir::Scene check(const ast::File& file, const SourceFile& source, Diagnostics& diags,
                 const CheckOptions& options = {});

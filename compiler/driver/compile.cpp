@@ -26,7 +26,13 @@ CompiledScene frontEnd(const std::string& path, std::string text, const CompileO
   if (diags.hasErrors() || !out.scene.root) return out;
   t0 = std::chrono::steady_clock::now();
   if (options.fuse_transforms) fuseTransforms(out.scene);
+  // Bounds first (grouping needs the templates'), then again over the new nodes.
   analyze(out.scene, diags);
+  if (!diags.hasErrors()) {
+    formInstances(out.scene, options.instancing);
+    Diagnostics quiet;  // the second run repeats the first one's warnings
+    analyze(out.scene, quiet);
+  }
   out.times.passes = secondsSince(t0);
   return out;
 }

@@ -9,6 +9,7 @@
 #include "diag/diagnostics.h"
 #include "emit/glsl_emitter.h"
 #include "ir/scene.h"
+#include "passes/passes.h"
 
 namespace sdfc {
 
@@ -16,6 +17,7 @@ struct CompileOptions {
   CheckOptions check;
   EmitOptions emit;
   bool fuse_transforms = true;
+  InstancingOptions instancing;
   bool produce_spirv = true;
   bool optimize_spirv = false;
 };

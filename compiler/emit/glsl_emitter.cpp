@@ -24,6 +24,10 @@ namespace {
 
 using glm::dvec3;
 
+// Hierarchy visits per evaluation when the scene code is emitted without the
+// kernel (test shaders): with the kernel the renderer sets frame.traversal_visits.
+constexpr int kSceneOnlyVisits = 256;
+
 std::string vec3Literal(dvec3 v) {
   if (v.x == v.y && v.y == v.z) return "vec3(" + glslFloat(v.x) + ")";
   return "vec3(" + glslFloat(v.x) + ", " + glslFloat(v.y) + ", " + glslFloat(v.z) + ")";
@@ -42,6 +46,12 @@ float sdSmoothMin(float a, float b, float k) {
 }
 float sdSmoothMax(float a, float b, float k) { return -sdSmoothMin(-a, -b, k); }
 )";
+const char* kBoxDistanceHelper = R"(// Distance from p to the box [lo, hi] (0 inside): a lower bound on the
+// distance to anything in it.
+float sdBoxDistance(vec3 p, vec3 lo, vec3 hi) {
+  return length(max(max(lo - p, p - hi), 0.0));
+}
+)";
 const char* kAabbHelper = R"(// Distance to an axis-aligned box from outside (0 inside): a cheap lower bound
 // on the distance to anything the box contains.
 float sdBound(vec3 p, vec3 center, vec3 half_size) {
@@ -56,6 +66,20 @@ constexpr int kMixed = -2;
 int uniformMaterial(const ir::Node& n, int inherited) {
   const int mine = n.material >= 0 ? n.material : inherited;
   if (n.children.empty()) return mine;
+  if (n.kind == ir::NodeKind::Instances) {
+    // Per distinct instance material, once (a million instances share a few).
+    std::set<int> seen;
+    int common = kMixed - 1;
+    for (const ir::Instance& inst : n.instances->instances) {
+      const int m = inst.material >= 0 ? inst.material : mine;
+      if (!seen.insert(m).second) continue;
+      const int u = uniformMaterial(*n.children[0], m);
+      if (common == kMixed - 1) common = u;
+      else if (u != common) return kMixed;
+      if (common == kMixed) return kMixed;
+    }
+    return common == kMixed - 1 ? mine : common;
+  }
   int common = uniformMaterial(*n.children[0], mine);
   for (size_t i = 1; i < n.children.size() && common != kMixed; ++i) {
     if (n.kind == ir::NodeKind::Subtract) break;  // cut faces take the first child's material
@@ -181,6 +205,10 @@ class SceneWriter {
       }
       out << "  return t;\n}\n";
     }
+    if (!data_.empty()) {
+      out << "\n// Instance hierarchies and records (the runtime binds the compiler's scene data).\n";
+      out << "layout(std430, set = 0, binding = 0) readonly buffer SdfcSceneData { vec4 sd_data[]; };\n";
+    }
     out << "\n// ---- scene helpers and primitives (only those the scene uses) ----\n";
     out << helpers_.str();
     out << "\n// ---- scene distance ----\n";
@@ -216,6 +244,22 @@ class SceneWriter {
 
  private:
   std::map<std::pair<const ir::Node*, bool>, std::string> node_functions_;
+  struct InstanceLayout {
+    int id = 0;
+    size_t nodes = 0;    // vec4 index of the hierarchy (2 vec4 per node)
+    size_t records = 0;  // vec4 index of instance 0's record
+    int stride = 1;      // vec4 per record
+    bool affine = false; // records hold a 3x4 map and a scale
+    int param_vec4 = 0;  // vec4 of primitive parameters after the placement
+  };
+  std::map<const ir::Node*, InstanceLayout> instance_layouts_;
+  std::vector<float> data_;
+
+ public:
+  std::vector<float> takeData() { return std::move(data_); }
+  int instanceSets() const { return static_cast<int>(instance_layouts_.size()); }
+
+ private:
   int bounded_ = 0;
   int function_count_ = 0;
 
@@ -277,8 +321,199 @@ class SceneWriter {
         return "vec2(mix(" + b + ".x, " + a + ".x, " + t + "), " + t + " >= 0.5 ? " + a + ".y : " +
                b + ".y)";
       }
+      case ir::NodeKind::Instances: return instances(n, p, f, mat, mine);
       default: return domain(n, p, f, mat, mine);
     }
+  }
+
+  // ---- instances: data, a hierarchy and one loop (docs/large_scenes.md) ----
+
+  void pushVec4(float x, float y, float z, float w) {
+    data_.push_back(x);
+    data_.push_back(y);
+    data_.push_back(z);
+    data_.push_back(w);
+  }
+
+  // Appends the set's hierarchy and records to the scene data, once per node.
+  const InstanceLayout& instanceLayout(const ir::Node& n) {
+    auto it = instance_layouts_.find(&n);
+    if (it != instance_layouts_.end()) return it->second;
+    const ir::InstanceSet& set = *n.instances;
+    InstanceLayout l;
+    l.id = static_cast<int>(instance_layouts_.size());
+    l.affine = !set.transforms.empty();
+    l.param_vec4 = (set.param_count + 3) / 4;
+    l.stride = (l.affine ? 4 : 1) + l.param_vec4;
+    // Indices are stored as float values: exact below 2^24.
+    l.nodes = data_.size() / 4;
+    for (const ir::BvhNode& b : set.nodes) {
+      pushVec4(float(b.box.lo.x), float(b.box.lo.y), float(b.box.lo.z), float(b.first));
+      pushVec4(float(b.box.hi.x), float(b.box.hi.y), float(b.box.hi.z), float(b.count));
+    }
+    l.records = data_.size() / 4;
+    data_.reserve(data_.size() + set.size() * l.stride * 4);
+    for (size_t i = 0; i < set.size(); ++i) {
+      const ir::Instance& inst = set.instances[i];
+      if (l.affine) {
+        glm::dmat3 m(1.0);
+        double scale = 1;
+        if (inst.transform >= 0) {
+          m = set.transforms[inst.transform].linear;
+          scale = set.transforms[inst.transform].scale;
+        }
+        for (int row = 0; row < 3; ++row)
+          pushVec4(float(m[0][row]), float(m[1][row]), float(m[2][row]), float(inst.offset[row]));
+        pushVec4(float(scale), float(inst.material), 0, 0);
+      } else {
+        pushVec4(float(inst.offset.x), float(inst.offset.y), float(inst.offset.z), float(inst.material));
+      }
+      for (int v = 0; v < l.param_vec4; ++v) {
+        float c[4] = {0, 0, 0, 0};
+        for (int j = 0; j < 4 && v * 4 + j < set.param_count; ++j) c[j] = float(set.paramsOf(i)[v * 4 + j]);
+        pushVec4(c[0], c[1], c[2], c[3]);
+      }
+    }
+    return instance_layouts_.emplace(&n, l).first->second;
+  }
+
+  // One instance at record `rec`: its placement, then the template.
+  std::string instanceFunction(const ir::Node& n, const InstanceLayout& l, bool mat) {
+    const std::string name = (mat ? "sdmi" : "sdi") + std::to_string(l.id) + "_one";
+    if (!helper_names_.insert(name).second) return name;
+    const ir::InstanceSet& set = *n.instances;
+    const ir::Node& templ = *n.children[0];
+    Function g;
+    g.code << (mat ? "vec2 " : "float ") << name << "(vec3 p, int rec" << (mat ? ", float inherited" : "")
+           << ") {\n";
+    std::string material = "sd_data[rec].w";
+    std::string scale;
+    if (l.affine) {
+      g.code << "  vec4 r0 = sd_data[rec], r1 = sd_data[rec + 1], r2 = sd_data[rec + 2], e = sd_data[rec + 3];\n";
+      g.code << "  vec3 q = vec3(dot(r0.xyz, p) + r0.w, dot(r1.xyz, p) + r1.w, dot(r2.xyz, p) + r2.w);\n";
+      material = "e.y";
+      scale = "e.x";
+    } else {
+      g.code << "  vec3 q = p + sd_data[rec].xyz;\n";
+    }
+    if (mat) g.code << "  float m = " << material << " >= 0.0 ? " << material << " : inherited;\n";
+    std::string r;
+    if (set.param_count > 0) {
+      // The template's primitive with this instance's parameters.
+      const PrimitiveInfo& info = primitiveInfo(templ.primitive);
+      if (std::string(info.glsl_source).find("sdBox2(") != std::string::npos)
+        needHelper("sdBox2", box2Glsl());
+      needHelper(info.glsl_function, info.glsl_source);
+      const int base = l.affine ? 4 : 1;
+      for (int v = 0; v < l.param_vec4; ++v)
+        g.code << "  vec4 a" << v << " = sd_data[rec + " << base + v << "];\n";
+      auto slot = [](int j) { return "a" + std::to_string(j / 4) + "." + "xyzw"[j % 4]; };
+      std::string call = std::string(info.glsl_function) + "(q";
+      int j = 0;
+      for (const ParamSpec& spec : info.params) {
+        if (spec.type == ParamType::Vector) {
+          call += ", vec3(" + slot(j) + ", " + slot(j + 1) + ", " + slot(j + 2) + ")";
+          j += 3;
+        } else {
+          call += ", " + slot(j++);
+        }
+      }
+      call += ")";
+      g.code << "  float d = " << call << ";" << lineComment(templ) << " " << info.name << "\n";
+      if (options_.count_evaluations && options_.with_kernel) g.code << "  g_loop_iterations++;\n";
+      r = mat ? "vec2(d, m)" : "d";
+    } else {
+      r = node(templ, "q", g, mat, mat ? "m" : "-1.0");
+    }
+    if (!scale.empty()) r = mat ? "vec2(" + r + ".x * " + scale + ", " + r + ".y)" : "(" + r + " * " + scale + ")";
+    g.code << "  return " << r << ";\n}\n";
+    functions_ << g.code.str();
+    return name;
+  }
+
+  std::string instances(const ir::Node& n, const std::string& p, Function& f, bool mat,
+                        const std::string& inherited) {
+    const InstanceLayout& l = instanceLayout(n);
+    const std::string name = (mat ? "sdmi" : "sdi") + std::to_string(l.id);
+    if (helper_names_.insert(name).second) {
+      needHelper("sdBoxDistance", kBoxDistanceHelper);
+      const bool smooth = !n.smooth.isConst() || n.smooth.value > 0;
+      if (smooth) needHelper("smooth", kSmoothHelpers);
+      const std::string one = instanceFunction(n, l, mat);
+      const ir::InstanceSet& set = *n.instances;
+      const int stack = set.depth + 1;
+      const std::string nb = std::to_string(l.nodes), ib = std::to_string(l.records);
+      const std::string best = mat ? "best.x" : "best";
+      const std::string slack = smooth ? " + k" : "";
+      Function g;
+      g.code << lineDirective(n);
+      g.code << "// " << set.size() << " instances (" << set.origin << ")" << lineComment(n)
+             << ": hierarchy of " << set.nodes.size() << " nodes at sd_data[" << nb
+             << "], records of " << l.stride << " vec4 at sd_data[" << ib << "].\n";
+      g.code << "// Nearest first; a box no nearer than the best so far" << (smooth ? " + k" : "")
+             << " is skipped.\n";
+      g.code << (mat ? "vec2 " : "float ") << name << "(vec3 p" << (mat ? ", float inherited" : "") << ") {\n";
+      g.code << "  " << (mat ? "vec2 best = vec2(1e30, inherited);" : "float best = 1e30;") << "\n";
+      if (smooth) g.code << "  float k = " << n.smooth.glsl() << ";\n";
+      g.code << "  // Stack: node, its box distance, and the least box distance at or below.\n";
+      g.code << "  int sn[" << stack << "];\n  float sd[" << stack << "], sm[" << stack << "];\n";
+      g.code << "  vec4 a = sd_data[" << nb << "], b = sd_data[" << nb << " + 1];\n";
+      g.code << "  sn[0] = 0;\n  sd[0] = sdBoxDistance(p, a.xyz, b.xyz);\n  sm[0] = sd[0];\n  int sp = 1;\n";
+      if (options_.with_kernel) {
+        g.code << "  for (int it = loopZero(); it < int(frame.traversal_visits) && sp > 0; it++) {\n";
+        g.code << "    g_loop_iterations++;\n";
+      } else {
+        g.code << "  for (int it = 0; it < " << kSceneOnlyVisits << " && sp > 0; it++) {\n";
+      }
+      g.code << "    sp--;\n    if (sd[sp] >= " << best << slack << ") continue;\n";
+      g.code << "    int ni = sn[sp];\n";
+      g.code << "    a = sd_data[" << nb << " + 2 * ni];\n    b = sd_data[" << nb << " + 2 * ni + 1];\n";
+      g.code << "    int first = int(a.w), count = int(b.w);\n";
+      g.code << "    if (count == 0) {\n";
+      g.code << "      int l = ni + 1, r = first;\n";
+      g.code << "      float dl = sdBoxDistance(p, sd_data[" << nb << " + 2 * l].xyz, sd_data[" << nb
+             << " + 2 * l + 1].xyz);\n";
+      g.code << "      float dr = sdBoxDistance(p, sd_data[" << nb << " + 2 * r].xyz, sd_data[" << nb
+             << " + 2 * r + 1].xyz);\n";
+      g.code << "      bool left_near = dl <= dr;\n";
+      g.code << "      int nn = left_near ? l : r, nf = left_near ? r : l;\n";
+      g.code << "      float dn = min(dl, dr), df = max(dl, dr);\n";
+      g.code << "      // The far child first, so the near one is visited next.\n";
+      g.code << "      if (df < " << best << slack << ") {\n";
+      g.code << "        sn[sp] = nf;\n        sd[sp] = df;\n        sm[sp] = sp > 0 ? min(sm[sp - 1], df) : df;\n        sp++;\n      }\n";
+      g.code << "      if (dn < " << best << slack << ") {\n";
+      g.code << "        sn[sp] = nn;\n        sd[sp] = dn;\n        sm[sp] = sp > 0 ? min(sm[sp - 1], dn) : dn;\n        sp++;\n      }\n";
+      g.code << "    } else {\n";
+      g.code << "      int rec = " << ib << " + first * " << l.stride << ";\n";
+      for (unsigned j = 0; j < ir::kBvhLeafSize; ++j) {
+        const std::string call =
+            one + "(p, rec + " + std::to_string(j * l.stride) + (mat ? ", inherited)" : ")");
+        g.code << "      if (" << j << " < count) {\n";
+        if (mat) {
+          g.code << "        vec2 r = " << call << ";\n";
+          if (smooth)
+            g.code << "        best = vec2(sdSmoothMin(best.x, r.x, k), r.x < best.x ? r.y : best.y);\n";
+          else
+            g.code << "        if (r.x < best.x) best = r;\n";
+        } else {
+          g.code << "        best = " << (smooth ? "sdSmoothMin(best, " + call + ", k)" : "min(best, " + call + ")")
+                 << ";\n";
+        }
+        g.code << "      }\n";
+      }
+      g.code << "    }\n  }\n";
+      g.code << "  // Out of visits: what is left on the stack is no nearer than its least box"
+             << (smooth ? " (a blend lowers it by at most k/4)" : "") << ".\n";
+      g.code << "  if (sp > 0) " << best << " = min(" << best << ", sm[sp - 1]" << (smooth ? " - 0.25 * k" : "")
+             << ");\n";
+      g.code << "  return best;\n}\n";
+      functions_ << g.code.str();
+      ++function_count_;
+    }
+    const std::string d = var(f, mat ? "m" : "d");
+    f.code << "  " << (mat ? "vec2 " : "float ") << d << " = " << name << "(" << p
+           << (mat ? ", " + inherited : "") << ");" << lineComment(n) << " instances\n";
+    return d;
   }
 
   // Emits `n` as a function the first time (named after `label`, the
@@ -672,6 +907,8 @@ EmitResult emitGlsl(const ir::Scene& scene, const EmitOptions& options) {
   const std::string scene_code = writer.write(result.limits, result.stats);
   if (writer.hasAnalyticPlanes()) result.stats.features.insert("SDFC_HAS_PLANES");
   if (writer.hasSceneBox()) result.stats.features.insert("SDFC_HAS_SCENE_BOX");
+  result.stats.instance_sets = writer.instanceSets();
+  result.scene_data = writer.takeData();
   std::ostringstream out;
   out << "#version 450\n";
   if (options.line_directives) out << "#extension GL_GOOGLE_cpp_style_line_directive : require\n";

@@ -6,6 +6,7 @@
 #pragma once
 #include <set>
 #include <string>
+#include <vector>
 
 #include "ir/scene.h"
 #include "passes/passes.h"
@@ -36,6 +37,7 @@ struct EmitOptions {
 struct EmitStats {
   int bounded_subtrees = 0;       // bound checks emitted
   int functions = 0;              // named functions emitted
+  int instance_sets = 0;          // Instances nodes emitted as data
   std::set<std::string> features; // SDFC_* macros the scene turned on
 };
 
@@ -43,6 +45,9 @@ struct EmitResult {
   std::string glsl;
   MarchLimits limits;
   EmitStats stats;
+  // The storage buffer at set 0, binding 0 (vec4s): instance hierarchies and
+  // records; empty when the scene has no Instances node (then no binding).
+  std::vector<float> scene_data;
 };
 
 EmitResult emitGlsl(const ir::Scene& scene, const EmitOptions& options);

@@ -40,6 +40,81 @@ dvec3 Evaluator::gradient(const dvec3& p, double h) const {
   return g;
 }
 
+namespace {
+
+double boxDistance(const Aabb& b, const dvec3& p) {
+  return glm::length(glm::max(glm::max(b.lo - p, p - b.hi), dvec3(0)));
+}
+
+}  // namespace
+
+EvalResult Evaluator::evalInstance(const ir::Node& n, size_t i, const dvec3& p, int inherited) const {
+  const ir::InstanceSet& set = *n.instances;
+  const ir::Instance& inst = set.instances[i];
+  const int mat = inst.material >= 0 ? inst.material : inherited;
+  dvec3 q = p + inst.offset;
+  double scale = 1;
+  if (inst.transform >= 0) {
+    q = set.transforms[inst.transform].linear * p + inst.offset;
+    scale = set.transforms[inst.transform].scale;
+  }
+  const ir::Node& templ = *n.children[0];
+  EvalResult r;
+  if (set.param_count > 0) {
+    r = {primitiveInfo(templ.primitive).distance(set.paramsOf(i), q), mat};
+  } else {
+    r = evalNode(templ, q, mat);
+  }
+  r.distance *= scale;
+  return r;
+}
+
+// Nearest first, branch and bound: a box's distance is a lower bound on every
+// instance inside it, so a box no nearer than the best so far (plus the blend
+// radius, beyond which a smooth minimum adds nothing) is skipped.
+EvalResult Evaluator::evalInstances(const ir::Node& n, const dvec3& p, int inherited) const {
+  const ir::InstanceSet& set = *n.instances;
+  const double k = std::max(n.smooth.at(time_), 0.0);
+  EvalResult best{std::numeric_limits<double>::infinity(), inherited};
+  if (set.nodes.empty()) return best;
+  struct Entry {
+    std::uint32_t node;
+    double distance;
+  };
+  std::vector<Entry> stack;
+  stack.reserve(2 * set.depth + 2);
+  stack.push_back({0, boxDistance(set.nodes[0].box, p)});
+  while (!stack.empty()) {
+    const Entry e = stack.back();
+    stack.pop_back();
+    if (e.distance >= best.distance + k) continue;
+    const ir::BvhNode& node = set.nodes[e.node];
+    if (node.count == 0) {
+      const std::uint32_t l = e.node + 1, r = node.first;
+      const double dl = boxDistance(set.nodes[l].box, p), dr = boxDistance(set.nodes[r].box, p);
+      if (dl < dr) {
+        stack.push_back({r, dr});
+        stack.push_back({l, dl});
+      } else {
+        stack.push_back({l, dl});
+        stack.push_back({r, dr});
+      }
+      continue;
+    }
+    for (std::uint32_t i = node.first; i < node.first + node.count; ++i) {
+      const EvalResult r = evalInstance(n, i, p, inherited);
+      if (k > 0) {
+        const double blended = smoothMin(best.distance, r.distance, k);
+        if (r.distance < best.distance) best.material = r.material;
+        best.distance = blended;
+      } else if (r.distance < best.distance) {
+        best = r;
+      }
+    }
+  }
+  return best;
+}
+
 EvalResult Evaluator::evalNode(const ir::Node& n, const dvec3& p, int inherited) const {
   const int mat = n.material >= 0 ? n.material : inherited;
   const double t = time_;
@@ -143,6 +218,7 @@ EvalResult Evaluator::evalNode(const ir::Node& n, const dvec3& p, int inherited)
       const dvec3 h = n.vec.at(t);
       return child(0, p - glm::clamp(p, -h, h));
     }
+    case ir::NodeKind::Instances: return evalInstances(n, p, mat);
     case ir::NodeKind::Morph: {
       const double w = n.amount.at(t);
       EvalResult a = child(0, p), b = child(1, p);

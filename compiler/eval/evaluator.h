@@ -23,6 +23,9 @@ class Evaluator {
   EvalResult evalNode(const ir::Node& node, const glm::dvec3& p, int inherited) const;
 
  private:
+  EvalResult evalInstances(const ir::Node& node, const glm::dvec3& p, int inherited) const;
+  EvalResult evalInstance(const ir::Node& node, size_t i, const glm::dvec3& p, int inherited) const;
+
   const ir::Scene& scene_;
   double time_;
 };

@@ -30,6 +30,7 @@ const char* kindName(NodeKind k) {
     case NodeKind::Repeat: return "repeat";
     case NodeKind::Elongate: return "elongate";
     case NodeKind::Morph: return "morph";
+    case NodeKind::Instances: return "instances";
   }
   return "?";
 }
@@ -91,6 +92,14 @@ std::string dumpNode(const Node& n, int indent) {
             << n.count.z << "]";
         break;
       case NodeKind::Morph: out << " t=" << n.amount.text(); break;
+      case NodeKind::Instances: {
+        const InstanceSet& set = *n.instances;
+        out << " " << set.size() << " (data form: " << set.origin << "; " << set.nodes.size()
+            << " hierarchy nodes, depth " << set.depth << ", per-instance params " << set.param_count
+            << ", transforms " << set.transforms.size() << ")";
+        if (!n.smooth.isConst() || n.smooth.value > 0) out << " smooth=" << n.smooth.text();
+        break;
+      }
       case NodeKind::Affine: {
         const glm::dmat3& m = n.linear;
         out << " linear=[" << vec(glm::row(m, 0)) << ", " << vec(glm::row(m, 1)) << ", "

@@ -10,6 +10,7 @@
 
 #include "diag/source.h"
 #include "ir/expr.h"
+#include "ir/instances.h"
 #include "shapes/primitives.h"
 
 namespace sdfc::ir {
@@ -36,6 +37,7 @@ enum class NodeKind {
   Repeat,                      // infinite or limited repetition
   Elongate,                    // child(p - clamp(p, -h, h))
   Morph,                       // t * a + (1 - t) * b
+  Instances,                   // union of placed copies of children[0], as data
 };
 
 struct Node;
@@ -66,6 +68,10 @@ struct Node {
   double scale = 1.0;
 
   std::vector<NodeRef> children;
+
+  // Instances: the copies and their hierarchy (children[0] is the template;
+  // `smooth` blends them as a union does).
+  std::shared_ptr<InstanceSet> instances;
 
   // The `let` name when this node is a named definition (emitted as a function).
   std::string definition;

@@ -114,6 +114,7 @@ class Analyzer {
         break;
       }
       case ir::NodeKind::Repeat: repeat(n); break;
+      case ir::NodeKind::Instances: instances(n); break;
       case ir::NodeKind::Elongate: {
         const dvec3 h(upper(n.vec.x), upper(n.vec.y), upper(n.vec.z));
         n.bounds = first->bounds.finite() && std::isfinite(h.x + h.y + h.z)
@@ -179,6 +180,23 @@ class Analyzer {
     }
     if (smooth) n.exact = false;
     n.cost += 0.1 * static_cast<double>(n.children.size());
+  }
+
+  void instances(ir::Node& n) {
+    ir::InstanceSet& set = *n.instances;
+    const ir::Node& templ = *n.children[0];
+    if (set.nodes.empty() && set.size() > 0) buildInstanceHierarchy(set, templ);
+    n.bounds = set.nodes.empty() ? Aabb{} : set.nodes[0].box;
+    const bool smooth = !n.smooth.isConst() || n.smooth.value > 0;
+    if (smooth && n.bounds.finite()) n.bounds = n.bounds.grow(upper(n.smooth) / 4);
+    n.exact = templ.exact && !smooth;
+    // A torus with per-instance parameters may be a spindle somewhere.
+    if (set.param_count > 0 && templ.primitive == PrimitiveKind::Torus)
+      for (size_t i = 0; i < set.size() && n.exact; ++i)
+        n.exact = set.paramsOf(i)[1] <= set.paramsOf(i)[0];
+    n.lipschitz = templ.lipschitz;
+    // A visit per hierarchy level and a leaf: what one evaluation costs.
+    n.cost = (templ.cost * ir::kBvhLeafSize + 1) * (set.depth + 1);
   }
 
   void repeat(ir::Node& n) {

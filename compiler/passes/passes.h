@@ -12,6 +12,17 @@
 namespace sdfc {
 
 void fuseTransforms(ir::Scene& scene);
+
+// Inline code or data (passes/instancing.cpp): a union's copies of one shape
+// become an Instances node when there are at least `threshold` (0: never).
+struct InstancingOptions {
+  int threshold = 32;
+};
+void formInstances(ir::Scene& scene, const InstancingOptions& options);
+// The hierarchy over an instance set (analyze builds it once bounds are known).
+void buildInstanceHierarchy(ir::InstanceSet& set, const ir::Node& templ);
+Aabb instanceLocalBounds(const ir::InstanceSet& set, size_t i, const ir::Node& templ);
+Aabb instanceBounds(const ir::InstanceSet& set, size_t i, const ir::Node& templ);
 void analyze(ir::Scene& scene, Diagnostics& diags);
 
 struct MarchLimits {

@@ -18,13 +18,13 @@ struct Argument {
   ExprPtr value;
 };
 
-enum class ExprKind { Number, Name, Vector, Unary, Binary, Member, Call, Error };
+enum class ExprKind { Number, String, Name, Vector, Unary, Binary, Member, Call, Error };
 
 struct Expr {
   ExprKind kind = ExprKind::Error;
   SourceRange range;
   double number = 0;                // Number
-  std::string name;                 // Name, Call (callee), Member (field)
+  std::string name;                 // Name, Call (callee), Member (field), String (its text)
   SourceRange name_range;           // Call: the callee's range
   char op = 0;                      // Unary ('-'), Binary ('+', '-', '*', '/')
   std::vector<ExprPtr> operands;    // Vector elements; Unary/Binary/Member operands

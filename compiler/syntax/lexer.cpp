@@ -11,6 +11,7 @@ const char* tokenKindName(TokenKind kind) {
   switch (kind) {
     case TokenKind::Identifier: return "identifier";
     case TokenKind::Number: return "number";
+    case TokenKind::String: return "string";
     case TokenKind::KeywordLet: return "'let'";
     case TokenKind::LeftParen: return "'('";
     case TokenKind::RightParen: return "')'";
@@ -131,6 +132,19 @@ std::vector<Token> lex(const SourceFile& file, Diagnostics& diags) {
         t.kind = TokenKind::Invalid;
       }
       tokens.push_back(t);
+      continue;
+    }
+    // A string: a file name, on one line, without escapes.
+    if (c == '"') {
+      ++i;
+      while (i < s.size() && s[i] != '"' && s[i] != '\n') ++i;
+      if (i >= s.size() || s[i] != '"') {
+        diags.error({&file, begin, i}, "unterminated string (a string ends with '\"' on the same line)");
+        tokens.push_back(make(TokenKind::Invalid, begin, i));
+        continue;
+      }
+      ++i;
+      tokens.push_back(make(TokenKind::String, begin, i));
       continue;
     }
     const TokenKind kind = punctuation(c);

@@ -221,10 +221,18 @@ class Parser {
     return e;
   }
 
-  // primary : NUMBER | IDENT [ call_tail ] | "[" expr { "," expr } [","] "]" | "(" expr ")"
+  // primary : NUMBER | STRING | IDENT [ call_tail ] | "[" expr { "," expr } [","] "]" | "(" expr ")"
   ast::ExprPtr parsePrimary() {
     const Token& t = peek();
     switch (t.kind) {
+      case TokenKind::String: {
+        advance();
+        auto e = std::make_unique<ast::Expr>();
+        e->kind = ast::ExprKind::String;
+        e->name = std::string(t.text.substr(1, t.text.size() - 2));
+        e->range = t.range;
+        return e;
+      }
       case TokenKind::Number: {
         advance();
         auto e = std::make_unique<ast::Expr>();

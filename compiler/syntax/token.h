@@ -7,7 +7,7 @@
 namespace sdfc {
 
 enum class TokenKind {
-  Identifier, Number, KeywordLet,
+  Identifier, Number, String, KeywordLet,
   LeftParen, RightParen, LeftBrace, RightBrace, LeftBracket, RightBracket,
   Comma, Colon, Semicolon, Equals, Dot, Plus, Minus, Star, Slash,
   EndOfFile, Invalid,

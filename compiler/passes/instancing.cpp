@@ -1,0 +1,300 @@
+// Per union, the choice between inline code and the data form: children that
+// are placed copies of one shape (the same definition, or the same primitive
+// kind with other constant parameters) become one Instances node when there
+// are at least `threshold` of them; `instances(...)` below the threshold is
+// written out as a union. The hierarchy over the copies is built here too.
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numeric>
+#include <unordered_set>
+
+#include "passes/passes.h"
+
+namespace sdfc {
+namespace {
+
+using glm::dvec3;
+
+Aabb transformBox(const Aabb& b, const glm::dmat3& m, const dvec3& t) {
+  Aabb out;
+  for (int i = 0; i < 8; ++i) {
+    const dvec3 corner((i & 1) ? b.hi.x : b.lo.x, (i & 2) ? b.hi.y : b.lo.y, (i & 4) ? b.hi.z : b.lo.z);
+    const dvec3 q = m * corner + t;
+    out.lo = glm::min(out.lo, q);
+    out.hi = glm::max(out.hi, q);
+  }
+  return out;
+}
+
+// A union child seen as "template placed by an affine map".
+struct Peeled {
+  glm::dmat3 linear{1.0};
+  dvec3 offset{0};
+  double scale = 1;
+  int material = -1;
+  ir::NodeRef shape;
+};
+
+bool groupablePrimitive(const ir::Node& n) {
+  if (n.kind != ir::NodeKind::Primitive || !n.definition.empty()) return false;
+  if (n.primitive == PrimitiveKind::Plane || n.primitive == PrimitiveKind::Menger) return false;
+  for (const ir::Scalar& a : n.args)
+    if (!a.isConst()) return false;
+  return true;
+}
+
+bool peel(const ir::NodeRef& child, Peeled& out) {
+  ir::NodeRef n = child;
+  while (n->kind == ir::NodeKind::Affine && n->definition.empty()) {
+    // Outer map first: local2 = A2 (A1 p + b1) + b2.
+    out.offset = n->linear * out.offset + n->offset;
+    out.linear = n->linear * out.linear;
+    out.scale *= n->scale;
+    if (n->material >= 0) out.material = n->material;
+    n = n->children[0];
+  }
+  if (groupablePrimitive(*n)) {
+    if (n->material >= 0) out.material = n->material;
+  } else if (n->definition.empty() || !n->bounds.finite()) {
+    return false;
+  }
+  out.shape = n;
+  return true;
+}
+
+// Key of the template a peeled child shares with others.
+std::string templateKey(const Peeled& p) {
+  if (p.shape->kind == ir::NodeKind::Primitive && p.shape->definition.empty())
+    return std::string("primitive ") + primitiveInfo(p.shape->primitive).name;
+  char buf[48];
+  std::snprintf(buf, sizeof buf, "def %p", static_cast<const void*>(p.shape.get()));
+  return buf;
+}
+
+ir::NodeRef makeInstances(const std::vector<Peeled>& members, const ir::Scalar& smooth,
+                          SourceRange range, const std::string& origin) {
+  auto set = std::make_shared<ir::InstanceSet>();
+  set->origin = origin;
+  const ir::NodeRef& first = members[0].shape;
+  ir::NodeRef templ = first;
+  if (first->kind == ir::NodeKind::Primitive && first->definition.empty()) {
+    // A fresh template without the material (each instance carries its own).
+    templ = std::make_shared<ir::Node>(*first);
+    templ->material = -1;
+    bool same = true;
+    for (const Peeled& m : members)
+      for (size_t a = 0; a < first->args.size() && same; ++a)
+        same = m.shape->args[a].value == first->args[a].value;
+    if (!same) {
+      set->param_count = static_cast<int>(first->args.size());
+      set->params.reserve(members.size() * first->args.size());
+      for (const Peeled& m : members)
+        for (const ir::Scalar& a : m.shape->args) set->params.push_back(a.value);
+    }
+  }
+  set->instances.reserve(members.size());
+  for (const Peeled& m : members) {
+    ir::Instance inst;
+    inst.offset = m.offset;
+    inst.material = m.material;
+    if (m.linear != glm::dmat3(1.0) || m.scale != 1) {
+      inst.transform = static_cast<int>(set->transforms.size());
+      set->transforms.push_back({m.linear, m.scale});
+    }
+    set->instances.push_back(inst);
+  }
+  auto node = std::make_shared<ir::Node>();
+  node->kind = ir::NodeKind::Instances;
+  node->range = range;
+  node->smooth = smooth;
+  node->children = {templ};
+  node->instances = set;
+  return node;
+}
+
+// `instances(...)` with few copies: a plain union of placed templates.
+ir::NodeRef expandInstances(const ir::Node& n) {
+  const ir::InstanceSet& set = *n.instances;
+  auto u = std::make_shared<ir::Node>();
+  u->kind = ir::NodeKind::Union;
+  u->range = n.range;
+  u->material = n.material;
+  u->definition = n.definition;
+  u->smooth = n.smooth;
+  for (size_t i = 0; i < set.size(); ++i) {
+    ir::NodeRef shape = n.children[0];
+    if (set.param_count > 0) {
+      shape = std::make_shared<ir::Node>(*shape);
+      for (int a = 0; a < set.param_count; ++a) shape->args[a] = ir::constant(set.paramsOf(i)[a]);
+    }
+    auto placed = std::make_shared<ir::Node>();
+    placed->kind = ir::NodeKind::Affine;
+    placed->range = n.range;
+    placed->material = set.instances[i].material;
+    placed->offset = set.instances[i].offset;
+    if (set.instances[i].transform >= 0) {
+      placed->linear = set.transforms[set.instances[i].transform].linear;
+      placed->scale = set.transforms[set.instances[i].transform].scale;
+    }
+    placed->children = {shape};
+    u->children.push_back(placed);
+  }
+  return u;
+}
+
+class Former {
+ public:
+  explicit Former(const InstancingOptions& options) : options_(options) {}
+
+  void visit(ir::NodeRef& ref) {
+    if (!done_.insert(ref.get()).second) return;
+    for (ir::NodeRef& c : ref->children) visit(c);
+    if (ref->kind == ir::NodeKind::Instances) {
+      if (!dataForm(ref->instances->size())) {
+        ir::NodeRef expanded = expandInstances(*ref);
+        done_.insert(expanded.get());
+        ref = expanded;
+      }
+      return;
+    }
+    if (ref->kind == ir::NodeKind::Union && options_.threshold > 0 &&
+        ref->children.size() >= static_cast<size_t>(options_.threshold))
+      group(*ref);
+  }
+
+ private:
+  const InstancingOptions& options_;
+  std::unordered_set<const ir::Node*> done_;
+
+  bool dataForm(size_t count) const {
+    return options_.threshold > 0 && count >= static_cast<size_t>(options_.threshold);
+  }
+
+  void group(ir::Node& u) {
+    std::map<std::string, std::vector<size_t>> groups;
+    std::vector<Peeled> peeled(u.children.size());
+    std::vector<bool> ok(u.children.size(), false);
+    for (size_t i = 0; i < u.children.size(); ++i) {
+      ok[i] = peel(u.children[i], peeled[i]);
+      if (ok[i]) groups[templateKey(peeled[i])].push_back(i);
+    }
+    std::vector<int> group_of(u.children.size(), -1);
+    std::vector<ir::NodeRef> formed;
+    for (const auto& [key, members] : groups) {
+      if (!dataForm(members.size())) continue;
+      const ir::Node& shape = *peeled[members[0]].shape;
+      const std::string label = shape.definition.empty() ? primitiveInfo(shape.primitive).name
+                                                         : "'" + shape.definition + "'";
+      std::vector<Peeled> m;
+      m.reserve(members.size());
+      for (size_t i : members) {
+        m.push_back(std::move(peeled[i]));
+        group_of[i] = static_cast<int>(formed.size());
+      }
+      formed.push_back(makeInstances(m, u.smooth, u.range,
+                                     "union of " + std::to_string(members.size()) + " " + label));
+    }
+    if (formed.empty()) return;
+    // Each group takes the place of its first member.
+    std::vector<ir::NodeRef> kept;
+    std::vector<bool> placed(formed.size(), false);
+    for (size_t i = 0; i < u.children.size(); ++i) {
+      if (group_of[i] < 0) {
+        kept.push_back(u.children[i]);
+      } else if (!placed[group_of[i]]) {
+        placed[group_of[i]] = true;
+        kept.push_back(formed[group_of[i]]);
+      }
+    }
+    u.children = std::move(kept);
+  }
+};
+
+// Median split along the widest axis of the centres: depth stays
+// ceil(log2(n / leaf)) + 1, which bounds the shader's stack.
+struct Builder {
+  std::vector<Aabb> boxes;
+  std::vector<dvec3> centres;
+  std::vector<std::uint32_t> order;
+  std::vector<ir::BvhNode> nodes;
+  int depth = 0;
+
+  std::uint32_t build(std::uint32_t begin, std::uint32_t end, int level) {
+    depth = std::max(depth, level);
+    const std::uint32_t index = static_cast<std::uint32_t>(nodes.size());
+    nodes.emplace_back();
+    Aabb box, centre_box;
+    for (std::uint32_t i = begin; i < end; ++i) {
+      box = box.unite(boxes[order[i]]);
+      centre_box = centre_box.unite({centres[order[i]], centres[order[i]]});
+    }
+    nodes[index].box = box;
+    if (end - begin <= ir::kBvhLeafSize) {
+      nodes[index].first = begin;
+      nodes[index].count = end - begin;
+      return index;
+    }
+    const dvec3 extent = centre_box.hi - centre_box.lo;
+    const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : extent.y >= extent.z ? 1 : 2;
+    const std::uint32_t mid = begin + (end - begin) / 2;
+    std::nth_element(order.begin() + begin, order.begin() + mid, order.begin() + end,
+                     [&](std::uint32_t a, std::uint32_t b) { return centres[a][axis] < centres[b][axis]; });
+    build(begin, mid, level + 1);
+    const std::uint32_t right = build(mid, end, level + 1);
+    nodes[index].first = right;
+    nodes[index].count = 0;
+    return index;
+  }
+};
+
+}  // namespace
+
+Aabb instanceLocalBounds(const ir::InstanceSet& set, size_t i, const ir::Node& templ) {
+  if (set.param_count == 0) return templ.bounds;
+  return primitiveInfo(templ.primitive).bounds(set.paramsOf(i));
+}
+
+Aabb instanceBounds(const ir::InstanceSet& set, size_t i, const ir::Node& templ) {
+  const ir::Instance& inst = set.instances[i];
+  const Aabb local = instanceLocalBounds(set, i, templ);
+  if (inst.transform < 0) return {local.lo - inst.offset, local.hi - inst.offset};
+  // local = A p + b  =>  p = A^-1 (local - b)
+  const glm::dmat3 inv = glm::inverse(set.transforms[inst.transform].linear);
+  return transformBox(local, inv, -(inv * inst.offset));
+}
+
+void buildInstanceHierarchy(ir::InstanceSet& set, const ir::Node& templ) {
+  const size_t n = set.size();
+  Builder b;
+  b.boxes.resize(n);
+  b.centres.resize(n);
+  for (size_t i = 0; i < n; ++i) {
+    b.boxes[i] = instanceBounds(set, i, templ);
+    b.centres[i] = b.boxes[i].center();
+  }
+  b.order.resize(n);
+  std::iota(b.order.begin(), b.order.end(), 0u);
+  b.nodes.reserve(2 * (n / ir::kBvhLeafSize + 1));
+  if (n > 0) b.build(0, static_cast<std::uint32_t>(n), 1);
+  // Instances (and their parameters) in leaf order.
+  std::vector<ir::Instance> instances(n);
+  std::vector<double> params(set.params.size());
+  for (size_t i = 0; i < n; ++i) {
+    instances[i] = set.instances[b.order[i]];
+    for (int a = 0; a < set.param_count; ++a)
+      params[i * set.param_count + a] = set.params[b.order[i] * set.param_count + a];
+  }
+  set.instances = std::move(instances);
+  set.params = std::move(params);
+  set.nodes = std::move(b.nodes);
+  set.depth = b.depth;
+}
+
+void formInstances(ir::Scene& scene, const InstancingOptions& options) {
+  if (!scene.root) return;
+  Former former(options);
+  former.visit(scene.root);
+}
+
+}  // namespace sdfc

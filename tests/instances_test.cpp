@@ -1,0 +1,299 @@
+// Large scenes as data (docs/large_scenes.md): a union's copies of one shape
+// become an Instances node with a hierarchy. The float64 evaluator through
+// the hierarchy must equal the inline union (brute force) exactly; the GPU
+// form must match the evaluator within float32 and the inline images beyond
+// noise; `instances(...)` is checked like everything else.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <sstream>
+
+#include "driver/compile.h"
+#include "eval/evaluator.h"
+#include "gpu_points.h"
+#include "scene_render.h"
+#include "vulkan_context.h"
+
+namespace sdfc {
+namespace {
+
+using glm::dvec3;
+
+// 300 children: boxes of two sizes (rotated and scaled copies among them),
+// spheres of varied radius, in three materials, plus a plane.
+std::string mixedScene(int count = 300) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-6, 6), r(0.1, 0.6), a(0, 360);
+  std::ostringstream s;
+  s << "let red = diffuse(albedo: [0.8, 0.1, 0.1])\nlet blue = diffuse(albedo: [0.1, 0.1, 0.8])\n"
+       "let grey = diffuse(albedo: [0.5, 0.5, 0.5])\nscene {\n  plane(offset: -7)\n";
+  for (int i = 0; i < count; ++i) {
+    const double x = u(rng), y = u(rng), z = u(rng);
+    const char* m = i % 3 == 0 ? "red" : i % 3 == 1 ? "blue" : "grey";
+    s << "  translate([" << x << ", " << y << ", " << z << "]) { ";
+    if (i % 2 == 0) {
+      s << "rotate(axis: [0, 1, 0.3], degrees: " << a(rng) << ") { scale(" << 0.5 + r(rng) << ") { box(size: ["
+        << (i % 4 == 0 ? "0.5, 0.3, 0.4" : "0.2, 0.6, 0.2") << "], material: " << m << ") } }";
+    } else {
+      s << "sphere(radius: " << r(rng) << ", material: " << m << ")";
+    }
+    s << " }\n";
+  }
+  s << "}\n";
+  return s.str();
+}
+
+CompiledScene checked(const std::string& text, int threshold) {
+  CompileOptions options;
+  options.instancing.threshold = threshold;
+  Diagnostics diags;
+  CompiledScene c = checkSource("test.sdf", text, options, diags);
+  EXPECT_TRUE(c.ok) << diags.format();
+  return c;
+}
+
+int countKind(const ir::Node& n, ir::NodeKind kind) {
+  int count = n.kind == kind;
+  for (const ir::NodeRef& c : n.children) count += countKind(*c, kind);
+  return count;
+}
+
+TEST(Instances, UnionOfCopiesBecomesDataAndDumpSaysSo) {
+  const CompiledScene data = checked(mixedScene(), 32);
+  const CompiledScene inline_form = checked(mixedScene(), 0);
+  // Boxes (two sizes: per-instance parameters; rotated and scaled) and spheres.
+  EXPECT_EQ(countKind(*data.scene.root, ir::NodeKind::Instances), 2);
+  EXPECT_EQ(countKind(*inline_form.scene.root, ir::NodeKind::Instances), 0);
+  const std::string dump = ir::dump(data.scene);
+  EXPECT_NE(dump.find("instances 150 (data form: union of 150 sphere"), std::string::npos) << dump;
+  EXPECT_NE(dump.find("per-instance params 1"), std::string::npos);  // sphere radii differ
+  // Below the threshold the union stays code.
+  EXPECT_EQ(countKind(*checked(mixedScene(20), 32).scene.root, ir::NodeKind::Instances), 0);
+}
+
+TEST(Instances, HierarchyEqualsBruteForceAtRandomPoints) {
+  const CompiledScene data = checked(mixedScene(), 32);
+  const CompiledScene inline_form = checked(mixedScene(), 0);
+  const Evaluator fast(data.scene), brute(inline_form.scene);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-8, 8);
+  int near_surface = 0;
+  for (int i = 0; i < 4000; ++i) {
+    const dvec3 p(u(rng), u(rng), u(rng));
+    const EvalResult a = fast.at(p), b = brute.at(p);
+    ASSERT_NEAR(a.distance, b.distance, 1e-12 * (1 + std::fabs(b.distance))) << i;
+    EXPECT_EQ(a.material, b.material) << i;
+    near_surface += std::fabs(b.distance) < 0.3;
+  }
+  EXPECT_GT(near_surface, 100);  // the points probe the instances, not only empty space
+}
+
+// Pairs of overlapping spheres, 4 apart: near a surface each blend involves
+// two spheres only, so the blend order cannot matter and data = inline
+// exactly. Farther out, several pairs lie within the blend radius of each
+// other and the polynomial smooth minimum is not associative: the forms may
+// differ there, by less than k/4 (each is within k/4 below the plain minimum).
+std::string smoothPairs() {
+  std::ostringstream s;
+  s << "scene {\n  union(smooth: 0.3) {\n";
+  for (int i = 0; i < 40; ++i) {
+    const double x = (i % 8) * 4.0 - 14, z = (i / 8) * 4.0 - 8;
+    s << "    translate([" << x << ", 0, " << z << "]) { sphere(radius: 0.6) }\n";
+    s << "    translate([" << x + 0.9 << ", 0.2, " << z << "]) { sphere(radius: 0.5) }\n";
+  }
+  s << "  }\n}\n";
+  return s.str();
+}
+
+TEST(Instances, SmoothUnionBlendsTheNearOnesLikeTheInlineForm) {
+  const CompiledScene data = checked(smoothPairs(), 32);
+  const CompiledScene inline_form = checked(smoothPairs(), 0);
+  ASSERT_EQ(countKind(*data.scene.root, ir::NodeKind::Instances), 1);
+  const Evaluator fast(data.scene), brute(inline_form.scene);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> x(-16, 16), y(-2, 2), z(-10, 10);
+  int near = 0;
+  for (int i = 0; i < 3000; ++i) {
+    const dvec3 p(x(rng), y(rng), z(rng));
+    const double a = fast.distance(p), b = brute.distance(p);
+    if (b < 0.8) {
+      ASSERT_NEAR(a, b, 1e-12) << p.x << " " << p.y << " " << p.z;
+      ++near;
+    } else {
+      ASSERT_NEAR(a, b, 0.3 / 4) << p.x << " " << p.y << " " << p.z;
+    }
+  }
+  EXPECT_GT(near, 100);
+}
+
+TEST(Instances, FilePositionsEqualTheListAndFewBecomeAUnion) {
+  const std::filesystem::path dir = std::filesystem::path(testing::TempDir()) / "sdfc_instances";
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / "points.csv") << "# x, y, z, scale\nx,y,z\n0, 0, 0\n2 1 0\n-2;0;1;0.5\n";
+  const std::string list = "scene { instances(positions: [[0, 0, 0], [2, 1, 0], [-2, 0, 1, 0.5]]) { box(size: 1) } }";
+  const std::string file = "scene { instances(positions: file(\"points.csv\")) { box(size: 1) } }";
+  CompileOptions options;
+  options.instancing.threshold = 2;  // data form
+  Diagnostics d1, d2;
+  const CompiledScene a = checkSource("list.sdf", list, options, d1);
+  const CompiledScene b = checkSource((dir / "scene.sdf").string(), file, options, d2);
+  ASSERT_TRUE(a.ok) << d1.format();
+  ASSERT_TRUE(b.ok) << d2.format();
+  EXPECT_EQ(countKind(*b.scene.root, ir::NodeKind::Instances), 1);
+  options.instancing.threshold = 32;  // three copies: a union
+  Diagnostics d3;
+  const CompiledScene c = checkSource((dir / "scene.sdf").string(), file, options, d3);
+  EXPECT_EQ(countKind(*c.scene.root, ir::NodeKind::Instances), 0);
+  const Evaluator ea(a.scene), eb(b.scene), ec(c.scene);
+  for (const dvec3 p : {dvec3(0, 0, 0), dvec3(1.2, 0.5, 0), dvec3(-2, 0.4, 1), dvec3(5, 5, 5)}) {
+    EXPECT_DOUBLE_EQ(ea.distance(p), eb.distance(p));
+    EXPECT_DOUBLE_EQ(ea.distance(p), ec.distance(p));
+  }
+  EXPECT_NEAR(ea.distance(dvec3(-2, 0, 1)), -0.25, 1e-12);  // the half-size box
+}
+
+std::string errorsOf(const std::string& path, const std::string& text) {
+  Diagnostics diags;
+  const CompiledScene c = checkSource(path, text, CompileOptions{}, diags);  // owns the source
+  EXPECT_TRUE(diags.hasErrors()) << text;
+  return diags.format();
+}
+
+TEST(Instances, BadPositionsAreErrorsWithLocations) {
+  const std::filesystem::path dir = std::filesystem::path(testing::TempDir()) / "sdfc_instances_bad";
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / "bad.csv") << "1, 2, 3\n1, 2\n4, five, 6\n7, 8, 9, -1\n";
+  const std::string scene = (dir / "s.sdf").string();
+  std::string e = errorsOf(scene, "scene {\n  instances(positions: file(\"missing.csv\")) { sphere(radius: 1) }\n}");
+  EXPECT_NE(e.find("s.sdf:2:29: error: cannot read"), std::string::npos) << e;
+  e = errorsOf(scene, "scene { instances(positions: file(\"bad.csv\")) { sphere(radius: 1) } }");
+  EXPECT_NE(e.find("'bad.csv' has 3 bad rows: line 2: expected 3 or 4 numbers"), std::string::npos) << e;
+  EXPECT_NE(e.find("line 3: 'five' is not a number"), std::string::npos) << e;
+  EXPECT_NE(e.find("line 4: scale must be positive"), std::string::npos) << e;
+  e = errorsOf("t.sdf", "scene { instances(positions: [[0, 0, 0], [1, 2]]) { sphere(radius: 1) } }");
+  EXPECT_NE(e.find("t.sdf:1:42: error: each position must be"), std::string::npos) << e;
+  e = errorsOf("t.sdf", "scene { instances(positions: [[0, 0, time]]) { sphere(radius: 1) } }");
+  EXPECT_NE(e.find("each position must be a constant"), std::string::npos) << e;
+  e = errorsOf("t.sdf", "scene { instances(positons: [[0, 0, 0]]) { sphere(radius: 1) } }");
+  EXPECT_NE(e.find("did you mean 'positions'?"), std::string::npos) << e;
+  e = errorsOf("t.sdf", "scene { instances(positions: [[0, 0, 0]]) }");
+  EXPECT_NE(e.find("needs a block"), std::string::npos) << e;
+  e = errorsOf("t.sdf", "scene {\n  translate(file(\"x.csv\")) { sphere(radius: 1) } }");
+  EXPECT_NE(e.find("t.sdf:2:13: error: 'file' may only give"), std::string::npos) << e;
+  e = errorsOf("t.sdf", "scene { sphere(radius: \"1\") }");
+  EXPECT_NE(e.find("a string may only name a file"), std::string::npos) << e;
+  e = errorsOf("t.sdf", "scene { sphere(radius: \"1) }");
+  EXPECT_NE(e.find("unterminated string"), std::string::npos) << e;
+}
+
+class InstancesGpu : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    context_ = new VulkanContext;
+    createContext(*context_);
+  }
+  static void TearDownTestSuite() {
+    destroyContext(*context_);
+    delete context_;
+    context_ = nullptr;
+    EXPECT_EQ(validationMessageCount(), 0);
+  }
+  static VulkanContext* context_;
+
+  static CompiledScene compiled(const std::string& text, int threshold, bool kernel = true) {
+    CompileOptions options;
+    options.instancing.threshold = threshold;
+    options.emit.with_kernel = kernel;
+    options.produce_spirv = kernel;
+    options.emit.bounding_volumes = false;
+    options.emit.march.image_height = 36;
+    Diagnostics diags;
+    CompiledScene c = compileSource("test.sdf", text, options, diags);
+    EXPECT_TRUE(c.ok) << diags.format();
+    return c;
+  }
+};
+VulkanContext* InstancesGpu::context_ = nullptr;
+
+TEST_F(InstancesGpu, ShaderDistancesMatchTheEvaluator) {
+  const CompiledScene c = compiled(mixedScene(), 32, false);
+  ASSERT_EQ(c.emitted.stats.instance_sets, 2);
+  ASSERT_FALSE(c.emitted.scene_data.empty());
+  const std::string source = test::pointShaderSource(c.emitted);
+  const SpirvResult spirv = glslToSpirv(source, ShaderStage::Fragment, "instances.points.frag");
+  ASSERT_TRUE(spirv.ok()) << spirv.log;
+  const test::GpuPoints gpu = test::runPoints(*context_, spirv.words, glm::vec3(0), glm::vec3(7.5f), 42, 0,
+                                              c.emitted.scene_data);
+  const Evaluator eval(c.scene);
+  double worst = 0;
+  int material_mismatch = 0;
+  for (size_t i = 0; i < gpu.points.size(); ++i) {
+    const EvalResult e = eval.at(dvec3(gpu.points[i]));
+    worst = std::max(worst, std::fabs(e.distance - gpu.distances[i]));
+    // Materials may differ only where two surfaces are equally near (float32).
+    if (gpu.materials[i] != e.material) {
+      if (material_mismatch < 5)
+        std::printf("material at %g %g %g: gpu %d cpu %d (d %g)\n", gpu.points[i].x, gpu.points[i].y,
+                    gpu.points[i].z, gpu.materials[i], e.material, e.distance);
+      ++material_mismatch;
+    }
+  }
+  std::printf("instances on the GPU: worst |d_gpu - d_cpu| = %.3g over %zu points, %d material "
+              "mismatches\n", worst, gpu.points.size(), material_mismatch);
+  EXPECT_LT(worst, 64.0 / 8388608.0 * 16);  // the float32 bound of gpu_equivalence_test, scale 16
+  EXPECT_LE(material_mismatch, 2);
+}
+
+std::string boxField(int count) {
+  std::mt19937 rng(1);
+  std::uniform_real_distribution<double> u(-10, 10), h(0, 3);
+  std::ostringstream s;
+  s << "camera(position: [0, 14, 30], target: [0, 0, 0], fov: 40)\nsun(direction: [-0.4, 0.8, 0.5])\n"
+       "scene {\n  plane(offset: -0.5)\n";
+  for (int i = 0; i < count; ++i)
+    s << "  translate([" << u(rng) << ", " << h(rng) << ", " << u(rng) << "]) { box(size: [0.8, 0.8, 0.8]) }\n";
+  s << "}\n";
+  return s.str();
+}
+
+TEST_F(InstancesGpu, ImageEqualsTheInlineFormAndStaysUnderTheLoopCap) {
+  const std::string text = boxField(200);
+  const CompiledScene data = compiled(text, 32), inline_form = compiled(text, 0);
+  ASSERT_EQ(data.emitted.stats.instance_sets, 1);
+  ASSERT_EQ(inline_form.emitted.stats.instance_sets, 0);
+  RenderOverrides o;
+  o.width = 64;
+  o.height = 36;
+  o.spp = 8;
+  Renderer rd(*context_, data.spirv, data.emitted.scene_data);
+  Renderer ri(*context_, inline_form.spirv);
+  const FloatImage a = rd.render(cameraFor(data.scene), renderSettingsFor(data, o)).color;
+  const FloatImage b = ri.render(cameraFor(inline_form.scene), renderSettingsFor(inline_form, o)).color;
+  double sum_a = 0, sum_b = 0, diff = 0;
+  for (size_t i = 0; i < a.rgba.size(); i += 4)
+    for (int ch = 0; ch < 3; ++ch) {
+      sum_a += a.rgba[i + ch];
+      sum_b += b.rgba[i + ch];
+      diff += std::fabs(a.rgba[i + ch] - b.rgba[i + ch]);
+    }
+  // Same seeds and samples: only float32 roundings of the placements differ.
+  std::printf("data vs inline: mean %.6f vs %.6f, mean |diff| %.3g\n", sum_a / (a.rgba.size() * 0.75),
+              sum_b / (b.rgba.size() * 0.75), diff / (a.rgba.size() * 0.75));
+  EXPECT_NEAR(sum_a, sum_b, 1e-3 * sum_b);
+  EXPECT_LT(diff / sum_b, 2e-3);
+
+  // The loop counter (every kernel and traversal iteration) stays below the cap.
+  o.view = gpu::kViewIterations;
+  const FloatImage it = rd.render(cameraFor(data.scene), renderSettingsFor(data, o)).color;
+  float most = 0;
+  for (size_t i = 0; i < it.rgba.size(); i += 4) most = std::max(most, it.rgba[i]);
+  std::printf("most loop iterations in a pixel: %.0f\n", most);
+  EXPECT_GT(most, 100);
+  EXPECT_LT(most, float(gpu::kLavapipeLoopCap));
+}
+
+}  // namespace
+}  // namespace sdfc
