@@ -228,11 +228,22 @@ TEST_F(InstancesGpu, ShaderDistancesMatchTheEvaluator) {
   const test::GpuPoints gpu = test::runPoints(*context_, spirv.words, glm::vec3(0), glm::vec3(7.5f), 42, 0,
                                               c.emitted.scene_data);
   const Evaluator eval(c.scene);
+  // Far from every box (relative to the box's size) the shader returns the
+  // least box distance instead: never above the distance; near surfaces exact.
+  const double tolerance = 64.0 / 8388608.0 * 16;  // the float32 bound of gpu_equivalence_test, scale 16
   double worst = 0;
-  int material_mismatch = 0;
+  int material_mismatch = 0, near = 0, lower = 0;
   for (size_t i = 0; i < gpu.points.size(); ++i) {
     const EvalResult e = eval.at(dvec3(gpu.points[i]));
-    worst = std::max(worst, std::fabs(e.distance - gpu.distances[i]));
+    EXPECT_LE(gpu.distances[i], e.distance + tolerance) << i;
+    if (std::fabs(e.distance) < 0.05) {
+      worst = std::max(worst, std::fabs(e.distance - gpu.distances[i]));
+      ++near;
+    } else if (gpu.distances[i] < e.distance - tolerance) {
+      ++lower;
+      EXPECT_GT(gpu.distances[i], 0.0) << i;
+      continue;  // the material of a far point is not resolved
+    }
     // Materials may differ only where two surfaces are equally near (float32).
     if (gpu.materials[i] != e.material) {
       if (material_mismatch < 5)
@@ -241,9 +252,11 @@ TEST_F(InstancesGpu, ShaderDistancesMatchTheEvaluator) {
       ++material_mismatch;
     }
   }
-  std::printf("instances on the GPU: worst |d_gpu - d_cpu| = %.3g over %zu points, %d material "
-              "mismatches\n", worst, gpu.points.size(), material_mismatch);
-  EXPECT_LT(worst, 64.0 / 8388608.0 * 16);  // the float32 bound of gpu_equivalence_test, scale 16
+  std::printf("instances on the GPU: worst |d_gpu - d_cpu| = %.3g over %d points near surfaces; "
+              "%d far points got a box bound; %d material mismatches\n",
+              worst, near, lower, material_mismatch);
+  EXPECT_GT(near, 50);
+  EXPECT_LT(worst, tolerance);
   EXPECT_LE(material_mismatch, 2);
 }
 

@@ -27,6 +27,14 @@ using glm::dvec3;
 // Hierarchy visits per evaluation when the scene code is emitted without the
 // kernel (test shaders): with the kernel the renderer sets frame.traversal_visits.
 constexpr int kSceneOnlyVisits = 256;
+// A hierarchy node nearest of all left on the stack, whose box is farther than
+// this times its diagonal, ends the traversal with its box distance d: the true
+// distance D is then at most d + diagonal <= 2d, a march step at least half of
+// D, and steps near surfaces (where boxes are near) stay exact.
+constexpr double kFarBoxFactor = 1.0;
+// Stack entries a visit may drop after its work when they cannot hold
+// anything nearer than the best so far.
+constexpr int kPrunesPerVisit = 3;
 
 std::string vec3Literal(dvec3 v) {
   if (v.x == v.y && v.y == v.z) return "vec3(" + glslFloat(v.x) + ")";
@@ -468,6 +476,11 @@ class SceneWriter {
       g.code << "    sp--;\n    if (sd[sp] >= " << best << slack << ") continue;\n";
       g.code << "    int ni = sn[sp];\n";
       g.code << "    a = sd_data[" << nb << " + 2 * ni];\n    b = sd_data[" << nb << " + 2 * ni + 1];\n";
+      g.code << "    // Far from the nearest box compared with its size: the least box distance\n"
+                "    // left is within a factor 2 of the distance; enough for a march step.\n";
+      g.code << "    if (sm[sp] >= sd[sp] && sd[sp] > " << glslFloat(kFarBoxFactor) << " * distance(a.xyz, b.xyz)) {\n";
+      g.code << "      " << best << " = min(" << best << ", sm[sp]" << (smooth ? " - 0.25 * k" : "") << ");\n";
+      g.code << "      sp = 0;\n      break;\n    }\n";
       g.code << "    int first = int(a.w), count = int(b.w);\n";
       g.code << "    if (count == 0) {\n";
       g.code << "      int l = ni + 1, r = first;\n";
@@ -501,7 +514,13 @@ class SceneWriter {
         }
         g.code << "      }\n";
       }
-      g.code << "    }\n  }\n";
+      g.code << "    }\n";
+      // Entries the best so far has made useless are dropped here, without
+      // spending a loop iteration (a visit) on each.
+      g.code << "    // Drop entries no nearer than the best so far (straight-line code: no visits).\n";
+      for (int j = 0; j < kPrunesPerVisit; ++j)
+        g.code << "    if (sp > 0 && sd[sp - 1] >= " << best << slack << ") sp--;\n";
+      g.code << "  }\n";
       g.code << "  // Out of visits: what is left on the stack is no nearer than its least box"
              << (smooth ? " (a blend lowers it by at most k/4)" : "") << ".\n";
       g.code << "  if (sp > 0) " << best << " = min(" << best << ", sm[sp - 1]" << (smooth ? " - 0.25 * k" : "")

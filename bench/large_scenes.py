@@ -1,0 +1,200 @@
+#!/usr/bin/env python3
+"""Large scenes as data (docs/large_scenes.md): how compile time, pipeline
+creation, shader size, render speed and memory grow with the instance count.
+
+  bench/large_scenes.py [--sdfc build/cli/sdfc] [--out bench/results/large_scenes.md]
+                        [--counts 1000,10000,100000,1000000] [--spp 8] [--quick]
+
+Scenes: spheres at uniform random positions in a fixed box (40 x 8 x 40 above
+a ground plane), written as instances(positions: file("points.csv")); the
+radius shrinks as count^(-1/3) so every scene covers the same extent with the
+same filled volume. Figures:
+  1. per count: `sdfc compile --emit spv` (wall s, SPIR-V bytes), `sdfc render`
+     at 64x36 1 spp (pipeline creation ms, wall s, peak RSS via /usr/bin/time);
+  2. the same 1,000 spheres as 1,000 inline union children (--instance-threshold 0):
+     the shader that grows with the scene;
+  3. 640x360 ms per sample, 100 vs 100,000 instances (median of --repeats runs),
+     and their ratio against the target (100k at >= 1/3 the speed of 100);
+  4. peak RSS of one 640x360 1 spp render of 1,000,000 instances (target < 1 GiB);
+  5. `sdfc check` of 200,000 spheres written as union children vs instances(file).
+Only the standard library; /usr/bin/time must exist (Debian package `time`).
+"""
+import argparse
+import os
+import random
+import re
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+
+HEADER = """camera(position: [0, 26, 48], target: [0, 2, 0], fov: 45)
+sun(direction: [-0.4, 0.8, 0.5], angle: 2, strength: 3)
+sky(top: [0.35, 0.55, 0.9], bottom: [0.85, 0.88, 0.92])
+let clay = diffuse(albedo: [0.75, 0.6, 0.5])
+"""
+
+
+def radius_for(count):
+    # 100 spheres of radius 1.0: N r^3 constant.
+    return 1.0 * (100.0 / count) ** (1.0 / 3.0)
+
+
+def write_points(path, count, seed=1):
+    rng = random.Random(seed)
+    with open(path, "w") as f:
+        f.write("x,y,z\n")
+        for _ in range(count):
+            f.write("%.5f,%.5f,%.5f\n" % (rng.uniform(-20, 20), rng.uniform(0.5, 8), rng.uniform(-20, 20)))
+
+
+def write_instanced(dir_, count):
+    points = os.path.join(dir_, "points_%d.csv" % count)
+    if not os.path.exists(points):
+        write_points(points, count)
+    path = os.path.join(dir_, "instances_%d.sdf" % count)
+    with open(path, "w") as f:
+        f.write(HEADER)
+        f.write("scene {\n  plane(offset: 0)\n")
+        f.write('  instances(positions: file("%s"), material: clay) { sphere(radius: %.6g) }\n}\n'
+                % (os.path.basename(points), radius_for(count)))
+    return path
+
+
+def write_union(dir_, count):
+    rng = random.Random(1)
+    path = os.path.join(dir_, "union_%d.sdf" % count)
+    r = radius_for(count)
+    with open(path, "w") as f:
+        f.write(HEADER)
+        f.write("scene {\n  plane(offset: 0)\n  union(material: clay) {\n")
+        rng.random()
+        for _ in range(count):
+            f.write("    translate([%.5f, %.5f, %.5f]) { sphere(radius: %.6g) }\n"
+                    % (rng.uniform(-20, 20), rng.uniform(0.5, 8), rng.uniform(-20, 20), r))
+        f.write("  }\n}\n")
+    return path
+
+
+def timed(cmd, env=None):
+    """Runs cmd under /usr/bin/time; returns (wall s, peak RSS MiB, stderr)."""
+    full = ["/usr/bin/time", "-f", "SDFC_BENCH_RSS_KB %M"] + cmd
+    start = time.perf_counter()
+    proc = subprocess.run(full, capture_output=True, text=True, env=env)
+    wall = time.perf_counter() - start
+    if proc.returncode != 0:
+        raise RuntimeError("%s failed (%d):\n%s" % (" ".join(cmd), proc.returncode, proc.stderr[-2000:]))
+    m = re.search(r"SDFC_BENCH_RSS_KB (\d+)", proc.stderr)
+    return wall, int(m.group(1)) / 1024.0 if m else float("nan"), proc.stderr
+
+
+def field(pattern, text, default=float("nan")):
+    m = re.search(pattern, text)
+    return float(m.group(1)) if m else default
+
+
+def shader_figures(sdfc, scene, dir_, flags=()):
+    spv = os.path.join(dir_, "out.spv")
+    compile_s, compile_rss, _ = timed([sdfc, "compile", scene, "--emit", "spv", "-o", spv] + list(flags))
+    size = os.path.getsize(spv)
+    png = os.path.join(dir_, "small.png")
+    wall, rss, err = timed([sdfc, "render", scene, "-o", png, "--size", "64x36", "--spp", "1"] + list(flags))
+    return {"compile_s": compile_s, "spirv_bytes": size, "pipeline_ms": field(r"pipeline in (\d+) ms", err),
+            "render_wall_s": wall, "rss_mib": rss}
+
+
+def ms_per_sample(sdfc, scene, dir_, spp, repeats):
+    out = []
+    for _ in range(repeats):
+        png = os.path.join(dir_, "big.png")
+        _, rss, err = timed([sdfc, "render", scene, "-o", png, "--size", "640x360", "--spp", str(spp)])
+        spp_per_s = field(r"spp in [^,]*, ([0-9.eE+-]+) spp/s", err)
+        out.append(1000.0 / spp_per_s)
+    return statistics.median(out), out
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    ap.add_argument("--sdfc", default=os.path.join(root, "build", "cli", "sdfc"))
+    ap.add_argument("--out", default=os.path.join(root, "bench", "results", "large_scenes.md"))
+    ap.add_argument("--counts", default="1000,10000,100000,1000000")
+    ap.add_argument("--spp", type=int, default=8)
+    ap.add_argument("--repeats", type=int, default=3)
+    ap.add_argument("--quick", action="store_true", help="small counts, for a smoke run")
+    args = ap.parse_args()
+    counts = [int(c) for c in args.counts.split(",")]
+    big = 100000
+    if args.quick:
+        counts, big, args.spp, args.repeats = [100, 1000], 1000, 1, 1
+
+    lines = ["# Large scenes as data", "",
+             "Generated by `bench/large_scenes.py` on %s (%s CPUs, lavapipe; LP_NUM_THREADS=%s)."
+             % (time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()), os.cpu_count(),
+                os.environ.get("LP_NUM_THREADS", "unset")), ""]
+
+    def emit(line=""):
+        print(line, flush=True)
+        lines.append(line)
+
+    with tempfile.TemporaryDirectory(prefix="sdfc_large_") as dir_:
+        emit("## Shader size and pipeline creation against the instance count")
+        emit("")
+        emit("| instances | form | compile (s) | SPIR-V (bytes) | pipeline (ms) | 64x36 1 spp render, wall (s) | peak RSS (MiB) |")
+        emit("|---:|---|---:|---:|---:|---:|---:|")
+        for n in counts:
+            f = shader_figures(args.sdfc, write_instanced(dir_, n), dir_)
+            emit("| %d | data | %.2f | %d | %.0f | %.2f | %.0f |" % (n, f["compile_s"], f["spirv_bytes"],
+                                                                  f["pipeline_ms"], f["render_wall_s"], f["rss_mib"]))
+        n_inline = min(counts[0], 1000)
+        f = shader_figures(args.sdfc, write_union(dir_, n_inline), dir_, ["--instance-threshold", "0"])
+        emit("| %d | inline code (--instance-threshold 0) | %.2f | %d | %.0f | %.2f | %.0f |"
+             % (n_inline, f["compile_s"], f["spirv_bytes"], f["pipeline_ms"], f["render_wall_s"], f["rss_mib"]))
+        emit("")
+
+        emit("## Render speed at 640x360, same extent, %d spp, median of %d" % (args.spp, args.repeats))
+        emit("")
+        small_ms, small_all = ms_per_sample(args.sdfc, write_instanced(dir_, 100), dir_, args.spp, args.repeats)
+        big_ms, big_all = ms_per_sample(args.sdfc, write_instanced(dir_, big), dir_, args.spp, args.repeats)
+        emit("| instances | ms per sample (median) | runs |")
+        emit("|---:|---:|---|")
+        emit("| 100 | %.0f | %s |" % (small_ms, ", ".join("%.0f" % x for x in small_all)))
+        emit("| %d | %.0f | %s |" % (big, big_ms, ", ".join("%.0f" % x for x in big_all)))
+        emit("")
+        emit("Speed of %d instances relative to 100: %.2f (target >= 0.33)." % (big, small_ms / big_ms))
+        emit("")
+
+        n_rss = max(counts)
+        scene = write_instanced(dir_, n_rss)
+        wall, rss, _ = timed([args.sdfc, "render", scene, "-o", os.path.join(dir_, "rss.png"),
+                              "--size", "640x360", "--spp", "1"])
+        emit("## Peak memory end to end")
+        emit("")
+        emit("`sdfc render` of %d instances at 640x360, 1 spp: peak RSS %.0f MiB, wall %.1f s (target < 1024 MiB)."
+             % (n_rss, rss, wall))
+        emit("")
+
+        n_check = 200000 if not args.quick else 2000
+        union = write_union(dir_, n_check)
+        inst = write_instanced(dir_, n_check)
+        cu, ru, _ = timed([args.sdfc, "check", union])
+        ci, ri, _ = timed([args.sdfc, "check", inst])
+        emit("## `sdfc check` of %d spheres" % n_check)
+        emit("")
+        emit("| written as | wall (s) | peak RSS (MiB) |")
+        emit("|---|---:|---:|")
+        emit("| %d union children (translate { sphere }) | %.2f | %.0f |" % (n_check, cu, ru))
+        emit("| instances(positions: file(...)) | %.2f | %.0f |" % (ci, ri))
+        emit("")
+
+    os.makedirs(os.path.dirname(args.out), exist_ok=True)
+    with open(args.out, "w") as f:
+        f.write("\n".join(lines) + "\n")
+    print("wrote", args.out)
+
+
+if __name__ == "__main__":
+    main()
