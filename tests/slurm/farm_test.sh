@@ -24,7 +24,7 @@ fail() { echo "FAIL: $*" >&2; exit 1; }
 # Waits until no job of the farm directory is pending or running (180 s at most).
 wait_for_job() {
   local dir=$1 ids
-  ids=$(awk '$1 == "job" {printf "%s%s", sep, $2; sep=","}' "$dir/farm.job")
+  ids=$(sed -n 's/^job //p' "$dir/farm.job" | paste -sd, -)
   for _ in $(seq 360); do
     [ -z "$(squeue --noheader --jobs="$ids" --states=PENDING,RUNNING,CONFIGURING,COMPLETING,REQUEUED 2>/dev/null)" ] && return 0
     sleep 0.5

@@ -30,7 +30,8 @@ free_port() {
 ctld_port=$(free_port)
 slurmd_port=$(free_port)
 while [ "$slurmd_port" = "$ctld_port" ]; do slurmd_port=$(free_port); done
-node=$(hostname -s 2>/dev/null || hostname)
+node=$(uname -n)
+node=${node%%.*}
 
 # munge: a private key and socket (munged refuses keys others may read).
 dd if=/dev/urandom of="$dir/munge/munge.key" bs=1024 count=1 status=none
