@@ -47,6 +47,10 @@ struct CommandLine {
   double exposure = 0;
   bool aces = false;
   bool quiet = false;
+  // view
+  std::string script;     // scripted input (viewer/script.h)
+  std::string frame_log;  // one line per presented frame
+  bool no_dynamic_resolution = false;
   // eval
   std::string points;
   bool gradient = false;
