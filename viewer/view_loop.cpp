@@ -245,9 +245,9 @@ void Viewer::swapIn(std::unique_ptr<BuiltScene> built) {
   if (!built->ok) {
     error_ = built->error;
     std::fprintf(stderr, "sdfc: the scene did not compile; still showing the last good one\n");
-    logEvent("reload error");
     reload_unpresented_ = false;
     updateTitle(true);
+    logEvent("reload error; title: " + titleFor(status_));
     return;
   }
   const bool first = !active_;
