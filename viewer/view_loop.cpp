@@ -303,6 +303,7 @@ bool Viewer::drawFrame() {
     return false;  // converged: nothing new to show
   }
   if (acc_->samples_done < target) active_->renderer->addPass(*acc_, 1);
+  const auto rendered = Clock::now();
   FloatImage image = acc_->mean();
   if (denoise_ && view_ == gpu::kViewBeauty && !moving)
     image = sdfc::denoise(Denoiser::ATrous, image, acc_->normal_depth, acc_->albedo_steps);
@@ -328,10 +329,11 @@ bool Viewer::drawFrame() {
     char line[256];
     std::snprintf(line, sizeof line,
                   "frame %" PRIu64 " t_ms %.1f scene %" PRIu64 " camera %" PRIu64
-                  " res %ux%u spp %u view %s moving %d ms %.1f hash %016" PRIx64 "\n",
+                  " res %ux%u spp %u view %s moving %d ms %.1f render_ms %.1f hash %016" PRIx64
+                  "\n",
                   frames_, msBetween(start_, frame_end), scene_generation_, camera_generation,
                   acc_->width, acc_->height, acc_->samples_done, kViewNames[view_], moving ? 1 : 0,
-                  last_frame_ms_, fnv1a(*shown));
+                  last_frame_ms_, msBetween(frame_start, rendered), fnv1a(*shown));
     frame_log_ << line << std::flush;
   }
   if (reload_unpresented_) {

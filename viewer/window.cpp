@@ -48,7 +48,8 @@ Window::Window(int width, int height, const std::string& title, InputHandler* ha
   }
   glfwSetWindowUserPointer(window_, handler_);
   glfwSetKeyCallback(window_, [](GLFWwindow* w, int key, int, int action, int mods) {
-    if (action == GLFW_PRESS || action == GLFW_REPEAT) handlerOf(w)->onKey(key, mods);
+    // Presses only: a held S must not write the image again and again.
+    if (action == GLFW_PRESS) handlerOf(w)->onKey(key, mods);
   });
   glfwSetMouseButtonCallback(window_, [](GLFWwindow* w, int button, int action, int mods) {
     handlerOf(w)->onMouseButton(button, action == GLFW_PRESS, mods);
