@@ -65,7 +65,9 @@ scene {
 FIRST = SCENE.replace("SHAPE", "sphere(radius: 0.7, material: diffuse(albedo: [0.8, 0.3, 0.25]))")
 EDITED = SCENE.replace("SHAPE", "box(size: [1.2, 1.2, 1.2], material: diffuse(albedo: [0.2, 0.4, 0.9]))")
 BROKEN = SCENE.replace("SHAPE", "sphere(radus: 0.7)\n  torus(major: 1)")
-RECOVERED = SCENE.replace("SHAPE", "torus(major: 0.6, minor: 0.2, material: diffuse(albedo: [0.9, 0.8, 0.2]))")
+RECOVERED = SCENE.replace("translate([0, 0.7, 0]) { SHAPE }",
+                          "translate([0.8 * sin(4 * time), 0.7, 0]) { torus(major: 0.6, minor: 0.2, "
+                          "material: diffuse(albedo: [0.9, 0.8, 0.2])) }")
 
 
 def main():
@@ -110,6 +112,21 @@ write-file {j('recovered.sdf')}
 wait-reload
 wait-spp 4
 save {j('recovered.png')}
+key 2
+wait-idle
+save {j('normal.png')}
+key 1
+key period
+key period
+key period
+wait-spp 4
+save {j('stepped.png')}
+key d
+wait 2
+save {j('denoised.png')}
+key f
+wait-spp 4
+save {j('framed.png')}
 quit
 """
         open(j("events.txt"), "w").write(script)
@@ -141,6 +158,13 @@ quit
         check((np.abs(edited - back).max(axis=-1) > 8).mean() > 0.02, "a save shows the new scene")
         check(np.array_equal(after, edited), "a broken save keeps the last image")
         check((np.abs(recovered - edited).max(axis=-1) > 8).mean() > 0.02, "the next good save recovers")
+        normal, stepped, denoised, framed = (read_png(j(n)) for n in ("normal.png", "stepped.png", "denoised.png", "framed.png"))
+        differs = lambda a, b: (np.abs(a - b).max(axis=-1) > 8).mean()
+        check(differs(normal, recovered) > 0.2, f"key 2 shows the normal view ({differs(normal, recovered):.0%} differs)")
+        check(differs(stepped, recovered) > 0.01, f"the step key advances time ({differs(stepped, recovered):.1%} differs)")
+        noise = lambda im: np.abs(np.diff(im.astype(float), axis=1)).mean()
+        check(noise(denoised) < noise(stepped), f"key d denoises (pixel-to-pixel change {noise(stepped):.2f} -> {noise(denoised):.2f})")
+        check(differs(framed, stepped) > 0.05, f"key f frames the scene's bounds ({differs(framed, stepped):.0%} differs)")
         events = [l for l in lines if l.startswith("event ")]
         check(any("reload error" in e and "ERROR" in e for e in events), "the title shows the error")
         check(sum("reload ok" in e for e in events) == 3, "three good loads (first, edited, recovered)")

@@ -167,6 +167,9 @@ class Viewer : public InputHandler {
   int wait_frames_ = -1;
   Clock::time_point wait_since_{};
   uint64_t reloads_seen_ = 0, reloads_at_wait_ = 0;
+  // Loop iterations; a wait-* command completes only after one has passed since it
+  // began, so the state set by the commands before it (a key) has been drawn.
+  uint64_t iterations_ = 0, iteration_at_wait_ = 0;
   int drag_steps_left_ = 0;
   double drag_x_ = 0, drag_y_ = 0, drag_dx_ = 0, drag_dy_ = 0;
   int drag_button_ = 0;
@@ -439,8 +442,10 @@ bool Viewer::stepScript() {
     wait_frames_ = -1;
     wait_since_ = Clock::now();
     reloads_at_wait_ = reloads_seen_;
+    iteration_at_wait_ = iterations_;
     return true;
   };
+  const bool drawn_since = iterations_ > iteration_at_wait_;
   if (c.verb == "wait") {
     if (wait_frames_ < 0) wait_frames_ = std::max(0, std::atoi(c.args[0].c_str()));
     if (wait_frames_ == 0) return next();
@@ -448,17 +453,18 @@ bool Viewer::stepScript() {
     return false;
   }
   if (c.verb == "wait-spp") {
-    const bool settled = acc_ && acc_key_.scale == 1 && !reload_unpresented_;
+    const bool settled = drawn_since && acc_ && acc_key_.scale == 1 && !reload_unpresented_;
     if ((settled && acc_->samples_done >= uint32_t(std::atoi(c.args[0].c_str()))) || timedOut())
       return next();
     return false;
   }
   if (c.verb == "wait-reload") {
-    if ((reloads_seen_ > reloads_at_wait_ && !reload_unpresented_) || timedOut()) return next();
+    if ((drawn_since && reloads_seen_ > reloads_at_wait_ && !reload_unpresented_) || timedOut())
+      return next();
     return false;
   }
   if (c.verb == "wait-idle") {
-    const bool idle = active_ && acc_ && !compiler_->busy() && !reload_unpresented_ &&
+    const bool idle = drawn_since && active_ && acc_ && !compiler_->busy() && !reload_unpresented_ &&
                       acc_key_.scale == 1 && acc_->samples_done >= status_.target_spp;
     if (idle || timedOut()) return next();
     return false;
@@ -547,6 +553,7 @@ int Viewer::run() {
     }
     if (auto built = compiler_->take()) swapIn(std::move(built));
     const bool drew = active_ ? drawFrame() : false;
+    ++iterations_;
     updateTitle(false);
     // Idle (converged, or waiting for the first build): sleep on input, not spin.
     if (!drew) window_->waitEvents(0.01);
