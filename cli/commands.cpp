@@ -90,6 +90,31 @@ void registerCommands(CLI::App& app, CommandLine& cl) {
                    "runs both sides of every branch, so skipping saves nothing)");
   emit_flags(render);
 
+  CLI::App* view = app.add_subcommand(
+      "view", "a window that path-traces the scene progressively and reloads it on save");
+  common(view);
+  view->add_option("--size", cl.size, "window size WxH (default: the scene's render size)");
+  view->add_option("--spp", cl.spp, "samples to accumulate while still (default: the scene's)")
+      ->check(CLI::Range(1, 1 << 20));
+  view->add_option("--bounces", cl.bounces, "maximum path length")->check(CLI::Range(0, 64));
+  view->add_option("--light-samples", cl.light_samples, "light samples per vertex")
+      ->check(CLI::Range(0, 16));
+  view->add_option("--view", cl.view, "first view: beauty | normal | steps | depth | albedo")
+      ->check(CLI::IsMember({"beauty", "normal", "steps", "depth", "albedo"}));
+  view->add_option("--denoise", cl.denoiser, "none | atrous (start with the denoiser on)")
+      ->check(CLI::IsMember({"none", "atrous"}));
+  view->add_option("--time", cl.time, "start time in seconds");
+  view->add_option("--seed", cl.seed, "random seed");
+  view->add_option("--device", cl.device, "Vulkan device index (see `sdfc devices`)");
+  view->add_option("--exposure", cl.exposure, "exposure in stops");
+  view->add_flag("--aces", cl.aces, "ACES filmic tone curve (default: clamp)");
+  view->add_flag("--no-dynamic-resolution", cl.no_dynamic_resolution,
+                 "draw every frame at full resolution, also while the camera moves");
+  view->add_option("--script", cl.script, "drive the view from a file of commands (docs/view.md)");
+  view->add_option("--frame-log", cl.frame_log, "write a line per presented frame (with its hash)");
+  view->add_flag("--bounds", cl.force_bounds, "keep bounding-volume checks on a CPU device");
+  emit_flags(view);
+
   CLI::App* eval = app.add_subcommand(
       "eval", "print float64 distances at points `x y z`, one a line (stdin or --points)");
   common(eval);

@@ -62,6 +62,10 @@ struct CommandLine {
   int retries = 1;
   int max_running = 0;
   bool dry_run = false;
+  // view
+  std::string script;     // scripted input (viewer/script.h)
+  std::string frame_log;  // one line per presented frame
+  bool no_dynamic_resolution = false;
   // eval
   std::string points;
   bool gradient = false;

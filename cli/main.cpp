@@ -2,6 +2,7 @@
 //   sdfc check scene.sdf            diagnostics only
 //   sdfc compile scene.sdf -o out   GLSL / SPIR-V / IR
 //   sdfc render scene.sdf -o x.png  path-traced image (or a debug view)
+//   sdfc view scene.sdf             live window, reloads on save
 //   sdfc eval scene.sdf             float64 distances at points from stdin
 //   sdfc mesh scene.sdf -o x.glb    triangle mesh export
 //   sdfc devices                    list Vulkan devices
@@ -9,6 +10,7 @@
 #include <iostream>
 
 #include "commands.h"
+#include "view_loop.h"
 #include "vk_check.h"
 
 int main(int argc, char** argv) {
@@ -31,6 +33,7 @@ int main(int argc, char** argv) {
     return kExitUsage;
   }
   try {
+    if (cl.command == "view") return view::runView(cl);
     return runCommand(cl);
   } catch (const RuntimeError& e) {
     std::cerr << "sdfc: error: device: " << e.what() << "\n";

@@ -112,6 +112,107 @@ void Renderer::renderPass(const gpu::FrameParams& params, double timeout_seconds
   copyImage(target_.mapped + 2 * n, params.width, params.height, albedo_steps);
 }
 
+FloatImage Accumulation::mean() const {
+  FloatImage out(width, height);
+  if (samples_done == 0) return out;
+  for (uint32_t b = 0; b < band_count; ++b) {
+    const std::vector<SampleSum>& sum = sums[b];
+    float* color = out.rgba.data() + size_t(b) * band_rows * width * 4;
+    // sampleMean: the same floats as render()'s final pass for the same samples.
+    for (size_t i = 0; i < sum.size(); ++i) color[i] = sampleMean(sum[i], samples_done);
+  }
+  return out;
+}
+
+Accumulation Renderer::startAccumulation(const CameraDesc& camera, const RenderSettings& settings,
+                                         bool keep_aovs) {
+  Accumulation acc;
+  // The image is drawn in full-width bands of about kBandPixels pixels with a band-sized
+  // target, so device images and staging stay small whatever the output size.
+  acc.width = settings.width;
+  acc.height = settings.height;
+  acc.band_rows = std::clamp<uint32_t>(uint32_t(kBandPixels / std::max<uint32_t>(acc.width, 1)), 1,
+                                       std::max<uint32_t>(acc.height, 1));
+  acc.band_count = (acc.height + acc.band_rows - 1) / std::max<uint32_t>(acc.band_rows, 1);
+  acc.settings = settings;
+  acc.params = makeFrameParams(camera, acc.width, acc.height, settings.time);
+  acc.params.seed = settings.seed;
+  acc.params.view = settings.view;
+  acc.params.max_bounces = settings.max_bounces;
+  acc.params.light_samples = settings.light_samples;
+  acc.sums.resize(acc.band_count);
+  acc.keep_aovs = keep_aovs;
+  if (keep_aovs) {
+    acc.normal_depth = FloatImage(acc.width, acc.height);
+    acc.albedo_steps = FloatImage(acc.width, acc.height);
+  }
+  return acc;
+}
+
+void Renderer::drawBand(Accumulation& acc, uint32_t b, uint32_t count, RenderOutput* final_out) {
+  const uint32_t width = acc.width;
+  const uint32_t y0 = b * acc.band_rows, rows = std::min(acc.band_rows, acc.height - y0);
+  const bool keep_sums = acc.settings.keep_sums;
+  gpu::FrameParams& params = acc.params;
+  params.tile_x = 0;
+  params.tile_y = y0;
+  params.sample_count = count;
+  params.traversal_visits = traversalVisitsFor(acc.settings, count);
+  const bool read_aovs = final_out || (acc.keep_aovs && acc.passes == 0);
+  runPass(context_, pipeline_, target_, &params, acc.settings.pass_timeout_seconds, rows,
+          read_aovs ? kAttachmentCount : 1);
+  const size_t band_floats = size_t(width) * rows * 4;
+  const float* pass = target_.mapped;
+  const float* normal_depth = target_.mapped + target_.floatsPerImage();
+  const float* albedo_steps = normal_depth + target_.floatsPerImage();
+  std::vector<SampleSum>& sum = acc.sums[b];
+  if (sum.empty() && (!final_out || keep_sums)) sum.assign(band_floats, 0);
+  if (count > 0 && !sum.empty())
+    for (size_t i = 0; i < band_floats; ++i) sum[i] += sampleTerm(pass[i], count);
+  if (!final_out) {
+    if (read_aovs) {
+      const size_t base = size_t(y0) * width * 4;
+      for (size_t i = 0; i < band_floats; ++i) {
+        acc.normal_depth.rgba[base + i] = normal_depth[i] + 0.0f;
+        acc.albedo_steps.rgba[base + i] = albedo_steps[i] + 0.0f;
+      }
+    }
+    return;
+  }
+  RenderOutput& out = *final_out;
+  // count_done >= 1: a zero-sample final pass only follows completed passes.
+  const uint32_t count_done = acc.samples_done + count;
+  // resize() value-initializes only the new band: pages are touched as written.
+  auto grow = [band_floats](FloatImage& image) {
+    const size_t base = image.rgba.size();
+    image.rgba.resize(base + band_floats);
+    return image.rgba.data() + base;
+  };
+  float* color = grow(out.color);
+  for (size_t i = 0; i < band_floats; ++i) {
+    // A one-pass render never filled `sum`: its term is the whole sum.
+    const SampleSum value = sum.empty() ? sampleTerm(pass[i], count) : sum[i];
+    color[i] = sampleMean(value, count_done);
+  }
+  if (keep_sums) out.color_sums.insert(out.color_sums.end(), sum.begin(), sum.end());
+  std::vector<SampleSum>().swap(sum);
+  // + 0.0f maps -0 to +0, as the former double accumulation (0.0 + x) did.
+  float* nd = grow(out.normal_depth);
+  float* as = grow(out.albedo_steps);
+  for (size_t i = 0; i < band_floats; ++i) {
+    nd[i] = normal_depth[i] + 0.0f;
+    as[i] = albedo_steps[i] + 0.0f;
+  }
+}
+
+void Renderer::addPass(Accumulation& acc, uint32_t count) {
+  ensureTarget(acc.width, acc.band_rows);
+  acc.params.sample_base = acc.settings.first_sample + acc.samples_done;
+  for (uint32_t b = 0; b < acc.band_count; ++b) drawBand(acc, b, count, nullptr);
+  acc.samples_done += count;
+  ++acc.passes;
+}
+
 RenderOutput Renderer::render(const CameraDesc& camera, const RenderSettings& settings,
                               const ProgressCallback& progress,
                               const std::atomic<bool>* interrupt) {
@@ -133,18 +234,9 @@ RenderOutput Renderer::render(const CameraDesc& camera, const RenderSettings& se
                  "instances may be marched slowly or missed (fewer bounces or steps help)\n",
                  traversalVisitsFor(settings, 1));
 
-  // The image is drawn in full-width bands of about kBandPixels pixels with a band-sized
-  // target, so device images and staging stay small whatever the output size.
-  const uint32_t width = settings.width, height = settings.height;
-  const uint32_t band_rows = std::clamp<uint32_t>(
-      uint32_t(kBandPixels / std::max<uint32_t>(width, 1)), 1, std::max<uint32_t>(height, 1));
-  const uint32_t band_count = (height + band_rows - 1) / std::max<uint32_t>(band_rows, 1);
-  ensureTarget(width, band_rows);
-  gpu::FrameParams params = makeFrameParams(camera, width, height, settings.time);
-  params.seed = settings.seed;
-  params.view = settings.view;
-  params.max_bounces = settings.max_bounces;
-  params.light_samples = settings.light_samples;
+  Accumulation acc = startAccumulation(camera, settings, false);
+  const uint32_t width = acc.width, height = acc.height;
+  ensureTarget(width, acc.band_rows);
 
   RenderOutput out;
   out.pipeline_seconds = pipeline_.create_seconds;
@@ -158,80 +250,39 @@ RenderOutput Renderer::render(const CameraDesc& camera, const RenderSettings& se
   out.color.rgba.reserve(n);
   out.normal_depth.rgba.reserve(n);
   out.albedo_steps.rgba.reserve(n);
-  // Running exact color sums (r, g, b, a) of pass mean * pass samples per band
-  // (sample_sum.h). Empty until a non-final pass adds to them.
-  std::vector<std::vector<SampleSum>> sums(band_count);
-  if (settings.keep_sums) out.color_sums.reserve(size_t(width) * height * 4);
+  if (settings.keep_sums) out.color_sums.reserve(n);
 
-  // Draws band b with `count` samples; `final` passes read back the AOVs too (identical in
-  // every pass: the unjittered primary ray) and turn the band's sums into output floats.
-  auto drawBand = [&](uint32_t b, uint32_t count, bool final) {
-    const uint32_t y0 = b * band_rows, rows = std::min(band_rows, height - y0);
-    params.tile_x = 0;
-    params.tile_y = y0;
-    params.sample_count = count;
-    params.traversal_visits = traversalVisitsFor(settings, count);
-    runPass(context_, pipeline_, target_, &params, settings.pass_timeout_seconds, rows,
-            final ? kAttachmentCount : 1);
-    const size_t band_pixels = size_t(width) * rows;
-    const size_t band_floats = band_pixels * 4;
-    const float* pass = target_.mapped;
-    std::vector<SampleSum>& sum = sums[b];
-    if (sum.empty() && (!final || settings.keep_sums)) sum.assign(band_floats, 0);
-    if (count > 0 && !sum.empty())
-      for (size_t i = 0; i < band_floats; ++i) sum[i] += sampleTerm(pass[i], count);
-    if (!final) return;
-    // count_done >= 1: a zero-sample final pass only follows completed passes.
-    const uint32_t count_done = out.samples_done + count;
-    // resize() value-initializes only the new band: pages are touched as written.
-    auto grow = [band_floats](FloatImage& image) {
-      const size_t base = image.rgba.size();
-      image.rgba.resize(base + band_floats);
-      return image.rgba.data() + base;
-    };
-    float* color = grow(out.color);
-    for (size_t i = 0; i < band_floats; ++i) {
-      // A one-pass render never filled `sum`: its term is the whole sum.
-      const SampleSum value = sum.empty() ? sampleTerm(pass[i], count) : sum[i];
-      color[i] = sampleMean(value, count_done);
-    }
-    if (settings.keep_sums) out.color_sums.insert(out.color_sums.end(), sum.begin(), sum.end());
-    std::vector<SampleSum>().swap(sum);
-    // + 0.0f maps -0 to +0, as the former double accumulation (0.0 + x) did.
-    const float* normal_depth = target_.mapped + target_.floatsPerImage();
-    const float* albedo_steps = normal_depth + target_.floatsPerImage();
-    float* nd = grow(out.normal_depth);
-    float* as = grow(out.albedo_steps);
-    for (size_t i = 0; i < band_floats; ++i) {
-      nd[i] = normal_depth[i] + 0.0f;
-      as[i] = albedo_steps[i] + 0.0f;
-    }
+  // The final pass (or a zero-sample one after an interrupt) resolves the sums.
+  auto finalPass = [&](uint32_t count) {
+    acc.params.sample_base = acc.settings.first_sample + acc.samples_done;
+    for (uint32_t b = 0; b < acc.band_count; ++b) drawBand(acc, b, count, &out);
+    acc.samples_done += count;
+    if (count > 0) ++acc.passes;
   };
 
-  while (out.samples_done < total) {
+  while (acc.samples_done < total) {
     if (interrupt && interrupt->load()) {
       out.interrupted = true;
       break;
     }
-    const uint32_t count = std::min(per_pass, total - out.samples_done);
-    const bool final = out.samples_done + count == total;
-    params.sample_base = settings.first_sample + out.samples_done;
-    for (uint32_t b = 0; b < band_count; ++b) drawBand(b, count, final);
-    out.samples_done += count;
-    ++out.passes;
+    const uint32_t count = std::min(per_pass, total - acc.samples_done);
+    if (acc.samples_done + count == total)
+      finalPass(count);
+    else
+      addPass(acc, count);
 
-    if (progress && out.samples_done < total) {
+    if (progress && acc.samples_done < total) {
       ProgressInfo info;
-      info.samples_done = out.samples_done;
+      info.samples_done = acc.samples_done;
       info.samples_total = total;
-      info.passes_done = out.passes;
+      info.passes_done = acc.passes;
       info.elapsed_seconds = secondsSince(start);
-      info.eta_seconds = info.elapsed_seconds / out.samples_done * (total - out.samples_done);
+      info.eta_seconds = info.elapsed_seconds / acc.samples_done * (total - acc.samples_done);
       progress(info);
     }
   }
   if (out.interrupted) {
-    if (out.samples_done == 0) {
+    if (acc.samples_done == 0) {
       // Nothing rendered: zero images, as before any pass.
       out.color = FloatImage(width, height);
       out.normal_depth = FloatImage(width, height);
@@ -239,10 +290,11 @@ RenderOutput Renderer::render(const CameraDesc& camera, const RenderSettings& se
     } else {
       // The AOVs were not read back yet: a zero-sample pass traces only the primary
       // ray (the same values as any pass) while the sums become the mean.
-      params.sample_base = settings.first_sample + out.samples_done;
-      for (uint32_t b = 0; b < band_count; ++b) drawBand(b, 0, true);
+      finalPass(0);
     }
   }
+  out.samples_done = acc.samples_done;
+  out.passes = acc.passes;
   out.seconds = secondsSince(start);
   if (progress) {
     ProgressInfo info;

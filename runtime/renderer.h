@@ -89,6 +89,29 @@ struct RenderOutput {
   bool interrupted = false;
 };
 
+// An image being accumulated pass by pass: the state render() keeps between passes,
+// exposed so an interactive view can draw a pass per frame and show the mean so far
+// (Renderer::startAccumulation, addPass). Sums are per band and exact.
+struct Accumulation {
+  uint32_t width = 0, height = 0;
+  uint32_t band_rows = 0, band_count = 0;
+  RenderSettings settings;    // what it was started with (first sample, timeouts, sums)
+  gpu::FrameParams params{};  // camera and settings; sample_base/count set per pass
+  uint32_t samples_done = 0;
+  uint32_t passes = 0;
+  // Per band: exact sums of pass mean * pass samples (sample_sum.h), so any pass split
+  // of the same samples gives the same bits.
+  std::vector<std::vector<SampleSum>> sums;
+  // Attachments 1 and 2 (the unjittered primary ray: the same in every pass). With
+  // keep_aovs the first pass reads them back; render() reads them in its final pass.
+  bool keep_aovs = false;
+  FloatImage normal_depth, albedo_steps;
+
+  // Mean colour of the samples so far (zeros before the first pass). Exactly what
+  // render() returns for the same samples and pass split.
+  FloatImage mean() const;
+};
+
 // Sample-weighted mean of two renders of the same size (e.g. samples [0,n) and
 // [n,m)). With color_sums in both (keep_sums), exactly equal to one render of both
 // sample ranges when their passes split the samples the same way; otherwise a
@@ -116,12 +139,24 @@ class Renderer {
                       const ProgressCallback& progress = {},
                       const std::atomic<bool>* interrupt = nullptr);
 
+  // The shared progressive core: render() is startAccumulation + addPass until the
+  // last pass (which it resolves band by band to bound memory); `sdfc view` calls
+  // addPass once a frame and shows Accumulation::mean().
+  Accumulation startAccumulation(const CameraDesc& camera, const RenderSettings& settings,
+                                 bool keep_aovs);
+  // Draws `count` more samples of every pixel into `acc` (non-final: sums only).
+  void addPass(Accumulation& acc, uint32_t count);
+
   // One raw pass with explicit push constants; fills the three attachments.
   void renderPass(const gpu::FrameParams& params, double timeout_seconds, FloatImage& color,
                   FloatImage& normal_depth, FloatImage& albedo_steps);
 
  private:
   void ensureTarget(uint32_t width, uint32_t height);
+  // Draws band b of `acc` with `count` samples. Without `final_out` the band's colour
+  // is added to its sums; with it the sums become the band's output floats (and the
+  // AOVs are read back), then are freed.
+  void drawBand(Accumulation& acc, uint32_t b, uint32_t count, RenderOutput* final_out);
 
   const VulkanContext& context_;
   RenderPipeline pipeline_;

@@ -58,14 +58,15 @@ bool hasInstanceExtension(const char* name) {
 }
 
 // Creates the instance; `validation` is updated to whether it was really enabled.
-VkInstance createInstance(bool& validation) {
+VkInstance createInstance(bool& validation,
+                          const std::vector<const char*>& extra_extensions = {}) {
   VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
   app.pApplicationName = "sdfc";
   app.pEngineName = "sdfc";
   app.apiVersion = kMinApiVersion;
 
   std::vector<const char*> layers;
-  std::vector<const char*> extensions;
+  std::vector<const char*> extensions = extra_extensions;
   VkDebugUtilsMessengerCreateInfoEXT debug_info = messengerInfo();
   if (validation) {
     const bool layer = hasLayer(kValidationLayer);
@@ -170,7 +171,7 @@ std::vector<DeviceInfo> listDevices() {
 void createContext(VulkanContext& context, const ContextOptions& options) {
   context = {};
   bool validation = options.validation;
-  context.instance = createInstance(validation);
+  context.instance = createInstance(validation, options.instance_extensions);
   context.validation_enabled = validation;
   try {
     if (validation) {
@@ -217,6 +218,8 @@ void createContext(VulkanContext& context, const ContextOptions& options) {
     VkDeviceCreateInfo device_info{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
     device_info.queueCreateInfoCount = 1;
     device_info.pQueueCreateInfos = &queue_info;
+    device_info.enabledExtensionCount = static_cast<uint32_t>(options.device_extensions.size());
+    device_info.ppEnabledExtensionNames = options.device_extensions.data();
     VK_CHECK(vkCreateDevice(context.physical_device, &device_info, nullptr, &context.device));
     vkGetDeviceQueue(context.device, context.queue_family, 0, &context.queue);
 

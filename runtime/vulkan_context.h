@@ -1,5 +1,5 @@
 // The Vulkan instance, one physical device, one graphics queue and a command
-// pool. Headless: no surface, no swapchain. Plain struct + create/destroy.
+// pool. Headless unless ContextOptions asks for window-system extensions. Plain struct + create/destroy.
 #pragma once
 #include <vulkan/vulkan.h>
 
@@ -28,6 +28,10 @@ struct ContextOptions {
   int device_index = -1;
   // Validation layer + debug messenger; by default on iff env SDFC_VALIDATION=1.
   bool validation = validationRequestedByEnv();
+  // Extra extensions, e.g. a window system's surface extensions (instance) and
+  // VK_KHR_swapchain (device) for `sdfc view`; headless renders need none.
+  std::vector<const char*> instance_extensions;
+  std::vector<const char*> device_extensions;
 
   static bool validationRequestedByEnv();
 };

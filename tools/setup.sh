@@ -22,6 +22,8 @@ packages=(
   libgtest-dev python3-numpy python3-matplotlib clang
   # the render farm's tests: a single-node Slurm cluster
   slurmctld slurmd slurm-client munge
+  # sdfc view: the window (GLFW), and its tests under Xvfb with an X screenshot (xwd)
+  libglfw3-dev xvfb xauth x11-apps
 )
 
 say() { echo "setup: $*"; }

@@ -1,0 +1,205 @@
+#!/usr/bin/env python3
+"""End-to-end test of `sdfc view` under Xvfb (run by tests/view_test.sh).
+
+One scripted session on a copy of a small scene asserts: frames are presented;
+an orbit changes the image and orbiting back restores it; a real X screenshot
+(xwd) of the window equals the renderer's own frame; a save on disk shows the new
+scene (latency printed); a broken save keeps the last image, prints the errors
+exactly as `sdfc check` and says so in the title, and the next good save
+recovers; the camera key prints a pasteable camera line; input reaches the
+screen within two frames; quit exits 0 with validation layers silent. Also: no
+display -> exit 3 with a pointer to `sdfc render`.
+"""
+import os
+import re
+import struct
+import subprocess
+import sys
+import tempfile
+
+import matplotlib.image as mpimg
+import numpy as np
+
+SDFC = sys.argv[1]
+failures = []
+
+
+def check(condition, message):
+    print(("ok   " if condition else "FAIL ") + message)
+    if not condition:
+        failures.append(message)
+
+
+def read_png(path):
+    return np.round(mpimg.imread(path)[:, :, :3] * 255).astype(np.int16)
+
+
+def read_xwd(path):
+    """RGB of an XWD (X Window Dump) file: 25 big-endian CARD32 header fields."""
+    data = open(path, "rb").read()
+    h = struct.unpack(">25I", data[:100])
+    header_size, width, height = h[0], h[4], h[5]
+    byte_order, bits_per_pixel, bytes_per_line = h[7], h[11], h[12]
+    red_mask, green_mask, blue_mask, ncolors = h[14], h[15], h[16], h[19]
+    assert bits_per_pixel == 32, "expected a 24/32-bit visual"
+    pixels = np.frombuffer(data, dtype="<u4" if byte_order == 0 else ">u4",
+                           count=height * bytes_per_line // 4,
+                           offset=header_size + 12 * ncolors)
+    pixels = pixels.reshape(height, bytes_per_line // 4)[:, :width].astype(np.int64)
+
+    def channel(mask):
+        shift = (mask & -mask).bit_length() - 1
+        return ((pixels & mask) >> shift).astype(np.int16)
+    return np.stack([channel(red_mask), channel(green_mask), channel(blue_mask)], axis=-1)
+
+
+SCENE = """render(size: [160, 120], spp: 4, bounces: 2)
+camera(position: [0, 1.2, 4.5], target: [0, 0.6, 0], fov: 40)
+sky(top: [0.45, 0.6, 0.9], bottom: [0.7, 0.7, 0.72])
+sun(direction: [0.5, 1, 0.4], angle: 3, strength: 1.2)
+scene {
+  plane(normal: [0, 1, 0], offset: 0, material: diffuse(albedo: [0.7, 0.7, 0.7]))
+  translate([0, 0.7, 0]) { SHAPE }
+}
+"""
+FIRST = SCENE.replace("SHAPE", "sphere(radius: 0.7, material: diffuse(albedo: [0.8, 0.3, 0.25]))")
+EDITED = SCENE.replace("SHAPE", "box(size: [1.2, 1.2, 1.2], material: diffuse(albedo: [0.2, 0.4, 0.9]))")
+BROKEN = SCENE.replace("SHAPE", "sphere(radus: 0.7)\n  torus(major: 1)")
+RECOVERED = SCENE.replace("translate([0, 0.7, 0]) { SHAPE }",
+                          "translate([0.8 * sin(4 * time), 0.7, 0]) { torus(major: 0.6, minor: 0.2, "
+                          "material: diffuse(albedo: [0.9, 0.8, 0.2])) }")
+
+
+def main():
+    env = dict(os.environ, SDFC_VALIDATION="1", LP_NUM_THREADS="2")
+    # Without a display: exit 3 and a pointer to `sdfc render`.
+    bare = {k: v for k, v in env.items() if k not in ("DISPLAY", "WAYLAND_DISPLAY")}
+    with tempfile.TemporaryDirectory() as d:
+        path = os.path.join(d, "s.sdf")
+        open(path, "w").write(FIRST)
+        r = subprocess.run([SDFC, "view", path], env=bare, capture_output=True, text=True, timeout=60)
+        check(r.returncode == 3, f"no display: exit 3 (got {r.returncode})")
+        check("sdfc render" in r.stderr, "no display: the message points to `sdfc render`")
+
+    check(bool(os.environ.get("DISPLAY")), "a display is set (run under xvfb-run)")
+    with tempfile.TemporaryDirectory() as d:
+        scene = os.path.join(d, "scene.sdf")
+        open(scene, "w").write(FIRST)
+        for name, text in (("edited", EDITED), ("broken", BROKEN), ("recovered", RECOVERED)):
+            open(os.path.join(d, name + ".sdf"), "w").write(text)
+        j = lambda name: os.path.join(d, name)
+        script = f"""# the session
+wait-spp 4
+save {j('first.png')}
+run sleep 0.5; xwd -id ${{WINDOW}} -silent -out {j('shot.xwd')}
+log orbit
+drag left 120 0 3
+wait-spp 4
+save {j('moved.png')}
+drag left -120 0 3
+wait-spp 4
+save {j('back.png')}
+key c
+write-file {j('edited.sdf')}
+wait-reload
+wait-spp 4
+save {j('edited.png')}
+write-file {j('broken.sdf')}
+wait-reload
+wait 5
+save {j('after_broken.png')}
+write-file {j('recovered.sdf')}
+wait-reload
+wait-spp 4
+save {j('recovered.png')}
+key 2
+wait-idle
+save {j('normal.png')}
+key 1
+key period
+key period
+key period
+wait-spp 4
+save {j('stepped.png')}
+key d
+wait 2
+save {j('denoised.png')}
+key f
+wait-spp 4
+save {j('framed.png')}
+quit
+"""
+        open(j("events.txt"), "w").write(script)
+        log = j("frames.log")
+        r = subprocess.run([SDFC, "view", scene, "--script", j("events.txt"), "--frame-log", log],
+                           env=env, capture_output=True, text=True, timeout=600)
+        sys.stderr.write(r.stderr)
+        check(r.returncode == 0, f"quit exits 0 (got {r.returncode})")
+        check("[vulkan" not in r.stderr, "validation layers silent")
+        lines = open(log).read().splitlines()
+        frames = [l.split() for l in lines if l.startswith("frame ")]
+        check(len(frames) >= 10, f"frames presented ({len(frames)})")
+
+        first, moved, back = read_png(j("first.png")), read_png(j("moved.png")), read_png(j("back.png"))
+        moved_diff = np.abs(first - moved).max(axis=-1)
+        back_diff = np.abs(first - back).max(axis=-1)
+        check((moved_diff > 8).mean() > 0.05,
+              f"orbit changes the image ({(moved_diff > 8).mean():.1%} of pixels)")
+        check((back_diff > 2).mean() < 0.005 and back_diff.max() <= 32,
+              f"orbiting back restores it ({(back_diff > 2).mean():.3%} pixels off by > 2/255)")
+
+        shot = read_xwd(j("shot.xwd"))
+        check(shot.shape == first.shape, f"screenshot size {shot.shape} = frame size {first.shape}")
+        if shot.shape == first.shape:
+            d8 = np.abs(shot - first)
+            check(d8.max() == 0, f"X screenshot equals the renderer's frame (max diff {d8.max()})")
+
+        edited, after, recovered = (read_png(j(n)) for n in ("edited.png", "after_broken.png", "recovered.png"))
+        check((np.abs(edited - back).max(axis=-1) > 8).mean() > 0.02, "a save shows the new scene")
+        check(np.array_equal(after, edited), "a broken save keeps the last image")
+        check((np.abs(recovered - edited).max(axis=-1) > 8).mean() > 0.02, "the next good save recovers")
+        normal, stepped, denoised, framed = (read_png(j(n)) for n in ("normal.png", "stepped.png", "denoised.png", "framed.png"))
+        differs = lambda a, b: (np.abs(a - b).max(axis=-1) > 8).mean()
+        check(differs(normal, recovered) > 0.2, f"key 2 shows the normal view ({differs(normal, recovered):.0%} differs)")
+        check(differs(stepped, recovered) > 0.01, f"the step key advances time ({differs(stepped, recovered):.1%} differs)")
+        noise = lambda im: np.abs(np.diff(im.astype(float), axis=1)).mean()
+        check(noise(denoised) < noise(stepped), f"key d denoises (pixel-to-pixel change {noise(stepped):.2f} -> {noise(denoised):.2f})")
+        check(differs(framed, stepped) > 0.05, f"key f frames the scene's bounds ({differs(framed, stepped):.0%} differs)")
+        events = [l for l in lines if l.startswith("event ")]
+        check(any("reload error" in e and "ERROR" in e for e in events), "the title shows the error")
+        check(sum("reload ok" in e for e in events) == 3, "three good loads (first, edited, recovered)")
+        latencies = [float(m.group(1)) for m in (re.search(r"save-to-image (\d+) ms", e) for e in events) if m]
+        print("save-to-image latencies (ms):", latencies)
+
+        # The broken save's diagnostics, exactly as `sdfc check` prints them for that file.
+        open(scene, "w").write(BROKEN)
+        c = subprocess.run([SDFC, "check", scene], capture_output=True, text=True, timeout=60)
+        check(c.returncode == 1 and re.search(r"scene\.sdf:\d+:\d+: error:", c.stderr) is not None,
+              "sdfc check reports file:line:col")
+        check(c.stderr in r.stderr, "the view prints the errors exactly as sdfc check")
+
+        check(re.search(r"^camera\(position: \[[^]]+\], target: \[[^]]+\], fov: [0-9.]+\)$",
+                        r.stdout, re.M) is not None, "the camera key prints a camera(...) line")
+
+        # Input to presented frame: frames from an input event to the first frame showing it.
+        waits = []
+        for i, l in enumerate(lines):
+            if l.startswith("event ") and "input drag" in l:
+                n = int(l.split()[1])
+                cam = None
+                for f in frames:
+                    if int(f[1]) == n:
+                        cam = f[f.index("camera") + 1]
+                for f in frames:
+                    if int(f[1]) > n and f[f.index("camera") + 1] != cam:
+                        waits.append(int(f[1]) - n)
+                        break
+        check(bool(waits) and max(waits) <= 2, f"input reaches the screen within 2 frames ({waits})")
+    if failures:
+        print(f"{len(failures)} check(s) failed")
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

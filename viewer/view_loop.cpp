@@ -1,0 +1,588 @@
+#include "view_loop.h"
+
+#include <GLFW/glfw3.h>
+
+#include <algorithm>
+#include <cinttypes>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <optional>
+#include <regex>
+#include <thread>
+
+#include "background_compiler.h"
+#include "camera_controller.h"
+#include "cli_support.h"
+#include "denoise.h"
+#include "file_watcher.h"
+#include "image_io.h"
+#include "scene_render.h"
+#include "script.h"
+#include "status.h"
+#include "swapchain.h"
+#include "vk_check.h"
+#include "window.h"
+
+namespace sdfc::view {
+namespace {
+
+// The camera counts as moving until it has been still for this many frames; while
+// moving, frames are drawn at 1/preview_scale of the resolution.
+constexpr int kSettleFrames = 2;
+constexpr uint32_t kMinPreviewScale = 2, kMaxPreviewScale = 8;
+// Preview frames aim between these times (the scale adapts one step a frame).
+constexpr double kPreviewSlowMs = 60, kPreviewFastMs = 20;
+constexpr double kTimeStep = 1.0 / 30.0;  // the step key, and play speed is real time
+constexpr double kScriptWaitSeconds = 600;  // a wait-* command longer than this fails
+
+const char* const kViewNames[] = {"beauty", "normal", "steps", "depth", "albedo", "iterations"};
+
+uint32_t viewFromName(const std::string& name) {
+  for (uint32_t i = 0; i < 6; ++i)
+    if (name == kViewNames[i]) return i;
+  return gpu::kViewBeauty;
+}
+
+double msBetween(Clock::time_point a, Clock::time_point b) {
+  return std::chrono::duration<double, std::milli>(b - a).count();
+}
+
+uint64_t fnv1a(const std::vector<uint8_t>& bytes) {
+  uint64_t h = 1469598103934665603ull;
+  for (uint8_t b : bytes) h = (h ^ b) * 1099511628211ull;
+  return h;
+}
+
+// Finite bounds of the scene: the root's, or the union of its finite parts (an
+// infinite ground plane would otherwise make every scene unbounded).
+Aabb finiteBounds(const ir::Node& node) {
+  if (node.bounds.finite()) return node.bounds;
+  Aabb box;
+  if (node.kind == ir::NodeKind::Union)
+    for (const ir::NodeRef& child : node.children)
+      if (child) box = box.unite(finiteBounds(*child));
+  return box;
+}
+
+// Nearest-neighbour enlargement of an RGB8 image by an integer factor, cut to w x h.
+void upscale(const std::vector<uint8_t>& small, uint32_t sw, uint32_t sh, uint32_t scale,
+             uint32_t w, uint32_t h, std::vector<uint8_t>& out) {
+  out.resize(size_t(w) * h * 3);
+  for (uint32_t y = 0; y < h; ++y) {
+    const uint8_t* row = small.data() + size_t(std::min(y / scale, sh - 1)) * sw * 3;
+    uint8_t* o = out.data() + size_t(y) * w * 3;
+    for (uint32_t x = 0; x < w; ++x) {
+      const uint8_t* p = row + size_t(std::min(x / scale, sw - 1)) * 3;
+      o[3 * x] = p[0];
+      o[3 * x + 1] = p[1];
+      o[3 * x + 2] = p[2];
+    }
+  }
+}
+
+// What an accumulation depends on: any difference restarts it.
+struct AccumulationKey {
+  uint64_t scene = 0, camera = 0;
+  uint32_t view = 0, scale = 1;
+  double time = 0;
+  bool operator==(const AccumulationKey& o) const {
+    return scene == o.scene && camera == o.camera && view == o.view && scale == o.scale &&
+           time == o.time;
+  }
+};
+
+class Viewer : public InputHandler {
+ public:
+  explicit Viewer(const CommandLine& cl) : cl_(cl) {}
+  ~Viewer() override;
+  int run();
+
+  void onKey(int key, int mods) override;
+  void onMouseButton(int button, bool down, int mods) override;
+  void onCursor(double x, double y) override;
+  void onScroll(double dy) override;
+
+ private:
+  void open();
+  void swapIn(std::unique_ptr<BuiltScene> built);
+  bool drawFrame();
+  void presentBlack();
+  bool stepScript();  // false while the current command waits
+  void saveImage(const std::string& path);
+  void logEvent(const std::string& text);
+  void updateTitle(bool force);
+
+  const CommandLine cl_;
+  uint32_t width_ = 0, height_ = 0;
+  std::unique_ptr<Window> window_;
+  VulkanContext context_;
+  bool context_created_ = false;
+  VkSurfaceKHR surface_ = VK_NULL_HANDLE;
+  std::unique_ptr<Swapchain> swapchain_;
+  std::unique_ptr<BackgroundCompiler> compiler_;
+  std::unique_ptr<FileWatcher> watcher_;
+
+  std::unique_ptr<BuiltScene> active_;
+  uint64_t scene_generation_ = 0;
+  CameraController controller_;
+  CameraDesc file_camera_;
+  std::string error_;
+
+  uint32_t view_ = gpu::kViewBeauty;
+  bool denoise_ = false;
+  bool dynamic_resolution_ = true;
+  bool playing_ = false;
+  double time_ = 0;
+  std::optional<uint32_t> spp_override_;
+  ToneMap tone_;
+
+  std::optional<Accumulation> acc_;
+  AccumulationKey acc_key_;
+  uint64_t last_camera_generation_ = ~0ull;
+  int frames_still_ = 0;
+  uint32_t preview_scale_ = kMinPreviewScale;
+  FloatImage displayed_;
+  std::vector<uint8_t> rgb_, upscaled_;
+  RateMeter rate_;
+  Status status_;
+  Clock::time_point last_title_{}, last_frame_end_{};
+  double last_frame_ms_ = 0;
+
+  Clock::time_point start_ = Clock::now();
+  uint64_t frames_ = 0;  // presented
+  bool quit_ = false;
+  bool reload_unpresented_ = false;
+  bool redisplay_ = false;
+  Clock::time_point reload_since_{};  // the save (script write) or its detection
+  std::optional<Clock::time_point> script_write_;
+  std::ofstream frame_log_;
+
+  // Script state.
+  std::vector<ScriptCommand> script_;
+  size_t script_at_ = 0;
+  int wait_frames_ = -1;
+  Clock::time_point wait_since_{};
+  uint64_t reloads_seen_ = 0, reloads_at_wait_ = 0;
+  // Loop iterations; a wait-* command completes only after one has passed since it
+  // began, so the state set by the commands before it (a key) has been drawn.
+  uint64_t iterations_ = 0, iteration_at_wait_ = 0;
+  int drag_steps_left_ = 0;
+  double drag_x_ = 0, drag_y_ = 0, drag_dx_ = 0, drag_dy_ = 0;
+  int drag_button_ = 0;
+};
+
+Viewer::~Viewer() {
+  compiler_.reset();  // joins the worker before its renderer's device goes
+  active_.reset();
+  swapchain_.reset();
+  if (surface_) vkDestroySurfaceKHR(context_.instance, surface_, nullptr);
+  if (context_created_) destroyContext(context_);
+  window_.reset();
+}
+
+void Viewer::open() {
+  // The window size is the render size: the scene's, or --size.
+  width_ = 640;
+  height_ = 360;
+  {
+    Diagnostics quiet;
+    std::unique_ptr<SourceFile> file = readSourceFile(cl_.input);
+    if (!file) throw std::runtime_error("cannot read '" + cl_.input + "'");
+    CompileOptions options;
+    CompiledScene checked = checkSource(cl_.input, file->text, options, quiet);
+    width_ = uint32_t(checked.scene.render.width);
+    height_ = uint32_t(checked.scene.render.height);
+  }
+  std::smatch m;
+  if (!cl_.size.empty() && std::regex_match(cl_.size, m, std::regex(R"((\d{1,5})x(\d{1,5}))"))) {
+    width_ = uint32_t(std::stoi(m[1]));
+    height_ = uint32_t(std::stoi(m[2]));
+  }
+  width_ = std::clamp<uint32_t>(width_, 16, 4096);
+  height_ = std::clamp<uint32_t>(height_, 16, 4096);
+
+  window_ = std::make_unique<Window>(int(width_), int(height_),
+                                     "sdfc view: " + cl_.input + " | compiling", this);
+  ContextOptions options;
+  options.device_index = cl_.device;
+  options.instance_extensions = Window::requiredInstanceExtensions();
+  options.device_extensions = {VK_KHR_SWAPCHAIN_EXTENSION_NAME};
+  createContext(context_, options);
+  context_created_ = true;
+  surface_ = window_->createSurface(context_.instance);
+  swapchain_ = std::make_unique<Swapchain>(context_, surface_, width_, height_);
+
+  CompileOptions compile = compileOptionsFrom(cl_);
+  compile.emit.march.image_height = int(height_);
+  // As `render`: lavapipe runs both sides of a branch, so bound checks only cost.
+  if (context_.properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU && !cl_.force_bounds)
+    compile.emit.bounding_volumes = false;
+  compiler_ = std::make_unique<BackgroundCompiler>(context_, cl_, compile);
+  watcher_ = std::make_unique<FileWatcher>(cl_.input);
+  reload_since_ = Clock::now();
+  reload_unpresented_ = true;
+  compiler_->request();
+
+  view_ = viewFromName(cl_.view);
+  denoise_ = cl_.denoiser != "none";
+  dynamic_resolution_ = !cl_.no_dynamic_resolution;
+  if (cl_.spp > 0) spp_override_ = uint32_t(cl_.spp);
+  tone_.exposure_stops = float(cl_.exposure);
+  tone_.curve = cl_.aces ? ToneCurve::AcesFit : ToneCurve::Clamp;
+  time_ = cl_.time;
+  status_.file = std::filesystem::path(cl_.input).filename().string();
+  std::fprintf(stderr, "sdfc: view %ux%u on %s (present mode %s)\n", width_, height_,
+               context_.deviceName().c_str(), swapchain_->presentModeName());
+}
+
+void Viewer::logEvent(const std::string& text) {
+  if (frame_log_.is_open()) frame_log_ << "event " << frames_ << " " << text << "\n";
+}
+
+void Viewer::swapIn(std::unique_ptr<BuiltScene> built) {
+  ++reloads_seen_;
+  if (!built->ok) {
+    error_ = built->error;
+    std::fprintf(stderr, "sdfc: the scene did not compile; still showing the last good one\n");
+    reload_unpresented_ = false;
+    updateTitle(true);
+    logEvent("reload error; title: " + titleFor(status_));
+    return;
+  }
+  const bool first = !active_;
+  active_ = std::move(built);  // the old renderer is destroyed here, on the queue's thread
+  ++scene_generation_;
+  error_.clear();
+  file_camera_ = cameraFor(active_->compiled->scene);
+  if (first) {
+    controller_.reset(file_camera_);
+    last_camera_generation_ = controller_.generation();  // the first view is not a motion
+    frames_still_ = kSettleFrames;
+  }
+  status_.uses_time = active_->compiled->scene.uses_time;
+  reload_unpresented_ = true;
+  if (!script_write_) reload_since_ = active_->requested;
+}
+
+bool Viewer::drawFrame() {
+  const CompiledScene& compiled = *active_->compiled;
+  const uint64_t camera_generation = controller_.generation();
+  if (camera_generation != last_camera_generation_) {
+    last_camera_generation_ = camera_generation;
+    frames_still_ = 0;
+  }
+  const bool moving = dynamic_resolution_ && frames_still_ < kSettleFrames;
+  const auto frame_start = Clock::now();
+  if (playing_ && compiled.scene.uses_time && last_frame_end_ != Clock::time_point{})
+    time_ += std::chrono::duration<double>(frame_start - last_frame_end_).count();
+
+  AccumulationKey key{scene_generation_, camera_generation, view_, moving ? preview_scale_ : 1,
+                      compiled.scene.uses_time ? time_ : 0.0};
+  if (!acc_ || !(key == acc_key_)) {
+    RenderOverrides o;
+    o.width = int(std::max<uint32_t>(1, (width_ + key.scale - 1) / key.scale));
+    o.height = int(std::max<uint32_t>(1, (height_ + key.scale - 1) / key.scale));
+    if (cl_.bounces >= 0) o.bounces = cl_.bounces;
+    if (cl_.light_samples >= 0) o.light_samples = cl_.light_samples;
+    o.view = view_;
+    o.seed = cl_.seed;
+    o.time = time_;
+    const RenderSettings settings = renderSettingsFor(compiled, o);
+    acc_ = active_->renderer->startAccumulation(controller_.camera(), settings, true);
+    acc_key_ = key;
+    rate_.reset();
+  }
+  const uint32_t target = view_ == gpu::kViewBeauty
+                              ? spp_override_.value_or(uint32_t(std::max(1, compiled.scene.render.spp)))
+                              : 1;
+  status_.target_spp = target;
+  ++frames_still_;
+  if (acc_->samples_done >= target && !reload_unpresented_ && !redisplay_) {
+    last_frame_end_ = Clock::now();
+    return false;  // converged: nothing new to show
+  }
+  if (acc_->samples_done < target) active_->renderer->addPass(*acc_, 1);
+  const auto rendered = Clock::now();
+  FloatImage image = acc_->mean();
+  if (denoise_ && view_ == gpu::kViewBeauty && !moving)
+    image = sdfc::denoise(Denoiser::ATrous, image, acc_->normal_depth, acc_->albedo_steps);
+  displayed_ = std::move(image);
+  rgb_ = toSrgb8(displayed_, tone_);
+  const std::vector<uint8_t>* shown = &rgb_;
+  if (key.scale > 1) {
+    upscale(rgb_, displayed_.width, displayed_.height, key.scale, width_, height_, upscaled_);
+    shown = &upscaled_;
+  }
+  swapchain_->present(shown->data(), width_, height_);
+  ++frames_;
+  redisplay_ = false;
+  const auto frame_end = Clock::now();
+  last_frame_ms_ = msBetween(frame_start, frame_end);
+  rate_.add(last_frame_ms_ / 1000, 1);
+  last_frame_end_ = frame_end;
+  if (moving) {  // adapt the preview resolution to keep the view interactive
+    if (last_frame_ms_ > kPreviewSlowMs && preview_scale_ < kMaxPreviewScale) ++preview_scale_;
+    if (last_frame_ms_ < kPreviewFastMs && preview_scale_ > kMinPreviewScale) --preview_scale_;
+  }
+  if (frame_log_.is_open()) {
+    char line[256];
+    std::snprintf(line, sizeof line,
+                  "frame %" PRIu64 " t_ms %.1f scene %" PRIu64 " camera %" PRIu64
+                  " res %ux%u spp %u view %s moving %d ms %.1f render_ms %.1f hash %016" PRIx64
+                  "\n",
+                  frames_, msBetween(start_, frame_end), scene_generation_, camera_generation,
+                  acc_->width, acc_->height, acc_->samples_done, kViewNames[view_], moving ? 1 : 0,
+                  last_frame_ms_, msBetween(frame_start, rendered), fnv1a(*shown));
+    frame_log_ << line << std::flush;
+  }
+  if (reload_unpresented_) {
+    reload_unpresented_ = false;
+    const Clock::time_point since = script_write_.value_or(reload_since_);
+    script_write_.reset();
+    char line[256];
+    std::snprintf(line, sizeof line,
+                  "save-to-image %.0f ms (compile %.0f ms, pipeline %.0f ms, first frame %.0f ms)",
+                  msBetween(since, frame_end), active_->compile_seconds * 1000,
+                  active_->pipeline_seconds * 1000, last_frame_ms_);
+    std::fprintf(stderr, "sdfc: %s %s\n", scene_generation_ == 1 ? "loaded:" : "reloaded:", line);
+    logEvent(std::string("reload ok ") + line);
+  }
+  status_.spp = acc_->samples_done;
+  status_.width = acc_->width;
+  status_.height = acc_->height;
+  status_.preview = moving;
+  return true;
+}
+
+void Viewer::presentBlack() {
+  rgb_.assign(size_t(width_) * height_ * 3, 0);
+  swapchain_->present(rgb_.data(), width_, height_);
+}
+
+void Viewer::saveImage(const std::string& path) {
+  if (displayed_.empty()) {
+    std::fprintf(stderr, "sdfc: nothing to save yet\n");
+    return;
+  }
+  try {
+    writeImage(path, displayed_, tone_);  // temporary + rename, as `render`
+    std::fprintf(stderr, "sdfc: wrote %s (%ux%u, %u spp)\n", path.c_str(), displayed_.width,
+                 displayed_.height, acc_ ? acc_->samples_done : 0);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "sdfc: error: %s\n", e.what());
+  }
+}
+
+void Viewer::onKey(int key, int mods) {
+  const std::string stem = std::filesystem::path(cl_.input).stem().string();
+  switch (key) {
+    case GLFW_KEY_1: case GLFW_KEY_2: case GLFW_KEY_3: case GLFW_KEY_4: case GLFW_KEY_5:
+      view_ = uint32_t(key - GLFW_KEY_1);
+      break;
+    case GLFW_KEY_F:
+      if (active_ && active_->compiled->scene.root) {
+        const Aabb box = finiteBounds(*active_->compiled->scene.root);
+        if (box.finite()) controller_.frame(box.lo, box.hi, float(width_) / float(height_));
+      }
+      break;
+    case GLFW_KEY_R: controller_.reset(file_camera_); break;
+    case GLFW_KEY_C:
+      std::printf("%s\n", controller_.cameraLine().c_str());
+      std::fflush(stdout);
+      break;
+    case GLFW_KEY_SPACE: playing_ = !playing_; break;
+    case GLFW_KEY_PERIOD:
+      playing_ = false;
+      time_ += kTimeStep;
+      break;
+    case GLFW_KEY_D: denoise_ = !denoise_; break;
+    case GLFW_KEY_S: saveImage(stem + "_view.png"); break;
+    case GLFW_KEY_E: saveImage(stem + "_view.exr"); break;
+    case GLFW_KEY_Q: case GLFW_KEY_ESCAPE: quit_ = true; break;
+    default: break;
+  }
+  if (key == GLFW_KEY_D) redisplay_ = true;  // show the same samples with(out) the denoiser
+}
+
+void Viewer::onMouseButton(int button, bool down, int mods) {
+  controller_.mouseButton(button, down, mods & GLFW_MOD_SHIFT);
+}
+void Viewer::onCursor(double x, double y) { controller_.cursor(x, y, height_); }
+void Viewer::onScroll(double dy) { controller_.scroll(dy); }
+
+void Viewer::updateTitle(bool force) {
+  const auto now = Clock::now();
+  if (!force && msBetween(last_title_, now) < 250) return;
+  last_title_ = now;
+  status_.view = kViewNames[view_];
+  status_.spp_per_second = rate_.samplesPerSecond();
+  status_.frame_ms = last_frame_ms_;
+  status_.denoise = denoise_;
+  status_.playing = playing_;
+  status_.time = time_;
+  status_.compiling = compiler_ && compiler_->busy();
+  status_.error = error_;
+  window_->setTitle(titleFor(status_));
+}
+
+bool Viewer::stepScript() {
+  if (script_at_ >= script_.size()) return true;
+  const ScriptCommand& c = script_[script_at_];
+  auto timedOut = [&] {
+    if (msBetween(wait_since_, Clock::now()) < kScriptWaitSeconds * 1000) return false;
+    std::fprintf(stderr, "sdfc: script line %d: '%s' timed out\n", c.line, c.verb.c_str());
+    return true;
+  };
+  auto next = [&] {
+    ++script_at_;
+    wait_frames_ = -1;
+    wait_since_ = Clock::now();
+    reloads_at_wait_ = reloads_seen_;
+    iteration_at_wait_ = iterations_;
+    return true;
+  };
+  const bool drawn_since = iterations_ > iteration_at_wait_;
+  if (c.verb == "wait") {
+    if (wait_frames_ < 0) wait_frames_ = std::max(0, std::atoi(c.args[0].c_str()));
+    if (wait_frames_ == 0) return next();
+    --wait_frames_;
+    return false;
+  }
+  if (c.verb == "wait-spp") {
+    const bool settled = drawn_since && acc_ && acc_key_.scale == 1 && !reload_unpresented_;
+    if ((settled && acc_->samples_done >= uint32_t(std::atoi(c.args[0].c_str()))) || timedOut())
+      return next();
+    return false;
+  }
+  if (c.verb == "wait-reload") {
+    if ((drawn_since && reloads_seen_ > reloads_at_wait_ && !reload_unpresented_) || timedOut())
+      return next();
+    return false;
+  }
+  if (c.verb == "wait-idle") {
+    const bool idle = drawn_since && active_ && acc_ && !compiler_->busy() && !reload_unpresented_ &&
+                      acc_key_.scale == 1 && acc_->samples_done >= status_.target_spp;
+    if (idle || timedOut()) return next();
+    return false;
+  }
+  if (c.verb == "drag") {
+    if (drag_steps_left_ == 0) {
+      drag_button_ = c.args[0] == "left" ? 0 : c.args[0] == "right" ? 1 : 2;
+      const int steps = c.args.size() > 3 ? std::max(1, std::atoi(c.args[3].c_str())) : 1;
+      drag_dx_ = std::atof(c.args[1].c_str()) / steps;
+      drag_dy_ = std::atof(c.args[2].c_str()) / steps;
+      drag_x_ = width_ / 2.0;
+      drag_y_ = height_ / 2.0;
+      onCursor(drag_x_, drag_y_);
+      onMouseButton(drag_button_, true, 0);
+      drag_steps_left_ = steps;
+    }
+    drag_x_ += drag_dx_;
+    drag_y_ += drag_dy_;
+    onCursor(drag_x_, drag_y_);
+    logEvent("input drag");
+    if (--drag_steps_left_ == 0) {
+      onMouseButton(drag_button_, false, 0);
+      return next();
+    }
+    return false;  // one step a frame
+  }
+  if (c.verb == "key") {
+    onKey(keyCodeForName(c.args[0]), 0);
+    logEvent("input key " + c.args[0]);
+  } else if (c.verb == "scroll") {
+    onScroll(std::atof(c.args[0].c_str()));
+    logEvent("input scroll");
+  } else if (c.verb == "spp") {
+    spp_override_ = uint32_t(std::max(1, std::atoi(c.args[0].c_str())));
+  } else if (c.verb == "save") {
+    saveImage(c.args[0]);
+  } else if (c.verb == "write-file") {
+    // As an editor saving: write a temporary beside the scene, rename it over.
+    std::ifstream in(c.args[0], std::ios::binary);
+    if (!in) throw std::runtime_error("script: cannot read '" + c.args[0] + "'");
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    script_write_ = Clock::now();
+    writeFileAtomically(cl_.input, text);
+    logEvent("write " + c.args[0]);
+  } else if (c.verb == "run") {
+    std::string command = c.rest;
+    const std::string id = std::to_string(window_->nativeId());
+    for (size_t at; (at = command.find("${WINDOW}")) != std::string::npos;)
+      command.replace(at, 9, id);
+    std::fflush(stdout);
+    const int status = std::system(command.c_str());
+    if (status != 0) std::fprintf(stderr, "sdfc: script line %d: command exited with %d\n", c.line, status);
+  } else if (c.verb == "log") {
+    logEvent("log " + c.rest);
+  } else if (c.verb == "quit") {
+    quit_ = true;
+  }
+  return next();
+}
+
+int Viewer::run() {
+  if (!cl_.script.empty()) {
+    try {
+      script_ = loadScript(cl_.script);
+    } catch (const std::runtime_error& e) {
+      std::fprintf(stderr, "%s\n", e.what());
+      return kExitUsage;
+    }
+  }
+  if (!cl_.frame_log.empty()) {
+    frame_log_.open(cl_.frame_log);
+    if (!frame_log_) throw std::runtime_error("cannot write '" + cl_.frame_log + "'");
+  }
+  open();
+  presentBlack();
+  wait_since_ = Clock::now();
+  while (!quit_ && !window_->shouldClose()) {
+    window_->pollEvents();
+    // Commands that do not wait run back to back; a waiting one ends the step.
+    while (!quit_ && script_at_ < script_.size() && stepScript()) {
+    }
+    if (quit_) break;
+    if (watcher_->changed()) {
+      if (!script_write_) reload_since_ = Clock::now();
+      compiler_->request();
+    }
+    if (auto built = compiler_->take()) swapIn(std::move(built));
+    const bool drew = active_ ? drawFrame() : false;
+    ++iterations_;
+    updateTitle(false);
+    // Idle (converged, or waiting for the first build): sleep on input, not spin.
+    if (!drew) window_->waitEvents(0.01);
+  }
+  logEvent("quit");
+  const int messages = validationMessageCount();
+  if (context_.validation_enabled && messages > 0) {
+    std::fprintf(stderr, "sdfc: %d Vulkan validation messages\n", messages);
+    return kExitDevice;
+  }
+  return kExitOk;
+}
+
+}  // namespace
+
+int runView(const CommandLine& command_line) {
+  try {
+    Viewer viewer(command_line);
+    return viewer.run();
+  } catch (const NoDisplayError& e) {
+    std::fprintf(stderr,
+                 "sdfc: error: `sdfc view` needs a display: %s\n"
+                 "sdfc: to render without one: sdfc render %s -o image.png\n",
+                 e.what(), command_line.input.c_str());
+    return kExitDevice;
+  } catch (const RuntimeError& e) {
+    std::fprintf(stderr, "sdfc: error: device: %s\n", e.what());
+    return kExitDevice;
+  }
+}
+
+}  // namespace sdfc::view
