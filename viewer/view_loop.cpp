@@ -323,6 +323,7 @@ bool Viewer::drawFrame() {
     upscale(rgb_, displayed_.width, displayed_.height, key.scale, width_, height_, upscaled_);
     shown = &upscaled_;
   }
+  const auto shaded = Clock::now();
   swapchain_->present(shown->data(), width_, height_);
   ++frames_;
   redisplay_ = false;
@@ -338,11 +339,12 @@ bool Viewer::drawFrame() {
     char line[256];
     std::snprintf(line, sizeof line,
                   "frame %" PRIu64 " t_ms %.1f scene %" PRIu64 " camera %" PRIu64
-                  " res %ux%u spp %u view %s moving %d ms %.1f render_ms %.1f hash %016" PRIx64
-                  "\n",
+                  " res %ux%u spp %u view %s moving %d ms %.1f render_ms %.1f display_ms %.1f"
+                  " present_ms %.1f hash %016" PRIx64 "\n",
                   frames_, msBetween(start_, frame_end), scene_generation_, camera_generation,
                   acc_->width, acc_->height, acc_->samples_done, kViewNames[view_], moving ? 1 : 0,
-                  last_frame_ms_, msBetween(frame_start, rendered), fnv1a(*shown));
+                  last_frame_ms_, msBetween(frame_start, rendered), msBetween(rendered, shaded),
+                  msBetween(shaded, frame_end), fnv1a(*shown));
     frame_log_ << line << std::flush;
   }
   if (reload_unpresented_) {
