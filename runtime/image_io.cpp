@@ -205,9 +205,20 @@ uint8_t srgb8Fast(float tone_mapped) {
 std::vector<uint8_t> toSrgb8(const FloatImage& image, const ToneMap& tone_map) {
   std::vector<uint8_t> bytes(image.pixelCount() * 3);
   srgbThresholds();  // built once, before the loop
+  // applyToneCurve with its exp2 taken once: the same operations, the same floats.
+  const float scale = std::exp2(tone_map.exposure_stops);
+  const bool aces = tone_map.curve == ToneCurve::AcesFit;
   for (size_t i = 0; i < image.pixelCount(); ++i)
-    for (int c = 0; c < 3; ++c)
-      bytes[i * 3 + c] = srgb8Fast(applyToneCurve(image.rgba[i * 4 + c], tone_map));
+    for (int c = 0; c < 3; ++c) {
+      float x = image.rgba[i * 4 + c] * scale;
+      if (!(x > 0)) {
+        x = 0;
+      } else {
+        if (aces) x = (x * (2.51f * x + 0.03f)) / (x * (2.43f * x + 0.59f) + 0.14f);
+        x = std::min(x, 1.0f);
+      }
+      bytes[i * 3 + c] = srgb8Fast(x);
+    }
   return bytes;
 }
 

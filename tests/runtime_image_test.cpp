@@ -173,6 +173,22 @@ TEST(RuntimeImage, Srgb8TableMatchesDirectFormula) {
   EXPECT_EQ(mismatches, 0u) << "of " << checked;
   EXPECT_EQ(srgb8Fast(0.0f), 0);
   EXPECT_EQ(srgb8Fast(1.0f), 255);
+
+  // toSrgb8 as a whole (its tone curve has exp2 hoisted) against the per-value formula.
+  FloatImage image(97, 31);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> value(-1.0f, 20.0f);
+  for (float& v : image.rgba) v = value(rng) * value(rng) / 20.0f;
+  image.rgba[0] = std::nanf("");
+  for (const ToneMap tone : {ToneMap{0.0f, ToneCurve::Clamp}, ToneMap{0.7f, ToneCurve::Clamp},
+                             ToneMap{-1.3f, ToneCurve::AcesFit}}) {
+    const std::vector<uint8_t> bytes = toSrgb8(image, tone);
+    size_t differing = 0;
+    for (size_t i = 0; i < image.pixelCount(); ++i)
+      for (int c = 0; c < 3; ++c)
+        differing += bytes[i * 3 + c] != srgb8Direct(applyToneCurve(image.rgba[i * 4 + c], tone));
+    EXPECT_EQ(differing, 0u);
+  }
 }
 
 }  // namespace
