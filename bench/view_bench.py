@@ -96,7 +96,7 @@ def main():
             path = os.path.join(d, f"edit{i}.sdf")
             open(path, "w").write(re.sub(r"let wall_height = [0-9.]+", f"let wall_height = {h}", text))
             edits.append(path)
-        script = "wait-idle\n" + "".join(f"write-file {p}\nwait-reload\nwait 2\n" for p in edits) + "quit\n"
+        script = "wait-idle\n" + "".join(f"write-file {p}\nwait-reload\nwait-idle\n" for p in edits) + "quit\n"
         lines, frames, stderr = run_view(args.sdfc, scene, script, ["--spp", "1", "--size", "640x360"], d)
         reloads = [l for l in lines if "reload ok" in l][1:]  # the first is the initial load
         parse = lambda key, l: float(re.search(key + r" (\d+) ms", l).group(1))
@@ -105,6 +105,9 @@ def main():
         result["reload_compile_ms_median"] = statistics.median(parse(r"\(compile", l) for l in reloads)
         result["reload_pipeline_ms_median"] = statistics.median(parse("pipeline", l) for l in reloads)
         result["reload_first_frame_ms_median"] = statistics.median(parse("first frame", l) for l in reloads)
+        full = [parse("save-to-full-resolution", l) for l in lines if "reload full" in l][1:]
+        result["save_to_full_resolution_ms"] = full
+        result["save_to_full_resolution_ms_median"] = statistics.median(full)
 
         # 4. Input to presented frame (frames), from the orbit of run 1's log format.
         lines, frames, _ = run_view(args.sdfc, scene, "wait-idle\ndrag left 40 0 10\nwait 3\nquit\n",
@@ -143,6 +146,7 @@ def main():
         ("  of which the render pass, ms", result["beauty_640x360_1spp_render_ms"]),
         ("castle orbiting, dynamic resolution, fps", result.get("beauty_orbit_preview_fps", 0)),
         ("save-to-new-image latency, ms, median (<= 250)", result["save_to_image_ms_median"]),
+        ("  to the first full-resolution frame, ms, median", result["save_to_full_resolution_ms_median"]),
         ("  compile / pipeline / first frame, ms", "%.0f / %.0f / %.0f" % (
             result["reload_compile_ms_median"], result["reload_pipeline_ms_median"],
             result["reload_first_frame_ms_median"])),

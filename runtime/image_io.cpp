@@ -5,6 +5,7 @@
 #include <tinyexr.h>
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
@@ -151,12 +152,72 @@ float srgbDecode(float encoded) {
   return std::pow((encoded + 0.055f) / 1.055f, 2.4f);
 }
 
+uint8_t srgb8Direct(float tone_mapped) {
+  return static_cast<uint8_t>(std::clamp(srgbEncode(tone_mapped), 0.0f, 1.0f) * 255.0f + 0.5f);
+}
+
+namespace {
+
+float floatFromBits(uint32_t bits) {
+  float f;
+  std::memcpy(&f, &bits, sizeof f);
+  return f;
+}
+
+// thresholds[k] = the smallest float v in [0, 1] with srgb8Direct(v) >= k (k >= 1).
+// srgb8Direct is monotone in v, so srgb8Fast(v) = the largest k with thresholds[k]
+// <= v is the same byte without a pow per channel (an exhaustive check over every
+// float in [0, 1] agrees; tests/runtime_image_test.cpp checks around each threshold).
+const std::array<float, 256>& srgbThresholds() {
+  static const std::array<float, 256> table = [] {
+    std::array<float, 256> t{};
+    t[0] = -1.0f;
+    uint32_t one;
+    const float one_f = 1.0f;
+    std::memcpy(&one, &one_f, sizeof one);
+    for (int k = 1; k < 256; ++k) {
+      // Non-negative floats are ordered like their bit patterns: bisect on those.
+      uint32_t lo = 0, hi = one;  // srgb8Direct(0) = 0 < k, srgb8Direct(1) = 255 >= k
+      while (hi - lo > 1) {
+        const uint32_t mid = lo + (hi - lo) / 2;
+        if (srgb8Direct(floatFromBits(mid)) >= k)
+          hi = mid;
+        else
+          lo = mid;
+      }
+      t[k] = floatFromBits(hi);
+    }
+    return t;
+  }();
+  return table;
+}
+
+}  // namespace
+
+uint8_t srgb8Fast(float tone_mapped) {
+  const std::array<float, 256>& t = srgbThresholds();
+  int k = 0;
+  for (int step = 128; step > 0; step >>= 1)
+    if (t[k + step] <= tone_mapped) k += step;
+  return static_cast<uint8_t>(k);
+}
+
 std::vector<uint8_t> toSrgb8(const FloatImage& image, const ToneMap& tone_map) {
   std::vector<uint8_t> bytes(image.pixelCount() * 3);
+  srgbThresholds();  // built once, before the loop
+  // applyToneCurve with its exp2 taken once: the same operations, the same floats.
+  const float scale = std::exp2(tone_map.exposure_stops);
+  const bool aces = tone_map.curve == ToneCurve::AcesFit;
   for (size_t i = 0; i < image.pixelCount(); ++i)
     for (int c = 0; c < 3; ++c) {
-      const float v = srgbEncode(applyToneCurve(image.rgba[i * 4 + c], tone_map));
-      bytes[i * 3 + c] = static_cast<uint8_t>(std::clamp(v, 0.0f, 1.0f) * 255.0f + 0.5f);
+      float x = image.rgba[i * 4 + c] * scale;
+      if (!(x > 0)) {
+        x = 0;
+      } else {
+        if (aces) x = (x * (2.51f * x + 0.03f)) / (x * (2.43f * x + 0.59f) + 0.14f);
+        x = std::min(x, 1.0f);
+      }
+      bytes[i * 3 + c] = srgb8Fast(x);
     }
   return bytes;
 }

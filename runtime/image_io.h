@@ -36,6 +36,10 @@ struct ToneMap {
 float applyToneCurve(float linear, const ToneMap& tone_map);  // -> [0, 1], still linear
 float srgbEncode(float linear);                               // sRGB OETF (IEC 61966-2-1)
 float srgbDecode(float encoded);                              // its inverse
+// A tone-mapped value in [0, 1] -> its sRGB byte: round(clamp(srgbEncode(v)) * 255).
+// srgb8Fast gives the same byte by a search in a 256-entry threshold table (no pow).
+uint8_t srgb8Direct(float tone_mapped);
+uint8_t srgb8Fast(float tone_mapped);
 // RGB8 bytes, row-major, top row first: tone curve, then sRGB OETF, rounded.
 std::vector<uint8_t> toSrgb8(const FloatImage& image, const ToneMap& tone_map);
 

@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <random>
 #include <string>
@@ -133,6 +135,60 @@ TEST(RuntimeMetrics, RmseAndRelMse) {
   a.at(0, 0)[3] = 100;  // alpha is ignored
   EXPECT_NEAR(rmse(a, b), 0.1, 1e-6);
   EXPECT_THROW(rmse(a, FloatImage(4, 4)), ImageIoError);
+}
+
+}  // namespace
+}  // namespace sdfc
+
+namespace sdfc {
+namespace {
+
+// toSrgb8's table search must give exactly the byte of the direct formula (PNG
+// files and the view's presented frames depend on it): around every threshold and
+// at a stride over all floats in [0, 1]; every float with SDFC_EXHAUSTIVE=1.
+TEST(RuntimeImage, Srgb8TableMatchesDirectFormula) {
+  const float one_f = 1.0f;
+  uint32_t one;
+  std::memcpy(&one, &one_f, sizeof one);
+  const bool exhaustive = std::getenv("SDFC_EXHAUSTIVE") != nullptr;
+  const uint32_t stride = exhaustive ? 1 : 509;
+  auto at = [](uint32_t bits) {
+    float f;
+    std::memcpy(&f, &bits, sizeof f);
+    return f;
+  };
+  size_t mismatches = 0, checked = 0;
+  for (uint64_t bits = 0; bits <= one; bits += stride, ++checked)
+    mismatches += srgb8Fast(at(uint32_t(bits))) != srgb8Direct(at(uint32_t(bits)));
+  // Around each byte boundary: 64 floats either side of the first float of each byte.
+  uint32_t previous = 0;
+  for (uint64_t bits = 0; bits <= one; bits += 4096) {
+    const uint8_t b = srgb8Direct(at(uint32_t(bits)));
+    if (b != previous) {
+      for (uint64_t x = bits > 8192 ? bits - 8192 : 0; x <= std::min<uint64_t>(bits + 64, one); ++x, ++checked)
+        mismatches += srgb8Fast(at(uint32_t(x))) != srgb8Direct(at(uint32_t(x)));
+      previous = b;
+    }
+  }
+  EXPECT_EQ(mismatches, 0u) << "of " << checked;
+  EXPECT_EQ(srgb8Fast(0.0f), 0);
+  EXPECT_EQ(srgb8Fast(1.0f), 255);
+
+  // toSrgb8 as a whole (its tone curve has exp2 hoisted) against the per-value formula.
+  FloatImage image(97, 31);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> value(-1.0f, 20.0f);
+  for (float& v : image.rgba) v = value(rng) * value(rng) / 20.0f;
+  image.rgba[0] = std::nanf("");
+  for (const ToneMap tone : {ToneMap{0.0f, ToneCurve::Clamp}, ToneMap{0.7f, ToneCurve::Clamp},
+                             ToneMap{-1.3f, ToneCurve::AcesFit}}) {
+    const std::vector<uint8_t> bytes = toSrgb8(image, tone);
+    size_t differing = 0;
+    for (size_t i = 0; i < image.pixelCount(); ++i)
+      for (int c = 0; c < 3; ++c)
+        differing += bytes[i * 3 + c] != srgb8Direct(applyToneCurve(image.rgba[i * 4 + c], tone));
+    EXPECT_EQ(differing, 0u);
+  }
 }
 
 }  // namespace

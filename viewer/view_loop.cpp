@@ -157,6 +157,8 @@ class Viewer : public InputHandler {
   bool quit_ = false;
   bool reload_unpresented_ = false;
   bool redisplay_ = false;
+  bool reload_full_unpresented_ = false;  // no full-resolution frame of the new scene yet
+  Clock::time_point reload_start_{};      // what the save-to-image figures count from
   Clock::time_point reload_since_{};  // the save (script write) or its detection
   std::optional<Clock::time_point> script_write_;
   std::ofstream frame_log_;
@@ -265,6 +267,10 @@ void Viewer::swapIn(std::unique_ptr<BuiltScene> built) {
   }
   status_.uses_time = active_->compiled->scene.uses_time;
   reload_unpresented_ = true;
+  reload_full_unpresented_ = true;
+  // Like a camera motion: the new scene's first frames are drawn at the preview
+  // resolution, so it shows up one small pass after its pipeline is ready.
+  if (!first) frames_still_ = 0;
   if (!script_write_) reload_since_ = active_->requested;
 }
 
@@ -317,6 +323,7 @@ bool Viewer::drawFrame() {
     upscale(rgb_, displayed_.width, displayed_.height, key.scale, width_, height_, upscaled_);
     shown = &upscaled_;
   }
+  const auto shaded = Clock::now();
   swapchain_->present(shown->data(), width_, height_);
   ++frames_;
   redisplay_ = false;
@@ -332,24 +339,33 @@ bool Viewer::drawFrame() {
     char line[256];
     std::snprintf(line, sizeof line,
                   "frame %" PRIu64 " t_ms %.1f scene %" PRIu64 " camera %" PRIu64
-                  " res %ux%u spp %u view %s moving %d ms %.1f render_ms %.1f hash %016" PRIx64
-                  "\n",
+                  " res %ux%u spp %u view %s moving %d ms %.1f render_ms %.1f display_ms %.1f"
+                  " present_ms %.1f hash %016" PRIx64 "\n",
                   frames_, msBetween(start_, frame_end), scene_generation_, camera_generation,
                   acc_->width, acc_->height, acc_->samples_done, kViewNames[view_], moving ? 1 : 0,
-                  last_frame_ms_, msBetween(frame_start, rendered), fnv1a(*shown));
+                  last_frame_ms_, msBetween(frame_start, rendered), msBetween(rendered, shaded),
+                  msBetween(shaded, frame_end), fnv1a(*shown));
     frame_log_ << line << std::flush;
   }
   if (reload_unpresented_) {
     reload_unpresented_ = false;
     const Clock::time_point since = script_write_.value_or(reload_since_);
+    reload_start_ = since;
     script_write_.reset();
     char line[256];
     std::snprintf(line, sizeof line,
-                  "save-to-image %.0f ms (compile %.0f ms, pipeline %.0f ms, first frame %.0f ms)",
+                  "save-to-image %.0f ms (compile %.0f ms, pipeline %.0f ms, first frame %.0f ms at "
+                  "%ux%u)",
                   msBetween(since, frame_end), active_->compile_seconds * 1000,
-                  active_->pipeline_seconds * 1000, last_frame_ms_);
+                  active_->pipeline_seconds * 1000, last_frame_ms_, acc_->width, acc_->height);
     std::fprintf(stderr, "sdfc: %s %s\n", scene_generation_ == 1 ? "loaded:" : "reloaded:", line);
     logEvent(std::string("reload ok ") + line);
+  }
+  if (reload_full_unpresented_ && key.scale == 1) {
+    reload_full_unpresented_ = false;
+    char line[128];
+    std::snprintf(line, sizeof line, "save-to-full-resolution %.0f ms", msBetween(reload_start_, frame_end));
+    logEvent(std::string("reload full ") + line);
   }
   status_.spp = acc_->samples_done;
   status_.width = acc_->width;
