@@ -55,6 +55,11 @@ struct CommandLine {
   int resolution = 128;
   double voxel_size = 0;
   std::string box;
+  // fmt
+  std::vector<std::string> inputs;
+  bool check_format = false;
+  bool write_in_place = false;
+  bool lsp_stdio = true;  // lsp: --stdio, the only transport
 };
 
 void registerCommands(CLI::App& app, CommandLine& cl);
@@ -66,5 +71,7 @@ int runRender(const CommandLine& cl);
 int runEval(const CommandLine& cl);
 int runMesh(const CommandLine& cl);
 int runDevices(const CommandLine& cl);
+int runFmt(const CommandLine& cl);
+int runLsp(const CommandLine& cl);
 
 }  // namespace sdfc

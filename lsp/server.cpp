@@ -1,0 +1,2 @@
+#include "lsp/server.h"
+namespace sdfc::lsp { int runStdioServer() { return 0; } }

@@ -1,0 +1,2 @@
+#pragma once
+namespace sdfc::lsp { int runStdioServer(); }
