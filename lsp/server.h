@@ -1,2 +1,16 @@
+// The language server: reads JSON-RPC messages, keeps the open documents,
+// answers each request on its own worker thread (so no request waits for
+// another) and publishes diagnostics from a background thread after edits.
 #pragma once
-namespace sdfc::lsp { int runStdioServer(); }
+#include <istream>
+#include <ostream>
+
+namespace sdfc::lsp {
+
+// Serves until `exit` or end of input; returns the process exit code
+// (0 after a `shutdown` request, 1 otherwise, as the protocol asks).
+int runServer(std::istream& in, std::ostream& out);
+int runServer(std::istream& in, int out_fd);
+int runStdioServer();
+
+}  // namespace sdfc::lsp

@@ -1,0 +1,143 @@
+#include "lsp/catalogue.h"
+
+#include <cstdio>
+
+#include "check/builtins.h"
+#include "ir/expr.h"
+#include "shapes/primitives.h"
+
+namespace sdfc::lsp {
+namespace {
+
+std::string number(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+
+ParamDoc materialParam() {
+  ParamDoc p;
+  p.name = "material";
+  p.type = "material";
+  p.fallback = "inherited";
+  p.time_allowed = false;
+  return p;
+}
+
+std::vector<CalleeDoc> build() {
+  std::vector<CalleeDoc> out;
+  for (const PrimitiveInfo& info : primitiveCatalogue()) {
+    CalleeDoc c{info.name, CalleeKind::Primitive, info.summary, {}, info.exact};
+    for (const ParamSpec& p : info.params) {
+      const ArgSpec a = argSpecOf(p, info);
+      ParamDoc d;
+      d.name = p.name;
+      d.type = p.type == ParamType::Vector ? "vector" : "number";
+      switch (p.rule) {
+        case ParamRule::Positive: d.rule = "> 0"; break;
+        case ParamRule::PositiveVector: d.rule = "each > 0"; break;
+        case ParamRule::NonNegative: d.rule = ">= 0"; break;
+        case ParamRule::NonZeroVector: d.rule = "non-zero"; break;
+        case ParamRule::Any: break;
+      }
+      if (p.has_default)
+        d.fallback = p.type == ParamType::Vector
+                         ? "[" + number(p.default_value.x) + ", " + number(p.default_value.y) + ", " +
+                               number(p.default_value.z) + "]"
+                         : number(p.default_value.x);
+      d.required = !p.has_default;
+      d.time_allowed = a.time_allowed;
+      c.params.push_back(d);
+    }
+    c.params.push_back(materialParam());
+    out.push_back(std::move(c));
+  }
+  for (const BuiltinSignature& s : builtinSignatures()) {
+    const CalleeKind kind = s.category == BuiltinCategory::Operator   ? CalleeKind::Operator
+                            : s.category == BuiltinCategory::Material ? CalleeKind::Material
+                                                                      : CalleeKind::Setting;
+    CalleeDoc c{s.name, kind, s.summary, {}, true};
+    for (const ArgSpec& a : s.args) {
+      ParamDoc d;
+      d.name = a.name;
+      d.type = a.type == ArgType::Number ? "number" : a.type == ArgType::Vector3 ? "vector" : "number or vector";
+      d.rule = a.rule == ValueRule::Positive ? "> 0" : a.rule == ValueRule::NonNegative ? ">= 0" : "";
+      if (a.nonzero) d.rule = "non-zero";
+      d.required = a.required;
+      d.time_allowed = a.time_allowed;
+      c.params.push_back(d);
+    }
+    if (kind == CalleeKind::Operator) c.params.push_back(materialParam());
+    out.push_back(std::move(c));
+  }
+  for (const std::string& f : ir::mathFunctionNames()) {
+    CalleeDoc c{f, CalleeKind::Math, "math function", {}, true};
+    const int arity = ir::mathFunctionArity(f);
+    for (int i = 0; i < arity; ++i) {
+      ParamDoc d;
+      d.name = arity == 1 ? "x" : std::string(1, "xyz"[i % 3]);
+      d.type = "number";
+      d.required = true;
+      c.params.push_back(d);
+    }
+    out.push_back(std::move(c));
+  }
+  out.push_back({"scene", CalleeKind::Scene, "the shapes to render; exactly one per file", {}, true});
+  return out;
+}
+
+}  // namespace
+
+std::string ParamDoc::label() const {
+  std::string s = name + ": " + type;
+  if (!fallback.empty()) s += " = " + fallback;
+  return s;
+}
+
+std::string CalleeDoc::signature() const {
+  std::string s = name + "(";
+  for (size_t i = 0; i < params.size(); ++i) s += (i ? ", " : "") + params[i].label();
+  s += ")";
+  if (kind == CalleeKind::Operator || kind == CalleeKind::Scene) s += " { ... }";
+  return s;
+}
+
+const char* kindName(CalleeKind kind) {
+  switch (kind) {
+    case CalleeKind::Primitive: return "primitive";
+    case CalleeKind::Operator: return "operator";
+    case CalleeKind::Material: return "material";
+    case CalleeKind::Setting: return "setting";
+    case CalleeKind::Math: return "math function";
+    case CalleeKind::Scene: return "scene";
+  }
+  return "";
+}
+
+std::string CalleeDoc::markdown() const {
+  std::string s = "```sdf\n" + signature() + "\n```\n" + kindName(kind) + ": " + summary + "\n";
+  if (kind == CalleeKind::Primitive)
+    s += exact ? "\nExact Euclidean distance.\n" : "\nA distance bound, not an exact distance.\n";
+  if (!params.empty()) s += "\n";
+  for (const ParamDoc& p : params) {
+    s += "- `" + p.name + "`: " + p.type;
+    if (!p.rule.empty()) s += ", " + p.rule;
+    s += p.required ? ", required" : (p.fallback.empty() ? ", optional" : ", default " + p.fallback);
+    if (!p.time_allowed) s += ", constant (no `time`)";
+    s += "\n";
+  }
+  return s;
+}
+
+const std::vector<CalleeDoc>& callees() {
+  static const std::vector<CalleeDoc> all = build();
+  return all;
+}
+
+const CalleeDoc* findCallee(const std::string& name) {
+  for (const CalleeDoc& c : callees())
+    if (c.name == name) return &c;
+  return nullptr;
+}
+
+}  // namespace sdfc::lsp
