@@ -53,7 +53,8 @@ class Server {
   int active_workers_ = 0;
 
   std::mutex cancel_mutex_;
-  std::set<std::string> cancelled_;  // request ids, as JSON text
+  std::set<std::string> in_flight_;  // request ids being answered, as JSON text
+  std::set<std::string> cancelled_;  // of those, the ones the client cancelled
 
   // The newest analysis per document, shared by requests and diagnostics.
   std::mutex cache_mutex_;
@@ -121,7 +122,9 @@ class Server {
     }
     if (method == "$/cancelRequest") {
       std::lock_guard<std::mutex> lock(cancel_mutex_);
-      cancelled_.insert(params.at("id").dump());
+      // A cancel for a request already answered (or never sent) is dropped.
+      const std::string id = params.at("id").dump();
+      if (in_flight_.count(id)) cancelled_.insert(id);
       return;
     }
     if (!initialized_) return;  // notifications before initialize are dropped
@@ -174,10 +177,19 @@ class Server {
     }
     if (!known(method)) throw RpcError(kMethodNotFound, "unknown method '" + method + "'");
     if (!doc) throw RpcError(kInvalidParams, method + " needs params.textDocument");
+    {
+      std::lock_guard<std::mutex> lock(cancel_mutex_);
+      in_flight_.insert(id.dump());
+    }
     std::lock_guard<std::mutex> lock(workers_mutex_);
     ++active_workers_;
     std::thread([this, id, method, params, doc] {
       answer(id, method, params, doc);
+      {
+        std::lock_guard<std::mutex> lock(cancel_mutex_);
+        in_flight_.erase(id.dump());
+        cancelled_.erase(id.dump());
+      }
       std::lock_guard<std::mutex> lock(workers_mutex_);
       --active_workers_;
       workers_cv_.notify_all();
