@@ -36,7 +36,9 @@ class Printer {
         raw(" = ");
       }
       expr(*s.value);
-      if (i + 1 < file.statements.size() && needsSemicolon(*file.statements[i + 1].value)) raw(";");
+      if (i + 1 < file.statements.size() && !file.statements[i + 1].is_let &&
+          needsSemicolon(*file.statements[i + 1].value))
+        raw(";");
     }
     flushComments(src_.size(), true);
     trimTrailingSpaces();
@@ -193,7 +195,9 @@ class Printer {
       ++next_comment_;
       // A line comment ends its line; a block comment does when the source
       // broke the line after it.
-      if (c.line_comment || at_end || newlineBetween(c.range.end, nextToken(c.range.end)))
+      size_t next = nextToken(c.range.end);
+      if (next_comment_ < comments_.size()) next = std::min(next, comments_[next_comment_].range.begin);
+      if (c.line_comment || at_end || newlineBetween(c.range.end, next))
         newline();
       else
         raw(" ");
