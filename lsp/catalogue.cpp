@@ -3,6 +3,8 @@
 #include <cstdio>
 
 #include "check/builtins.h"
+#include "check/checker.h"
+#include "ir/scene.h"
 #include "ir/expr.h"
 #include "shapes/primitives.h"
 
@@ -24,6 +26,46 @@ ParamDoc materialParam() {
   return p;
 }
 
+std::string vec(const glm::dvec3& v) { return "[" + number(v.x) + ", " + number(v.y) + ", " + number(v.z) + "]"; }
+
+// Defaults of the settings are the IR's own initial values, and limits are
+// the checker's constants: the editor quotes them rather than a copy.
+void settingFacts(const std::string& callee, ParamDoc& d) {
+  static const ir::Camera camera;
+  static const ir::RenderSettings render;
+  static const ir::Sky sky;
+  static const ir::Sun sun;
+  static const ir::SphereLight light;
+  const std::string key = callee + "." + d.name;
+  if (key == "camera.position") d.fallback = vec(camera.position);
+  if (key == "camera.target") d.fallback = vec(camera.target);
+  if (key == "camera.up") d.fallback = vec(camera.up);
+  if (key == "camera.fov") d.fallback = number(camera.fov_degrees);
+  if (key == "camera.aperture") d.fallback = number(camera.aperture);
+  if (key == "render.size") {
+    d.fallback = "[" + number(render.width) + ", " + number(render.height) + "]";
+    d.rule = "whole, 1 to " + std::to_string(kMaxImageSide) + " per side";
+  }
+  if (key == "render.spp") {
+    d.fallback = number(render.spp);
+    d.rule = "whole, 1 to " + std::to_string(kMaxSamples);
+  }
+  if (key == "render.bounces") {
+    d.fallback = number(render.bounces);
+    d.rule = "whole, 0 to " + std::to_string(kMaxBounces);
+  }
+  if (key == "render.light_samples") {
+    d.fallback = number(render.light_samples);
+    d.rule = "whole, 0 to 16";
+  }
+  if (key == "sky.top" || key == "sky.color") d.fallback = vec(sky.top);
+  if (key == "sky.bottom") d.fallback = vec(sky.bottom);
+  if (key == "sun.direction") d.fallback = vec(sun.direction);
+  if (key == "sun.angle") d.fallback = number(sun.angle_degrees);
+  if (key == "light.radius") d.fallback = number(light.radius);
+  if (key == "repeat.count") d.rule = "whole, 0 (infinite) to " + std::to_string(kMaxRepeatCount);
+}
+
 std::vector<CalleeDoc> build() {
   std::vector<CalleeDoc> out;
   for (const PrimitiveInfo& info : primitiveCatalogue()) {
@@ -40,6 +82,8 @@ std::vector<CalleeDoc> build() {
         case ParamRule::NonZeroVector: d.rule = "non-zero"; break;
         case ParamRule::Any: break;
       }
+      if (info.kind == PrimitiveKind::Menger && d.name == "level")
+        d.rule = "whole, 0 to " + std::to_string(kMaxMengerLevel);
       if (p.has_default)
         d.fallback = p.type == ParamType::Vector
                          ? "[" + number(p.default_value.x) + ", " + number(p.default_value.y) + ", " +
@@ -65,6 +109,7 @@ std::vector<CalleeDoc> build() {
       if (a.nonzero) d.rule = "non-zero";
       d.required = a.required;
       d.time_allowed = a.time_allowed;
+      settingFacts(s.name, d);
       c.params.push_back(d);
     }
     if (kind == CalleeKind::Operator) c.params.push_back(materialParam());

@@ -60,6 +60,11 @@ value = h["contents"]["value"] if h else ""
 check("hover primitive signature", "cylinder(" in value and "radius" in value and "height" in value, value)
 check("hover primitive exactness", "exact" in value.lower(), value)
 
+# Hover on a setting's parameter name: its default and limit.
+h = c.request("textDocument/hover", {**doc, "position": pos(text, "fov:", delta=1)})["result"]
+value = h["contents"]["value"] if h else ""
+check("hover parameter", "fov" in value and "default 40" in value, value)
+
 # Completion inside an argument list: parameter names with defaults.
 probe = text + "\nlet probe = sphere()\n"
 c.notify("textDocument/didChange", {"textDocument": {"uri": uri, "version": 2},
