@@ -8,6 +8,7 @@ cd "$(dirname "$0")"
 mkdir -p syntaxes
 cp ../../grammar/sdf.tmLanguage.json syntaxes/sdf.tmLanguage.json
 npm ci --no-audit --no-fund --loglevel=error
+node --test test/  # activation with stand-ins for the vscode API (SDFC=path/to/sdfc also renders)
 node -e "require.resolve('vscode-languageclient/node')"  # the client the extension loads is installed
 npx --no-install vsce package --skip-license --allow-missing-repository --no-update-package-json \
   --out "sdfc-sdf-$(node -p "require('./package.json').version").vsix" "$@"
