@@ -3,6 +3,8 @@
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
+#include <deque>
+#include <functional>
 #include <iostream>
 #include <map>
 #include <set>
@@ -36,9 +38,13 @@ class Server {
     }
     diag_cv_.notify_all();
     diagnostics_thread_.join();
-    // Let answers in flight finish (they hold no locks a reader needs).
-    std::unique_lock<std::mutex> lock(workers_mutex_);
-    workers_cv_.wait_for(lock, std::chrono::seconds(10), [this] { return active_workers_ == 0; });
+    // Answer what is queued, then stop the workers.
+    {
+      std::lock_guard<std::mutex> lock(workers_mutex_);
+      workers_stop_ = true;
+    }
+    workers_cv_.notify_all();
+    for (std::thread& t : workers_) t.join();
     return shutdown_requested_ ? 0 : 1;
   }
 
@@ -48,9 +54,39 @@ class Server {
   bool utf8_ = false;  // position encoding agreed at initialize
   std::atomic<bool> initialized_{false}, shutdown_requested_{false}, exit_requested_{false};
 
+  // Requests are answered by a pool that grows, up to kMaxWorkers threads,
+  // whenever none is idle: a request waits only behind that many slow ones.
+  static constexpr size_t kMaxWorkers = 8;
   std::mutex workers_mutex_;
   std::condition_variable workers_cv_;
-  int active_workers_ = 0;
+  std::vector<std::thread> workers_;
+  std::deque<std::function<void()>> tasks_;
+  size_t idle_workers_ = 0;
+  bool workers_stop_ = false;
+
+  void enqueue(std::function<void()> task) {
+    std::lock_guard<std::mutex> lock(workers_mutex_);
+    tasks_.push_back(std::move(task));
+    if (idle_workers_ == 0 && workers_.size() < kMaxWorkers)
+      workers_.emplace_back([this] { workerLoop(); });
+    else
+      workers_cv_.notify_one();
+  }
+
+  void workerLoop() {
+    std::unique_lock<std::mutex> lock(workers_mutex_);
+    while (true) {
+      ++idle_workers_;
+      workers_cv_.wait(lock, [this] { return workers_stop_ || !tasks_.empty(); });
+      --idle_workers_;
+      if (tasks_.empty()) return;  // stopping, and nothing left to answer
+      std::function<void()> task = std::move(tasks_.front());
+      tasks_.pop_front();
+      lock.unlock();
+      task();
+      lock.lock();
+    }
+  }
 
   std::mutex cancel_mutex_;
   std::set<std::string> in_flight_;  // request ids being answered, as JSON text
@@ -181,19 +217,12 @@ class Server {
       std::lock_guard<std::mutex> lock(cancel_mutex_);
       in_flight_.insert(id.dump());
     }
-    std::lock_guard<std::mutex> lock(workers_mutex_);
-    ++active_workers_;
-    std::thread([this, id, method, params, doc] {
+    enqueue([this, id, method, params, doc] {
       answer(id, method, params, doc);
-      {
-        std::lock_guard<std::mutex> lock(cancel_mutex_);
-        in_flight_.erase(id.dump());
-        cancelled_.erase(id.dump());
-      }
-      std::lock_guard<std::mutex> lock(workers_mutex_);
-      --active_workers_;
-      workers_cv_.notify_all();
-    }).detach();
+      std::lock_guard<std::mutex> lock(cancel_mutex_);
+      in_flight_.erase(id.dump());
+      cancelled_.erase(id.dump());
+    });
   }
 
   static bool known(const std::string& m) {

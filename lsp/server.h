@@ -1,6 +1,7 @@
 // The language server: reads JSON-RPC messages, keeps the open documents,
-// answers each request on its own worker thread (so no request waits for
-// another) and publishes diagnostics from a background thread after edits.
+// answers requests on a pool of worker threads that grows while all are busy
+// (so a request never waits behind another, up to 8 at once) and publishes
+// diagnostics from a background thread after edits.
 #pragma once
 #include <istream>
 #include <ostream>
