@@ -177,6 +177,17 @@ void registerCommands(CLI::App& app, CommandLine& cl) {
 
   CLI::App* devices = app.add_subcommand("devices", "list Vulkan devices");
   devices->callback([&cl] { cl.command = "devices"; });
+
+  CLI::App* fmt = app.add_subcommand("fmt", "rewrite .sdf files in the canonical layout");
+  fmt->add_option("files", cl.inputs, "the .sdf files (none: stdin to stdout)");
+  fmt->add_flag("--check", cl.check_format,
+                "change nothing; list the files that are not formatted and exit 1 if any");
+  fmt->add_flag("-w,--write", cl.write_in_place, "write the result back to each file");
+  fmt->callback([&cl] { cl.command = "fmt"; });
+
+  CLI::App* lsp = app.add_subcommand("lsp", "the Language Server Protocol server, over stdio");
+  lsp->add_flag("--stdio", cl.lsp_stdio, "talk over stdin/stdout (the only transport; accepted for clients that pass it)");
+  lsp->callback([&cl] { cl.command = "lsp"; });
 }
 
 int runCommand(const CommandLine& cl) {
@@ -188,6 +199,8 @@ int runCommand(const CommandLine& cl) {
   if (cl.command == "devices") return runDevices(cl);
   if (cl.command == "merge") return runMerge(cl);
   if (cl.command == "farm") return runFarm(cl);
+  if (cl.command == "fmt") return runFmt(cl);
+  if (cl.command == "lsp") return runLsp(cl);
   return kExitUsage;
 }
 

@@ -74,6 +74,11 @@ struct CommandLine {
   int resolution = 128;
   double voxel_size = 0;
   std::string box;
+  // fmt
+  std::vector<std::string> inputs;
+  bool check_format = false;
+  bool write_in_place = false;
+  bool lsp_stdio = true;  // lsp: --stdio, the only transport
 };
 
 void registerCommands(CLI::App& app, CommandLine& cl);
@@ -87,5 +92,7 @@ int runMesh(const CommandLine& cl);
 int runDevices(const CommandLine& cl);
 int runMerge(const CommandLine& cl);
 int runFarm(const CommandLine& cl);
+int runFmt(const CommandLine& cl);
+int runLsp(const CommandLine& cl);
 
 }  // namespace sdfc

@@ -31,6 +31,9 @@ struct Expr {
   std::vector<Argument> arguments;  // Call: (...)
   bool has_block = false;           // Call: { ... } follows
   std::vector<ExprPtr> children;    // Call: the block's items
+  // The outermost "(...)" written around it (file == nullptr when none): the
+  // formatter keeps the parentheses; `range` itself never includes them.
+  SourceRange paren_range;
 };
 
 struct Statement {

@@ -63,7 +63,7 @@ TokenKind punctuation(char c) {
 
 }  // namespace
 
-std::vector<Token> lex(const SourceFile& file, Diagnostics& diags) {
+std::vector<Token> lex(const SourceFile& file, Diagnostics& diags, std::vector<Comment>* comments) {
   std::vector<Token> tokens;
   const std::string& s = file.text;
   size_t i = 0;
@@ -82,7 +82,11 @@ std::vector<Token> lex(const SourceFile& file, Diagnostics& diags) {
     }
     // Comments: `//` to end of line and `/* ... */`.
     if (c == '/' && i + 1 < s.size() && s[i + 1] == '/') {
+      const size_t begin = i;
       while (i < s.size() && s[i] != '\n') ++i;
+      size_t end = i;
+      while (end > begin + 2 && (s[end - 1] == '\r' || s[end - 1] == ' ' || s[end - 1] == '\t')) --end;
+      if (comments) comments->push_back({{&file, begin, end}, true});
       continue;
     }
     if (c == '/' && i + 1 < s.size() && s[i + 1] == '*') {
@@ -93,6 +97,7 @@ std::vector<Token> lex(const SourceFile& file, Diagnostics& diags) {
         i = s.size();
       } else {
         i = close + 2;
+        if (comments) comments->push_back({{&file, begin, i}, false});
       }
       continue;
     }

@@ -9,6 +9,8 @@
 namespace sdfc {
 
 // Always ends with an EndOfFile token.
-std::vector<Token> lex(const SourceFile& file, Diagnostics& diags);
+// Comments are appended to `comments` when it is given, in source order.
+std::vector<Token> lex(const SourceFile& file, Diagnostics& diags,
+                       std::vector<Comment>* comments = nullptr);
 
 }  // namespace sdfc

@@ -9,8 +9,8 @@ namespace {
 
 class Parser {
  public:
-  Parser(const SourceFile& file, Diagnostics& diags)
-      : tokens_(lex(file, diags)), diags_(diags) {}
+  Parser(const SourceFile& file, Diagnostics& diags, std::vector<Comment>* comments)
+      : tokens_(lex(file, diags, comments)), diags_(diags) {}
 
   // file : { statement } EOF
   ast::File parseFile() {
@@ -274,7 +274,9 @@ class Parser {
       case TokenKind::LeftParen: {
         advance();
         auto inner = parseExpr();
+        const Token& close = peek();
         expect(TokenKind::RightParen, "to close '('");
+        inner->paren_range = t.range.to(close.range);
         return inner;
       }
       case TokenKind::Invalid:
@@ -350,8 +352,8 @@ class Parser {
 
 }  // namespace
 
-ast::File parse(const SourceFile& file, Diagnostics& diags) {
-  Parser parser(file, diags);
+ast::File parse(const SourceFile& file, Diagnostics& diags, std::vector<Comment>* comments) {
+  Parser parser(file, diags, comments);
   return parser.parseFile();
 }
 

@@ -3,12 +3,15 @@
 #pragma once
 #include "diag/diagnostics.h"
 #include "syntax/ast.h"
+#include "syntax/token.h"
 
 namespace sdfc {
 
 // Nesting deeper than this is reported, not recursed into (no stack overflow).
 constexpr int kMaxNestingDepth = 200;
 
-ast::File parse(const SourceFile& file, Diagnostics& diags);
+// `comments`, when given, receives the comments the lexer skipped.
+ast::File parse(const SourceFile& file, Diagnostics& diags,
+                std::vector<Comment>* comments = nullptr);
 
 }  // namespace sdfc

@@ -20,6 +20,12 @@ struct Token {
   double number = 0;  // for Number
 };
 
+// A comment the lexer skipped: kept for the formatter and the editor (trivia).
+struct Comment {
+  SourceRange range;  // from `//` or `/*` to the end of the line or `*/`
+  bool line_comment = false;
+};
+
 const char* tokenKindName(TokenKind kind);
 
 }  // namespace sdfc

@@ -1,0 +1,65 @@
+// Go to definition, find references, highlight and rename for `let` names
+// (the only names a file defines; they are visible in the whole file).
+#include <regex>
+
+#include "check/builtins.h"
+#include "lsp/features.h"
+
+namespace sdfc::lsp {
+namespace {
+
+json location(const Analysis& a, const SourceRange& r) {
+  return {{"uri", a.uri}, {"range", a.lines.rangeOf(r.begin, r.end)}};
+}
+
+}  // namespace
+
+json definition(const Analysis& a, size_t offset) {
+  const NameUse* use = a.nameAt(offset);
+  if (!use) return nullptr;
+  return location(a, a.lets.at(use->name)->name_range);
+}
+
+json references(const Analysis& a, size_t offset, bool include_declaration) {
+  const NameUse* use = a.nameAt(offset);
+  json out = json::array();
+  if (!use) return out;
+  for (const NameUse& u : a.uses)
+    if (u.name == use->name && (include_declaration || !u.definition)) out.push_back(location(a, u.range));
+  return out;
+}
+
+json documentHighlight(const Analysis& a, size_t offset) {
+  const NameUse* use = a.nameAt(offset);
+  json out = json::array();
+  if (!use) return out;
+  for (const NameUse& u : a.uses)
+    if (u.name == use->name)
+      out.push_back({{"range", a.lines.rangeOf(u.range.begin, u.range.end)}, {"kind", u.definition ? 3 : 2}});
+  return out;
+}
+
+json prepareRename(const Analysis& a, size_t offset) {
+  const NameUse* use = a.nameAt(offset);
+  if (!use) return nullptr;
+  return {{"range", a.lines.rangeOf(use->range.begin, use->range.end)}, {"placeholder", use->name}};
+}
+
+json rename(const Analysis& a, size_t offset, const std::string& new_name) {
+  const NameUse* use = a.nameAt(offset);
+  if (!use) throw RpcError(kRequestFailed, "only a name bound by 'let' can be renamed");
+  static const std::regex identifier("[A-Za-z_][A-Za-z0-9_]*");
+  if (!std::regex_match(new_name, identifier) || new_name == "let")
+    throw RpcError(kRequestFailed, "'" + new_name + "' is not a valid name");
+  if (isReservedName(new_name))
+    throw RpcError(kRequestFailed, "'" + new_name + "' is a built-in name");
+  if (new_name != use->name && a.lets.count(new_name))
+    throw RpcError(kRequestFailed, "'" + new_name + "' is already defined");
+  json edits = json::array();
+  for (const NameUse& u : a.uses)
+    if (u.name == use->name)
+      edits.push_back({{"range", a.lines.rangeOf(u.range.begin, u.range.end)}, {"newText", new_name}});
+  return {{"changes", {{a.uri, edits}}}};
+}
+
+}  // namespace sdfc::lsp

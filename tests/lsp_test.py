@@ -1,0 +1,198 @@
+#!/usr/bin/env python3
+"""`sdfc lsp` driven over stdio as an editor would (CTest: lsp_protocol).
+
+Usage: lsp_test.py SDFC SOURCE_DIR
+"""
+import json
+import os
+import re
+import subprocess
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from lsp_client import LspClient  # noqa: E402
+
+sdfc, root = sys.argv[1], sys.argv[2]
+passed = failed = 0
+
+
+def check(name, condition, detail=""):
+    global passed, failed
+    if condition:
+        passed += 1
+    else:
+        failed += 1
+        print(f"FAIL {name} {detail}")
+
+
+def pos(text, needle, nth=0, delta=0):
+    """LSP position (UTF-16) of the nth occurrence of needle, plus delta characters."""
+    i = -1
+    for _ in range(nth + 1):
+        i = text.index(needle, i + 1)
+    i += delta
+    line = text.count("\n", 0, i)
+    col = i - (text.rfind("\n", 0, i) + 1)
+    return {"line": line, "character": len(text[i - col:i].encode("utf-16-le")) // 2}
+
+
+uri = "file:///tmp/lsp_test/scene.sdf"
+text = open(os.path.join(root, "examples", "castle.sdf"), encoding="utf-8").read()
+doc = {"textDocument": {"uri": uri}}
+
+# ---- a session ---------------------------------------------------------------
+c = LspClient([sdfc, "lsp"])
+r = c.request("textDocument/hover", {**doc, "position": {"line": 0, "character": 0}})
+check("request before initialize", r.get("error", {}).get("code") == -32002, r)
+init = c.initialize()
+caps = init["result"]["capabilities"]
+check("incremental sync", caps["textDocumentSync"]["change"] == 2, caps)
+check("second initialize", c.request("initialize", {"capabilities": {}}).get("error", {}).get("code") == -32600)
+
+c.notify("textDocument/didOpen", {"textDocument": {"uri": uri, "languageId": "sdf", "version": 1, "text": text}})
+_, d = c.wait_notification("textDocument/publishDiagnostics", lambda m: m["params"]["uri"] == uri)
+errors = [x for x in d["params"]["diagnostics"] if x["severity"] == 1]
+check("castle has no errors", not errors, errors)
+
+# Hover on a primitive: signature, parameters and defaults from the catalogue.
+h = c.request("textDocument/hover", {**doc, "position": pos(text, "cylinder(", delta=2)})["result"]
+value = h["contents"]["value"] if h else ""
+check("hover primitive signature", "cylinder(" in value and "radius" in value and "height" in value, value)
+check("hover primitive exactness", "exact" in value.lower(), value)
+
+# Hover on a setting's parameter name: its default and limit.
+h = c.request("textDocument/hover", {**doc, "position": pos(text, "fov:", delta=1)})["result"]
+value = h["contents"]["value"] if h else ""
+check("hover parameter", "fov" in value and "default 40" in value, value)
+
+# Completion inside an argument list: parameter names with defaults.
+probe = text + "\nlet probe = sphere()\n"
+c.notify("textDocument/didChange", {"textDocument": {"uri": uri, "version": 2},
+                                    "contentChanges": [{"text": probe}]})
+items = c.request("textDocument/completion", {**doc, "position": pos(probe, "sphere()", delta=7)})["result"]["items"]
+labels = {i["label"]: i for i in items}
+check("complete parameter name", "radius" in labels and labels["radius"].get("insertText") == "radius: ",
+      list(labels)[:10])
+check("complete names in scope", "stone" in labels, list(labels)[:20])
+sig = c.request("textDocument/signatureHelp", {**doc, "position": pos(probe, "sphere()", delta=7)})["result"]
+check("signature help", sig and sig["signatures"][0]["label"].startswith("sphere(radius"), sig)
+
+# Incremental edit: a misspelt parameter; diagnostics as `sdfc check` words them.
+start = pos(probe, "sphere()", delta=7)
+c.notify("textDocument/didChange", {"textDocument": {"uri": uri, "version": 3},
+                                    "contentChanges": [{"range": {"start": start, "end": start}, "text": "radus: 1"}]})
+_, d = c.wait_notification("textDocument/publishDiagnostics",
+                           lambda m: m["params"]["uri"] == uri and m["params"].get("version") == 3)
+msgs = [x["message"] for x in d["params"]["diagnostics"] if x["severity"] == 1]
+edited = probe.replace("sphere()", "sphere(radus: 1)")
+tmp = "/tmp/lsp_test_scene.sdf"
+open(tmp, "w").write(edited)
+cli = subprocess.run([sdfc, "check", tmp], capture_output=True, text=True).stderr
+cli_msgs = re.findall(r": error: (.*)", cli)
+check("diagnostics equal sdfc check", msgs == cli_msgs and msgs, (msgs, cli_msgs))
+diag = [x for x in d["params"]["diagnostics"] if "radus" in x["message"]]
+check("diagnostic range", diag and diag[0]["range"]["start"] == start, diag)
+
+# Definition, references, rename of a let name.
+text = edited
+use = pos(text, "stone", nth=1)
+r = c.request("textDocument/definition", {**doc, "position": use})["result"]
+check("definition", r and r["range"]["start"] == pos(text, "let stone", delta=4), r)
+refs = c.request("textDocument/references", {**doc, "position": use,
+                                              "context": {"includeDeclaration": True}})["result"]
+check("references", len(refs) == text.count("stone"), (len(refs), text.count("stone")))
+r = c.request("textDocument/rename", {**doc, "position": use, "newName": "granite"})["result"]
+edits = r["changes"][uri]
+check("rename edits", len(edits) == len(refs) and all(e["newText"] == "granite" for e in edits), r)
+r = c.request("textDocument/rename", {**doc, "position": use, "newName": "sphere"})
+check("rename to a built-in refused", r.get("error", {}).get("code") == -32803, r)
+
+# Symbols and formatting.
+syms = c.request("textDocument/documentSymbol", doc)["result"]
+names = [s["name"] for s in syms]
+check("document symbols", "scene" in names and "stone" in names and "camera" in names, names)
+messy = "scene{sphere( radius:1 )   // r\n}\n"
+c.notify("textDocument/didChange", {"textDocument": {"uri": uri, "version": 4}, "contentChanges": [{"text": messy}]})
+r = c.request("textDocument/formatting", {**doc, "options": {"tabSize": 2, "insertSpaces": True}})["result"]
+want = subprocess.run([sdfc, "fmt"], input=messy, capture_output=True, text=True).stdout
+check("formatting equals sdfc fmt", r and r[0]["newText"] == want, r)
+
+# Malformed and out-of-order messages: protocol errors, never a crash.
+c.send_raw(b"{not json")
+check("parse error", c.wait(None)["error"]["code"] == -32700)
+c.send({"jsonrpc": "2.0", "id": 900, "params": {}})
+check("missing method", c.wait(900)["error"]["code"] == -32600)
+check("unknown method", c.request("textDocument/nonsense", doc)["error"]["code"] == -32601)
+r = c.request("textDocument/hover", {**doc})
+check("missing position", r["error"]["code"] == -32602, r)
+r = c.request("textDocument/hover", {"textDocument": {"uri": "file:///nowhere.sdf"}, "position": {"line": 0, "character": 0}})
+check("document not open", r["error"]["code"] == -32602, r)
+r = c.request("textDocument/hover", {**doc, "position": {"line": 99999, "character": 99999}})
+check("position past the end", "result" in r, r)
+c.send_raw(b"", header=b"Content-Type: x\r\n\r\n")  # a frame without a length: its body cannot be found
+check("no content-length", c.wait(None)["error"]["code"] == -32700)
+c.notify("textDocument/didChange", {"textDocument": {"uri": "file:///nowhere.sdf", "version": 1},
+                                    "contentChanges": [{"text": "x"}]})
+# Cancellation of many queued requests: each gets an answer or a cancelled error.
+ids = [c.request_async("textDocument/hover", {**doc, "position": {"line": 0, "character": 2}}) for _ in range(20)]
+for i in ids:
+    c.notify("$/cancelRequest", {"id": i})
+answers = [c.wait(i) for i in ids]
+check("cancelled or answered", all("result" in a or a["error"]["code"] == -32800 for a in answers), answers[:2])
+check("still alive", c.request("textDocument/documentSymbol", doc).get("result") is not None)
+
+r = c.request("shutdown")
+check("shutdown", "result" in r and r["result"] is None, r)
+check("request after shutdown", c.request("textDocument/hover", {**doc, "position": {"line": 0, "character": 0}})["error"]["code"] == -32600)
+c.notify("exit")
+check("exit code 0 after shutdown", c.close() == 0)
+
+# Exit without shutdown: exit code 1, as the protocol says.
+c = LspClient([sdfc, "lsp"])
+c.initialize()
+c.notify("exit")
+check("exit code 1 without shutdown", c.close() == 1)
+
+# Garbage bytes: the server answers or ends, and never crashes.
+c = LspClient([sdfc, "lsp"])
+c.send_raw(b"Content-Length: 5\r\n\r\n\x00\xff\xfe{]")
+c.send_raw(b"Content-Length: 99999999999999\r\n\r\n")
+code = c.close()
+check("garbage input ends cleanly", code in (0, 1), code)
+
+# Every fuzz input (random bytes, deep nesting, broken syntax) opened and
+# queried at 40 positions with every feature: answers or errors, never a crash.
+import glob  # noqa: E402
+c = LspClient([sdfc, "lsp"])
+c.initialize()
+features = ["hover", "completion", "signatureHelp", "definition", "references", "documentHighlight",
+            "prepareRename"]
+bad = []
+files = sorted(glob.glob(os.path.join(root, "fuzz", "corpus", "*")) + glob.glob(os.path.join(root, "fuzz", "regressions", "*.sdf")))
+for n, path in enumerate(files):
+    data = open(path, "rb").read().decode("utf-8", "replace")
+    u = f"file:///fuzz/{n}.sdf"
+    c.notify("textDocument/didOpen", {"textDocument": {"uri": u, "languageId": "sdf", "version": 1, "text": data}})
+    lines = data.split("\n")
+    ids = []
+    for k in range(40):
+        line = (k * 7919) % max(1, len(lines))
+        char = (k * 104729) % (len(lines[line]) + 2)
+        for f in features:
+            ids.append(c.request_async("textDocument/" + f, {"textDocument": {"uri": u},
+                                                              "position": {"line": line, "character": char},
+                                                              "context": {"includeDeclaration": True}}))
+    ids.append(c.request_async("textDocument/documentSymbol", {"textDocument": {"uri": u}}))
+    ids.append(c.request_async("textDocument/formatting", {"textDocument": {"uri": u}, "options": {}}))
+    for i in ids:
+        r = c.wait(i, timeout=60)
+        if "error" in r and r["error"]["code"] not in (-32602, -32803):
+            bad.append((os.path.basename(path), r["error"]))
+check("fuzz inputs answered", not bad and c.proc.poll() is None, bad[:3])
+c.request("shutdown")
+c.notify("exit")
+check("fuzz session exits cleanly", c.close() == 0)
+
+print(f"lsp_protocol: {passed + failed} checks")
+print(f"{passed} passed, {failed} failed")
+sys.exit(1 if failed else 0)
