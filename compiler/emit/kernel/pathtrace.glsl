@@ -78,6 +78,7 @@ float march(vec3 ro, vec3 rd, float t_max, float side, out int steps) {
   float t_stop = -1.0, d_stop = 0.0;  // where the march entered the hit band
   float t_hit = -1.0, d_hit = 0.0;    // the sample nearest the surface since then
   bool crossed = false;               // a sample since the stop lies inside
+  float t_in = 0.0, d_in = 0.0;       // the inside sample nearest the surface
   bool narrow = false;                // band narrowed to float error after a near miss
   float slope = -1.0;                 // dd/dt through the last two samples
   bool leaving = false;               // moving off the surface the ray started on
@@ -120,12 +121,24 @@ float march(vec3 ro, vec3 rd, float t_max, float side, out int steps) {
       steps = i + 1;
       d_peak = max(d_peak, d);
     } else if (t_stop >= 0.0) {
+      if (d <= 0.0 && (!crossed || d > d_in)) {
+        t_in = t;
+        d_in = d;
+      }
       crossed = crossed || d <= 0.0;
       if (abs(d) < abs(d_hit)) {
         t_hit = t;
         d_hit = d;
       }
       if (++refined == kRefineSteps) {
+        if (crossed && d_stop > 0.0 && t_stop < t_in) {
+          // Bracketed: the root by linear interpolation between the stop and
+          // the inside sample, not the sample nearest it (which may lie a
+          // quarter pixel off and put normals taken past it across an edge).
+          t_hit = t_stop + (t_in - t_stop) * d_stop / (d_stop - d_in);
+          d_hit = dErr(ro_mag, t_hit);
+          break;
+        }
         if (crossed || abs(d_hit) <= dErr(ro_mag, t_hit)) break;
         refined = 0;
         if (!narrow) {
@@ -165,6 +178,8 @@ float march(vec3 ro, vec3 rd, float t_max, float side, out int steps) {
         t_hit = t;
         d_hit = d;
         crossed = d <= 0.0;
+        t_in = t;
+        d_in = d;
       } else if (i + 1 >= kSceneMaxSteps) {
         // Out of steps: a miss, unless still closing in.
         exhausted = slope < 0.0;
@@ -467,9 +482,10 @@ vec3 tracePath(vec3 ro, vec3 rd, int max_bounces, bool record_aov) {
       // material is read there or just before p. Taps centred on p mix both
       // faces at an edge (a dark line along a mirror's rim) and both solids
       // where two touch (a glass box on the ground: a zero gradient).
-      // h: float resolution at p, or 1/100 of a pixel at t if that is wider;
+      // h: 16x float resolution at p, or 1/400 of a pixel at t if wider (the
+      // width of the strip along an edge whose normal mixes the two faces);
       // the point ahead lies past p's offset from the surface.
-      float h = max(4.0 * fpEps(maxComponent(abs(p)), 0.0), 0.04 * t * kScenePixelCone);
+      float h = max(16.0 * fpEps(maxComponent(abs(p)), 0.0), 0.01 * t * kScenePixelCone);
       float ahead = 2.0 * h + 2.0 * g_hit_offness;
       float field;
       n = sceneNormal(p + rd * ahead, h, field);  // outward: the gradient of sdScene
