@@ -78,7 +78,6 @@ float march(vec3 ro, vec3 rd, float t_max, float side, out int steps) {
   float t_stop = -1.0, d_stop = 0.0;  // where the march entered the hit band
   float t_hit = -1.0, d_hit = 0.0;    // the sample nearest the surface since then
   bool crossed = false;               // a sample since the stop lies inside
-  float t_in = 0.0, d_in = 0.0;       // the inside sample nearest the surface
   bool narrow = false;                // band narrowed to float error after a near miss
   float slope = -1.0;                 // dd/dt through the last two samples
   bool leaving = false;               // moving off the surface the ray started on
@@ -121,24 +120,12 @@ float march(vec3 ro, vec3 rd, float t_max, float side, out int steps) {
       steps = i + 1;
       d_peak = max(d_peak, d);
     } else if (t_stop >= 0.0) {
-      if (d <= 0.0 && (!crossed || d > d_in)) {
-        t_in = t;
-        d_in = d;
-      }
       crossed = crossed || d <= 0.0;
       if (abs(d) < abs(d_hit)) {
         t_hit = t;
         d_hit = d;
       }
       if (++refined == kRefineSteps) {
-        if (crossed && d_stop > 0.0 && t_stop < t_in) {
-          // Bracketed: the root by linear interpolation between the stop and
-          // the inside sample, not the sample nearest it (which may lie a
-          // quarter pixel off and put normals taken past it across an edge).
-          t_hit = t_stop + (t_in - t_stop) * d_stop / (d_stop - d_in);
-          d_hit = dErr(ro_mag, t_hit);
-          break;
-        }
         if (crossed || abs(d_hit) <= dErr(ro_mag, t_hit)) break;
         refined = 0;
         if (!narrow) {
@@ -178,8 +165,6 @@ float march(vec3 ro, vec3 rd, float t_max, float side, out int steps) {
         t_hit = t;
         d_hit = d;
         crossed = d <= 0.0;
-        t_in = t;
-        d_in = d;
       } else if (i + 1 >= kSceneMaxSteps) {
         // Out of steps: a miss, unless still closing in.
         exhausted = slope < 0.0;
