@@ -704,10 +704,12 @@ vec3 tracePath(vec3 ro, vec3 rd, int max_bounces, bool record_aov) {
     vec3 nf = entering ? n : -n;  // faces the incoming ray
     vec3 wo = -rd;
     // New rays start off the surface by a few times its uncertainty: the hit's
-    // |d| and float32 rounding of p. Not by the hit band: a quarter pixel at
-    // distance would lift rays out of crevices and under contact points
+    // |d|, float32 rounding of p, and 1/100 pixel at t (the normal taps' scale;
+    // without it, the tolerance now being local, rays starting closer took 29%
+    // more loop iterations on the castle). Not by the hit band: a quarter pixel
+    // at distance would lift rays out of crevices and under contact points
     // (measured: +0.03% image mean against Mitsuba 3).
-    float offset = 4.0 * max(max(kSceneHitEps, g_hit_offness), maxComponent(abs(p)) * 4.0 * 1.1920929e-7);
+    float offset = 4.0 * max(max(kSceneHitEps, g_hit_offness), max(maxComponent(abs(p)) * 4.0 * 1.1920929e-7, 0.01 * t * kScenePixelCone));
 
     // Next-event estimation: frame.light_samples shadow rays to uniformly chosen lights.
     if (m.model == MAT_DIFFUSE || m.model == MAT_METAL) {
