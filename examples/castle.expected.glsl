@@ -616,8 +616,8 @@ float maxComponent(vec3 v) { return max(v.x, max(v.y, v.z)); }
 const float kFpUlps = 8.0 * 1.1920929e-7;
 float fpEps(float ro_mag, float t) { return kSceneHitEps + kFpUlps * (ro_mag + t); }
 // The stopping band: float resolution, or a quarter pixel at t, whichever is wider.
-// A stop is confirmed as a hit only by a sign change, or by |d| within half a
-// unit in the last place of p (the rounding of p alone moves d that much): at a
+// A stop is confirmed as a hit only by a sign change, or by |d| within 2^-24 of
+// |ro| + t, about one ulp of p (the rounding of p alone moves d that much): at a
 // silhouette the ray runs along the surface and d is resolved far better than
 // fpEps (a unit sphere 1e6 away, where fpEps is 0.95 but d is good to 1e-3).
 float dErr(float ro_mag, float t) { return kSceneHitEps + (kFpUlps / 16.0) * (ro_mag + t); }
@@ -645,14 +645,12 @@ const int kRefineSteps = 2;
 // in it hits at t = 0.
 //
 // Out of steps is not a miss when the ray is still closing in (a grazing ray
-// crawling along a face): it hits at its secant root, or at its first stop, and
-// g_march_exhausted tells the caller (the depth AOV counts it, sdfc warns).
+// crawling along a face): it hits at its secant root, or at its first stop. Its
+// steps reach kSceneMaxSteps, which sdfc counts on the AOV ray and warns about.
 // The analytic plane (kPlanes) the last march() stopped on, or -1.
 int g_plane_hit = -1;
 // |distance| at the point the last march() returned: how far it may lie off the surface.
 float g_hit_offness = 0.0;
-// The last march() ran out of steps.
-bool g_march_exhausted = false;
 float march(vec3 ro, vec3 rd, float t_max, float side, out int steps) {
   // Planes are not in sdScene: intersect them here and march no farther.
   g_plane_hit = -1;
@@ -688,7 +686,6 @@ float march(vec3 ro, vec3 rd, float t_max, float side, out int steps) {
   bool relaxed = false;               // the last step was over-relaxed
   int refined = 0;
   steps = 0;
-  g_march_exhausted = false;
   // (t > t_max: no marched surface on this ray; the loop body breaks at once.)
   for (int i = loopZero(); i < kSceneMaxSteps + kRefineSteps && t <= t_max; i++) {
     g_loop_iterations++;
@@ -794,7 +791,6 @@ float march(vec3 ro, vec3 rd, float t_max, float side, out int steps) {
   // it hits at the root of the secant through its last two samples (exact on a
   // flat face) when that lies within reach, else at its first stop if it had one.
   if (t_hit < 0.0 && exhausted) {
-    g_march_exhausted = true;
     float t_root = t_prev - d_prev / min(slope, -1e-30);
     if (t_root <= t_max) {
       t_hit = t_root;
