@@ -516,6 +516,13 @@ SMOKE_BOUNDS = {
     "hard/grazing.sdf": {"surf_px_max": 1.0, "missed_hits": 0.04},
     # Known failure, not asserted: primary rays starting inside a solid stop at t = 0.
     "hard/camera_inside.sdf": None,
+    # Not judged by geometry.py's roots of the union field, which count a camera on a
+    # surface as a hit at t = 0 and see no root where two solids touch; the issue 17
+    # rules (docs/accuracy.md) are checked by bench/exact_hits.py and
+    # tests/accuracy_test.cpp against exact ray-box / ray-sphere hits.
+    "hard/i17_camera_on_box.sdf": None,
+    "hard/i17_camera_on_sphere.sdf": None,
+    "hard/i17_glass_on_ground.sdf": None,
 }
 
 

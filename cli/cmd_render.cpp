@@ -118,6 +118,18 @@ int runRender(const CommandLine& cl) {
     const FloatImage& image = denoised.empty() ? out.color : denoised;
     const std::string path = times.size() > 1 ? farm::framePath(cl.output, static_cast<int>(f)) : cl.output;
     writeImage(path, image, tone);
+    {
+      // A primary ray that used its whole step budget ran out of steps: it is
+      // drawn as a hit when it was still closing in, else as a miss; either way
+      // its pixel may be off, so say how many (issue 17).
+      const size_t pixels = size_t(out.albedo_steps.width) * out.albedo_steps.height;
+      const float budget = static_cast<float>(compiled.emitted.limits.max_steps);
+      size_t exhausted = 0;
+      for (size_t i = 0; i < pixels; ++i) exhausted += out.albedo_steps.rgba[i * 4 + 3] >= budget;
+      if (exhausted > 0)
+        std::cerr << "sdfc: warning: " << exhausted << " of " << pixels
+                  << " primary rays ran out of march steps (budget " << budget << ")\n";
+    }
     if (!quiet) {
       // Primary-ray march steps (attachment 2, w): the cost figure bounds are judged by.
       double sum = 0, peak = 0;

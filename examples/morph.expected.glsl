@@ -214,13 +214,13 @@ vec3 sampleUniformCone(vec2 u, float one_minus_cos_max) {
 
 // ---- scene constants (derived per scene by the compiler) ----
 const float kSceneMaxDist = 51.9615242;
-const int kSceneMaxSteps = 288;
-const float kSceneHitEps = 2.59807621e-05;
+const int kSceneMaxSteps = 518;
+const float kSceneHitEps = 2.59807621e-06;
 const float kScenePixelCone = 0.000758271321;
 const float kSceneStepScale = 1.0;
 // The marched part of the scene lies in this box.
-const vec3 kSceneBoxLo = vec3(-0.750105714, 0.0498942858, -0.750105714);
-const vec3 kSceneBoxHi = vec3(0.750105714, 1.55010571, 0.750105714);
+const vec3 kSceneBoxLo = vec3(-0.750012183, 0.0499878165, -0.750012183);
+const vec3 kSceneBoxHi = vec3(0.750012183, 1.55001218, 0.750012183);
 const vec3 kSunDir = vec3(0.336860768, 0.842151921, 0.421075961);
 const float kSunCosAngle = 0.998629535;
 const vec3 kSunRadiance = vec3(139.358464);
@@ -269,25 +269,46 @@ vec3 sdSky(vec3 dir) { return mix(vec3(0.7, 0.7, 0.72), vec3(0.4, 0.55, 0.85), c
 // ---- kernel: sphere tracing, normals, BSDFs, lights, main() ----
 // Loop structure is mirrored by runtime/loop_budget.h: change both together.
 
-float hitEps(float t) { return max(kSceneHitEps, t * kScenePixelCone); }
+float maxComponent(vec3 v) { return max(v.x, max(v.y, v.z)); }
+
+// What float32 resolves of a point t along a ray from a point whose largest
+// coordinate is ro_mag: 8 units in the last place of |ro| + t (>= |p|), above a
+// tiny scene floor kSceneHitEps. Local: a far or huge object elsewhere in the
+// scene does not coarsen a small one near the camera (issue 17).
+const float kFpUlps = 8.0 * 1.1920929e-7;
+float fpEps(float ro_mag, float t) { return kSceneHitEps + kFpUlps * (ro_mag + t); }
+// The stopping band: float resolution, or a quarter pixel at t, whichever is wider.
+// A stop is confirmed as a hit only by a sign change, or by |d| within 2^-24 of
+// |ro| + t, about one ulp of p (the rounding of p alone moves d that much): at a
+// silhouette the ray runs along the surface and d is resolved far better than
+// fpEps (a unit sphere 1e6 away, where fpEps is 0.95 but d is good to 1e-3).
+float dErr(float ro_mag, float t) { return kSceneHitEps + (kFpUlps / 16.0) * (ro_mag + t); }
+float hitEps(float ro_mag, float t) { return max(fpEps(ro_mag, t), t * kScenePixelCone); }
 
 // Iterations a hit may add to refine its distance (runtime/loop_budget.h).
 const int kRefineSteps = 2;
 
 // Sphere tracing (Hart 1996; paper sec. 2.3): step by the distance bound scaled
 // by 1 / Lipschitz. side = -1 marches inside solids (glass exit points) on the
-// negated distance. Returns the hit distance, or -1 past t_max or the step budget.
+// negated distance. Returns the hit distance, or -1 past t_max.
 //
 // A march stops in the hit band d < hitEps(t), a quarter pixel wide, which keeps
 // rays that graze a surface from crawling along it. Then kRefineSteps secant steps
 // on the distance along the ray (exact for a plane, quadratic near any smooth
 // surface), each kept only if it lands nearer the surface: the band alone leaves
-// an error of up to eps / cos(angle), far above 1e-4 of the distance. The stop is
-// a hit only if the refinement confirms it (a sign change, or |d| <= kSceneHitEps);
-// otherwise the ray may pass the surface within the band (a near miss), and
-// accepting it would grow every silhouette and shadow by a quarter pixel
-// (measured against Mitsuba 3: 0.17% of the image mean on a sphere). Such a ray
-// resumes sphere tracing from the stop with the band narrowed to kSceneHitEps.
+// an error of up to eps / cos(angle). The stop is a hit only if the refinement
+// confirms it (dErr). Otherwise the ray passes the surface within the band (a
+// near miss; accepting it would grow every silhouette and shadow) and resumes
+// sphere tracing from the stop with the band narrowed to dErr; a second
+// unconfirmed stop there is passed, stepping on from its nearest sample.
+//
+// A ray that starts on a surface (|d| in the band at t = 0) probes one step
+// ahead: moving away it is not a hit (a camera on a face looking away), moving
+// in it hits at t = 0.
+//
+// Out of steps is not a miss when the ray is still closing in (a grazing ray
+// crawling along a face): it hits at its secant root, or at its first stop. Its
+// steps reach kSceneMaxSteps, which sdfc counts on the AOV ray and warns about.
 // The analytic plane (kPlanes) the last march() stopped on, or -1.
 int g_plane_hit = -1;
 // |distance| at the point the last march() returned: how far it may lie off the surface.
@@ -302,6 +323,7 @@ float march(vec3 ro, vec3 rd, float t_max, float side, out int steps) {
   if (t_plane < t_max) t_max = t_plane;
   else plane = -1;
   t_max = min(t_max, kSceneMaxDist);
+  float ro_mag = maxComponent(abs(ro));
   float t = 0.0;
   // March only inside the box around the marched part (slab test): a ray that
   // misses it, or the part of one beyond it, takes no steps.
@@ -316,31 +338,69 @@ float march(vec3 ro, vec3 rd, float t_max, float side, out int steps) {
   float t_stop = -1.0, d_stop = 0.0;  // where the march entered the hit band
   float t_hit = -1.0, d_hit = 0.0;    // the sample nearest the surface since then
   bool crossed = false;               // a sample since the stop lies inside
-  bool narrow = false;                // band narrowed to kSceneHitEps after a near miss
+  bool narrow = false;                // band narrowed to float error after a near miss
+  float slope = -1.0;                 // dd/dt through the last two samples
+  bool leaving = false;               // moving off the surface the ray started on
   float t_first = -1.0, d_first = 0.0; // the first, unconfirmed stop
   bool exhausted = false;             // out of steps, still closing in
+  bool probe = false;                 // started on a surface: the next sample decides
+  float d_peak = 0.0;                 // largest d since leaving the start surface
+  bool relaxed = false;               // the last step was over-relaxed
   int refined = 0;
   steps = 0;
   // (t > t_max: no marched surface on this ray; the loop body breaks at once.)
   for (int i = loopZero(); i < kSceneMaxSteps + kRefineSteps && t <= t_max; i++) {
     g_loop_iterations++;
     float d = side * sdScene(ro + rd * t);
-    if (t_stop >= 0.0) {
+    if (i > 0) slope = (d - d_prev) / max(t - t_prev, 1e-30);
+    if (probe) {
+      probe = false;
+      if (d <= d_prev) {  // moving in (or along): a hit where it started
+        t_hit = 0.0;
+        d_hit = d_prev;
+        break;
+      }
+      leaving = true;
+    }
+    // Leaving the start surface ends out of its band, or when d falls to half
+    // its peak (another surface is near). The relaxed step before may have
+    // passed a surface if the two samples' spheres do not overlap: step back.
+    if (leaving && (d >= hitEps(ro_mag, t) || d < 0.5 * d_peak)) {
+      leaving = false;
+      if (relaxed && (d + d_prev) * kSceneStepScale < t - t_prev) {
+        relaxed = false;
+        t = t_prev + d_prev * kSceneStepScale;
+        continue;
+      }
+    }
+    if (leaving) {
+      // Still in the start surface's band: no stop. Over-relaxed steps
+      // (Keinert et al. 2014): 1.9 d is safe while d grows.
+      steps = i + 1;
+      d_peak = max(d_peak, d);
+    } else if (t_stop >= 0.0) {
       crossed = crossed || d <= 0.0;
       if (abs(d) < abs(d_hit)) {
         t_hit = t;
         d_hit = d;
       }
       if (++refined == kRefineSteps) {
-        if (crossed || narrow || abs(d_hit) <= kSceneHitEps) break;
-        // Unconfirmed: march on from the stop, which is safe (d_stop > 0).
-        narrow = true;
-        t_first = t_stop;
-        d_first = d_stop;
+        if (crossed || abs(d_hit) <= dErr(ro_mag, t_hit)) break;
         refined = 0;
-        t_prev = t_stop;
-        d_prev = d_stop;
-        t = t_stop + d_stop * kSceneStepScale;
+        if (!narrow) {
+          // Unconfirmed: march on from the stop, which is safe (d_stop > 0).
+          narrow = true;
+          t_first = t_stop;
+          d_first = d_stop;
+          t_prev = t_stop;
+          d_prev = d_stop;
+          t = t_stop + d_stop * kSceneStepScale;
+        } else {
+          // A second near miss: pass it from its nearest sample (d_hit > 0).
+          t_prev = t_hit;
+          d_prev = d_hit;
+          t = t_hit + max(d_hit * kSceneStepScale, fpEps(ro_mag, t_hit));
+        }
         t_stop = -1.0;
         t_hit = -1.0;
         if (t > t_max) break;
@@ -348,25 +408,37 @@ float march(vec3 ro, vec3 rd, float t_max, float side, out int steps) {
       }
     } else {
       steps = i + 1;
-      if (d < (narrow ? kSceneHitEps : hitEps(t))) {
+      float band = narrow ? dErr(ro_mag, t) : hitEps(ro_mag, t);
+      if (i == 0 && t == 0.0 && abs(d) < band) {
+        // On a surface at the ray's origin: step off it and look, far enough
+        // that d moves by many roundings of the scene's unit-sized terms.
+        probe = true;
+        t_prev = t;
+        d_prev = d;
+        t = max(4.0 * band, 64.0 * kFpUlps * max(ro_mag, 1.0));
+        continue;
+      }
+      if (d < band) {
         t_stop = t;
         d_stop = d;
         t_hit = t;
         d_hit = d;
         crossed = d <= 0.0;
       } else if (i + 1 >= kSceneMaxSteps) {
-        // Out of steps: a miss, unless still closing in after a stop.
-        exhausted = d <= d_prev;
+        // Out of steps: a miss, unless still closing in.
+        exhausted = slope < 0.0;
+        t_prev = t;
+        d_prev = d;
         break;
       }
     }
-    float t_next = t + d * kSceneStepScale;
+    relaxed = leaving;
+    float t_next = t + d * kSceneStepScale * (leaving ? 1.9 : 1.0);
     if (t_stop >= 0.0) {
       // Secant on d(t) through the last two samples; a plain step if they
       // do not bracket a descent, and never farther than 8 |d| from the hit:
       // longer jumps tunnelled through the rims of a level-5 Menger sponge's
       // holes (0.17% of primary rays at 64 |d|).
-      float slope = (d - d_prev) / max(t - t_prev, 1e-30);
       if (i > 0 && slope < 0.0) t_next = t - d / slope;
       // ... nor past t_max (an analytic plane may lie just beyond the hit).
       t_next = clamp(t_next, t_hit - 8.0 * abs(d_hit), min(t_hit + 8.0 * abs(d_hit), t_max));
@@ -376,13 +448,19 @@ float march(vec3 ro, vec3 rd, float t_max, float side, out int steps) {
     t = t_next;
     if (t_stop < 0.0 && t > t_max) break;
   }
-  // Out of steps while resolving a stop and still closing in: a ray grazing a
-  // face converges too slowly to confirm it in budget, one passing a silhouette
-  // within a hair has not reached its closest point; keep the stop, the answer
-  // of a plain pixel-cone tracer. A ray already moving away is a miss.
-  if (t_hit < 0.0 && exhausted && t_first >= 0.0) {
-    t_hit = t_first;
-    d_hit = d_first;
+  // Out of steps and still closing in: a ray grazing a face converges too slowly
+  // to reach it in budget (steps shrink by the sine of the angle). It is no sky:
+  // it hits at the root of the secant through its last two samples (exact on a
+  // flat face) when that lies within reach, else at its first stop if it had one.
+  if (t_hit < 0.0 && exhausted) {
+    float t_root = t_prev - d_prev / min(slope, -1e-30);
+    if (t_root <= t_max) {
+      t_hit = t_root;
+      d_hit = 0.0;
+    } else if (t_first >= 0.0) {
+      t_hit = t_first;
+      d_hit = d_first;
+    }
   }
   if (t_hit < 0.0 && plane >= 0) {
     g_plane_hit = plane;
@@ -395,21 +473,23 @@ float march(vec3 ro, vec3 rd, float t_max, float side, out int steps) {
 
 // Gradient from 4 taps on a tetrahedron's vertices (cheaper than the paper's 6
 // central differences, sec. 2.4). A loop, so sdScene is emitted once, not 4 times.
-vec3 sceneNormal(vec3 p, float h) {
+// field_mean: the taps' mean, the field at p to O(h^2).
+vec3 sceneNormal(vec3 p, float h, out float field_mean) {
   vec3 n = vec3(0.0);
+  field_mean = 0.0;
   for (int i = loopZero(); i < 4; i++) {
     g_loop_iterations++;
     // (+,-,-), (-,-,+), (-,+,-), (+,+,+): the even-parity cube corners
     vec3 k = vec3(i == 0 || i == 3, i >= 2, i == 1 || i == 3) * 2.0 - 1.0;
-    n += k * sdScene(p + k * h);
+    float d = sdScene(p + k * h);
+    n += k * d;
+    field_mean += 0.25 * d;
   }
   // A degenerate field (coplanar CSG faces make a zero-width sheet whose
   // taps cancel) has no gradient: a NaN here would poison the denoisers.
   float len = length(n);
   return len > 0.0 ? n / len : vec3(0.0, 1.0, 0.0);
 }
-
-float maxComponent(vec3 v) { return max(v.x, max(v.y, v.z)); }
 
 // ---- lights ----
 const int kSunLights = 1;
@@ -495,7 +575,9 @@ vec3 tracePath(vec3 ro, vec3 rd, int max_bounces, bool record_aov) {
   vec3 throughput = vec3(1.0);
   // -1 while inside a solid (refracted into glass, or a camera placed inside
   // an object: it then sees the object's inside, not a hit at t = 0).
-  float side = sdScene(ro) < 0.0 ? -1.0 : 1.0;
+  // A camera on a surface (within float error of it) is outside: march() then
+  // tells a ray leaving the surface from one entering it.
+  float side = sdScene(ro) < -fpEps(maxComponent(abs(ro)), 0.0) ? -1.0 : 1.0;
   float prev_pdf = 0.0;   // BSDF pdf of the last scattering; 0 = delta or camera
   vec3 prev_pos = ro;
   for (int depth = loopZero(); depth <= max_bounces; depth++) {
@@ -512,7 +594,6 @@ vec3 tracePath(vec3 ro, vec3 rd, int max_bounces, bool record_aov) {
     }
 
     vec3 p = ro + rd * t;
-    float eps = hitEps(t);
     vec3 n;
     Material m;
     if (g_plane_hit >= 0) {
@@ -520,8 +601,21 @@ vec3 tracePath(vec3 ro, vec3 rd, int max_bounces, bool record_aov) {
       m = sdMaterial(kPlaneMaterial[g_plane_hit]);
     } else
     {
-      n = sceneNormal(p, min(eps, 4.0 * kSceneHitEps));  // outward: the gradient of sdScene
-      m = sdMaterial(sdMaterialId(p));
+      // The surface is that of the solid the ray enters, or of the one it leaves
+      // when it enters none: the normal is the field's gradient just past p along
+      // the ray (inside the solid entered, outside the one left), and the
+      // material is read there or just before p. Taps centred on p mix both
+      // faces at an edge (a dark line along a mirror's rim) and both solids
+      // where two touch (a glass box on the ground: a zero gradient).
+      // h: 16x float resolution at p, or 1/400 of a pixel at t if wider (the
+      // width of the strip along an edge whose normal mixes the two faces);
+      // the point ahead lies past p's offset from the surface.
+      float h = max(16.0 * fpEps(maxComponent(abs(p)), 0.0), 0.01 * t * kScenePixelCone);
+      float ahead = 2.0 * h + 2.0 * g_hit_offness;
+      float field;
+      n = sceneNormal(p + rd * ahead, h, field);  // outward: the gradient of sdScene
+      bool ahead_solid = field < 0.0;
+      m = sdMaterial(sdMaterialId(ahead_solid ? p + rd * ahead : p - rd * ahead));
     }
     if (record_aov && depth == 0) {
       g_aov_normal = n;
@@ -536,10 +630,12 @@ vec3 tracePath(vec3 ro, vec3 rd, int max_bounces, bool record_aov) {
     vec3 nf = entering ? n : -n;  // faces the incoming ray
     vec3 wo = -rd;
     // New rays start off the surface by a few times its uncertainty: the hit's
-    // |d| and float32 rounding of p. Not by the hit band: a quarter pixel at
-    // distance would lift rays out of crevices and under contact points
+    // |d|, float32 rounding of p, and 1/100 pixel at t (the normal taps' scale;
+    // without it, the tolerance now being local, rays starting closer took 29%
+    // more loop iterations on the castle). Not by the hit band: a quarter pixel
+    // at distance would lift rays out of crevices and under contact points
     // (measured: +0.03% image mean against Mitsuba 3).
-    float offset = 4.0 * max(max(kSceneHitEps, g_hit_offness), maxComponent(abs(p)) * 4.0 * 1.1920929e-7);
+    float offset = 4.0 * max(max(kSceneHitEps, g_hit_offness), max(maxComponent(abs(p)) * 4.0 * 1.1920929e-7, 0.01 * t * kScenePixelCone));
 
     // Next-event estimation: frame.light_samples shadow rays to uniformly chosen lights.
     if (m.model == MAT_DIFFUSE || m.model == MAT_METAL) {
@@ -579,7 +675,10 @@ vec3 tracePath(vec3 ro, vec3 rd, int max_bounces, bool record_aov) {
     prev_pdf = pdf;
     prev_pos = p;
     bool into_solid = dot(wi, n) < 0.0;
-    side = into_solid ? -1.0 : 1.0;
+    // Reflected, the ray stays where it came from (inside a glass resting on the
+    // ground after bouncing off the ground); transmitted, it crosses the surface.
+    bool reflected = (dot(wi, n) < 0.0) != (dot(rd, n) < 0.0);
+    side = reflected ? side : (into_solid ? -1.0 : 1.0);
     ro = p + (into_solid ? -n : n) * offset;
     rd = wi;
 
