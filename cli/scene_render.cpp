@@ -29,7 +29,7 @@ RenderSettings renderSettingsFor(const CompiledScene& compiled, const RenderOver
   const uint32_t lights = static_cast<uint32_t>(compiled.scene.lights.size());
   s.loop_iterations_per_sample = loopIterationsPerSample(steps, s.max_bounces, s.light_samples, lights);
   s.loop_iterations_per_pass = loopIterationsPerPassOverhead(steps, lights);
-  s.instance_sets = static_cast<uint32_t>(compiled.emitted.stats.instance_sets);
+  s.instance_sets = static_cast<uint32_t>(compiled.emitted.stats.traversals_per_evaluation);
   return s;
 }
 

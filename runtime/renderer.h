@@ -44,8 +44,8 @@ struct RenderSettings {
   // Loop iterations of a pass independent of its sample count
   // (loopIterationsPerPassOverhead: the AOV ray).
   uint32_t loop_iterations_per_pass = 0;
-  // Instance hierarchies an evaluation may traverse (the emitter's
-  // instance_sets); 0 = none. Passes then take fewer samples so each scene
+  // Instance-hierarchy traversals one scene evaluation may make (the
+  // emitter's traversals_per_evaluation); 0 = none. Passes then take fewer samples so each scene
   // evaluation keeps at least kMinTraversalVisits hierarchy visits, and
   // frame.traversal_visits is set from the cap (traversalVisitsWithinCap).
   uint32_t instance_sets = 0;

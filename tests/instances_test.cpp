@@ -74,6 +74,25 @@ TEST(Instances, UnionOfCopiesBecomesDataAndDumpSaysSo) {
   EXPECT_EQ(countKind(*checked(mixedScene(20), 32).scene.root, ir::NodeKind::Instances), 0);
 }
 
+TEST(Instances, NestedSetsStayWithinTheCountedTraversals) {
+  // A set inside a set's template would run a loop per outer visit: the outer
+  // copies stay code, and each counts as one traversal of the inner set.
+  std::ostringstream s;
+  s << "scene { instances(positions: [";
+  for (int i = 0; i < 40; ++i) s << (i ? ", " : "") << "[" << i * 3 << ", 0, 0]";
+  s << "]) { instances(positions: [";
+  for (int i = 0; i < 40; ++i) s << (i ? ", " : "") << "[0, " << i * 0.5 << ", 0]";
+  s << "]) { sphere(radius: 0.2) } } }";
+  CompileOptions options;
+  options.produce_spirv = false;
+  Diagnostics diags;
+  const CompiledScene c = compileSource("nested.sdf", s.str(), options, diags);
+  ASSERT_TRUE(c.ok) << diags.format();
+  EXPECT_EQ(c.emitted.stats.instance_sets, 1);
+  EXPECT_EQ(c.emitted.stats.traversals_per_evaluation, 40);
+  EXPECT_NEAR(Evaluator(c.scene).distance(dvec3(3, 1, 0)), -0.2, 1e-12);
+}
+
 TEST(Instances, HierarchyEqualsBruteForceAtRandomPoints) {
   const CompiledScene data = checked(mixedScene(), 32);
   const CompiledScene inline_form = checked(mixedScene(), 0);

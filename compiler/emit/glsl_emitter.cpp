@@ -96,6 +96,19 @@ int uniformMaterial(const ir::Node& n, int inherited) {
   return common;
 }
 
+// Hierarchy traversals one evaluation of `n` may make (the renderer divides
+// the loop cap's room by it): a set inside a repeat's neighbour cells or in
+// several uses of a definition counts once per evaluation of it.
+int traversalsPerEvaluation(const ir::Node& n) {
+  if (n.kind == ir::NodeKind::Instances) return 1;
+  int sum = 0;
+  for (const ir::NodeRef& c : n.children) sum += traversalsPerEvaluation(*c);
+  if (n.kind == ir::NodeKind::Repeat && sum > 0)
+    for (int a = 0; a < 3; ++a)
+      if (repeatNeedsNeighbours(n, a)) sum *= 3;
+  return sum;
+}
+
 class SceneWriter {
  public:
   SceneWriter(const ir::Scene& scene, const EmitOptions& options)
@@ -927,6 +940,7 @@ EmitResult emitGlsl(const ir::Scene& scene, const EmitOptions& options) {
   if (writer.hasAnalyticPlanes()) result.stats.features.insert("SDFC_HAS_PLANES");
   if (writer.hasSceneBox()) result.stats.features.insert("SDFC_HAS_SCENE_BOX");
   result.stats.instance_sets = writer.instanceSets();
+  result.stats.traversals_per_evaluation = scene.root ? traversalsPerEvaluation(*scene.root) : 0;
   result.scene_data = writer.takeData();
   std::ostringstream out;
   out << "#version 450\n";

@@ -38,6 +38,7 @@ struct EmitStats {
   int bounded_subtrees = 0;       // bound checks emitted
   int functions = 0;              // named functions emitted
   int instance_sets = 0;          // Instances nodes emitted as data
+  int traversals_per_evaluation = 0;  // hierarchy loops one scene evaluation may run
   std::set<std::string> features; // SDFC_* macros the scene turned on
 };
 

@@ -44,6 +44,13 @@ bool groupablePrimitive(const ir::Node& n) {
   return true;
 }
 
+bool containsInstances(const ir::Node& n) {
+  if (n.kind == ir::NodeKind::Instances) return true;
+  for (const ir::NodeRef& c : n.children)
+    if (containsInstances(*c)) return true;
+  return false;
+}
+
 bool peel(const ir::NodeRef& child, Peeled& out) {
   ir::NodeRef n = child;
   while (n->kind == ir::NodeKind::Affine && n->definition.empty()) {
@@ -56,7 +63,9 @@ bool peel(const ir::NodeRef& child, Peeled& out) {
   }
   if (groupablePrimitive(*n)) {
     if (n->material >= 0) out.material = n->material;
-  } else if (n->definition.empty() || !n->bounds.finite()) {
+  } else if (n->definition.empty() || !n->bounds.finite() || containsInstances(*n)) {
+    // (A set inside a set's template would run a loop per visit of the outer
+    // loop, beyond what the loop-cap budget counts: nested sets stay code.)
     return false;
   }
   out.shape = n;
@@ -151,7 +160,7 @@ class Former {
     if (!done_.insert(ref.get()).second) return;
     for (ir::NodeRef& c : ref->children) visit(c);
     if (ref->kind == ir::NodeKind::Instances) {
-      if (!dataForm(ref->instances->size())) {
+      if (!dataForm(ref->instances->size()) || containsInstances(*ref->children[0])) {
         ir::NodeRef expanded = expandInstances(*ref);
         done_.insert(expanded.get());
         ref = expanded;
