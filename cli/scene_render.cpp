@@ -1,8 +1,12 @@
 #include "scene_render.h"
 
+#include "check/checker.h"
 #include "loop_budget.h"
 
 namespace sdfc {
+
+// The checker refuses more lights than the kernel's light loop is budgeted for.
+static_assert(kMaxLights == kMaxSphereLights, "checker.h and loop_budget.h disagree on the light limit");
 
 RenderSettings renderSettingsFor(const CompiledScene& compiled, const RenderOverrides& o) {
   const ir::RenderSettings& r = compiled.scene.render;

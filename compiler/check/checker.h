@@ -20,6 +20,12 @@ constexpr int kMaxRepeatCount = 10000;
 constexpr int kMaxImageSide = 16384;
 constexpr int kMaxSamples = 1 << 20;
 constexpr int kMaxBounces = 64;
+// runtime/loop_budget.h's kMaxLights: the kernel's light loop is bounded by it.
+constexpr int kMaxLights = 16;
+// morph's |t| + |1 - t| over time (t within [-3.5, 4.5]).
+constexpr double kMaxMorphStretch = 8;
+// Operations in one time-dependent expression as written into the shader.
+constexpr int kMaxTimeExpressionSize = 10000;
 
 ir::Scene check(const ast::File& file, const SourceFile& source, Diagnostics& diags,
                 const CheckOptions& options = {});

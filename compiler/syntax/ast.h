@@ -31,6 +31,8 @@ struct Expr {
   std::vector<Argument> arguments;  // Call: (...)
   bool has_block = false;           // Call: { ... } follows
   std::vector<ExprPtr> children;    // Call: the block's items
+  bool bad_name = false;            // Name, Call: already reported (non-ASCII name)
+  int height = 1;                   // levels of this tree (later stages recurse that deep)
 };
 
 struct Statement {
