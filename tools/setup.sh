@@ -6,7 +6,7 @@ cd "$(dirname "$0")/.."
 packages=(cmake ninja-build g++ pkg-config
   glslang-dev glslang-tools spirv-tools libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers
   libglm-dev libtinygltf-dev nlohmann-json3-dev libstb-dev libtinyexr-dev libcli11-dev
-  libgtest-dev python3-numpy python3-matplotlib clang)
+  libgtest-dev python3-numpy python3-matplotlib clang libclang-rt-14-dev)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

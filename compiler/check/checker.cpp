@@ -6,6 +6,7 @@
 #include <functional>
 #include <set>
 #include <unordered_map>
+#include <unordered_set>
 
 #include "check/builtins.h"
 
@@ -609,7 +610,8 @@ class Checker {
       for (const Scalar* s : {&vec->x, &vec->y, &vec->z})
         if (!checkRule(*s, ValueRule::NonNegative, v.range, "every component of " + what))
           return std::nullopt;
-    if (spec.nonzero && vec->isConst() && glm::length(vec->value()) == 0) {
+    const dvec3 direction = vec->isConst() ? vec->value() : dvec3(1);
+    if (spec.nonzero && std::max({std::fabs(direction.x), std::fabs(direction.y), std::fabs(direction.z)}) == 0) {
       diags_.error(v.range, what + " must not be the zero vector");
       return std::nullopt;
     }
@@ -1025,6 +1027,24 @@ class Checker {
     root->kind = ir::NodeKind::Union;
     root->range = e.range;
     root->children = std::move(children);
+    // Compile time (glslang, then the driver's pipeline) grows faster than
+    // the shader: 1000 translated spheres take 1.3 s to SPIR-V, 4000 take
+    // 17 s. Refuse, with the size, instead of running for minutes.
+    std::unordered_set<const ir::Node*> seen;
+    std::vector<const ir::Node*> stack = {root.get()};
+    while (!stack.empty()) {
+      const ir::Node* n = stack.back();
+      stack.pop_back();
+      if (!seen.insert(n).second) continue;
+      for (const ir::NodeRef& c : n->children) stack.push_back(c.get());
+    }
+    if (seen.size() > static_cast<size_t>(kMaxSceneNodes)) {
+      diags_.error(e.name_range, "the scene has " + std::to_string(seen.size()) +
+                                     " shapes and operations (a named shape counts once); at most " +
+                                     std::to_string(kMaxSceneNodes) +
+                                     ", as compile time grows faster than that; use 'repeat' for many copies");
+      return;
+    }
     scene_.root = root;
   }
 

@@ -26,6 +26,8 @@ constexpr int kMaxLights = 16;
 constexpr double kMaxMorphStretch = 8;
 // Operations in one time-dependent expression as written into the shader.
 constexpr int kMaxTimeExpressionSize = 10000;
+// Shape nodes (primitives and operations, shared ones once) in a scene.
+constexpr int kMaxSceneNodes = 4096;
 
 ir::Scene check(const ast::File& file, const SourceFile& source, Diagnostics& diags,
                 const CheckOptions& options = {});
