@@ -74,7 +74,12 @@ if mount -t tmpfs -o size=64k tmpfs "$full" 2>/dev/null; then
   head -c 40000 /dev/zero >"$full/filler"
   expect 4 "No space left on device" -- "$sdfc" compile "$scene" -o "$full/x.pfm" --emit glsl
   [ "$(cat "$full/x.pfm")" = keep ] || { echo "FAIL: previous file damaged" >&2; failures=$((failures + 1)); }
-  [ "$(ls -A "$full" | wc -l)" -eq 2 ] || { echo "FAIL: temporary left: $(ls -A "$full")" >&2; failures=$((failures + 1)); }
+  # The case from the issue: a PNG render to a full disk once exited 0 and
+  # left a truncated file.
+  printf 'keep' >"$full/x.png"
+  expect 4 "No space left on device" -- "$sdfc" render "$scene" --size 256x256 --spp 1 -q -o "$full/x.png"
+  [ "$(cat "$full/x.png")" = keep ] || { echo "FAIL: previous PNG damaged" >&2; failures=$((failures + 1)); }
+  [ "$(ls -A "$full" | wc -l)" -eq 3 ] || { echo "FAIL: temporary left: $(ls -A "$full")" >&2; failures=$((failures + 1)); }
   umount "$full"
 else
   echo "skip: cannot mount a tmpfs here (full-disk writes are also covered by BadInputWrites.AFullDiskFailsEveryFormatAndKeepsThePreviousFile)"
