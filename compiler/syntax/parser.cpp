@@ -50,9 +50,9 @@ class Parser {
     for (const ast::ExprPtr& c : e.children) h = std::max(h, c->height);
     return h + 1;
   }
-  bool tooTall(int height, SourceRange at) {
+  bool tooTall(int height, SourceRange where) {
     if (height <= kMaxExpressionHeight) return false;
-    abandon(at, "this expression is more than " + std::to_string(kMaxExpressionHeight) +
+    abandon(where, "this expression is more than " + std::to_string(kMaxExpressionHeight) +
                     " levels deep (each operator in a chain such as 'a + b + c' is a level); split "
                     "it with 'let'");
     return true;
