@@ -1,6 +1,12 @@
 #include "cli_support.h"
 
+#include <cerrno>
+#include <cmath>
 #include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <limits>
+#include <regex>
 #include <fstream>
 #include <iostream>
 #include <stdexcept>
@@ -28,18 +34,19 @@ LoadedScene loadScene(const CommandLine& cl, Diagnostics& diags, bool emit, bool
   if (!options_given) options = compileOptionsFrom(cl);
   for (const std::string& d : cl.defines) {
     const size_t eq = d.find('=');
-    char* end = nullptr;
-    const double value = eq == std::string::npos ? 0 : std::strtod(d.c_str() + eq + 1, &end);
-    if (eq == std::string::npos || eq == 0 || end == d.c_str() + eq + 1 || *end != '\0') {
-      std::cerr << "sdfc: error: -D expects name=number, got '" << d << "'\n";
+    const std::optional<double> value =
+        eq == std::string::npos ? std::nullopt : parsePlainNumber(d.substr(eq + 1));
+    if (eq == std::string::npos || eq == 0 || !value) {
+      std::cerr << "sdfc: error: -D expects name=number with a plain decimal number such as 2, "
+                   "-0.5 or 1e3 (finite in float32), got '"
+                << d << "'\n";
       out.exit_code = kExitUsage;
       return out;
     }
-    options.check.defines[d.substr(0, eq)] = value;
+    options.check.defines[d.substr(0, eq)] = *value;
   }
-  std::unique_ptr<SourceFile> file = readSourceFile(cl.input);
+  std::unique_ptr<SourceFile> file = readSceneFile(cl.input);
   if (!file) {
-    std::cerr << "sdfc: error: cannot read '" << cl.input << "'\n";
     out.exit_code = kExitIo;
     return out;
   }
@@ -57,19 +64,30 @@ LoadedScene loadScene(const CommandLine& cl, Diagnostics& diags, bool emit, bool
   return out;
 }
 
-void writeFileAtomically(const std::string& path, const std::string& bytes) {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream f(tmp, std::ios::binary);
-    if (!f || !f.write(bytes.data(), static_cast<std::streamsize>(bytes.size())) || !f.flush()) {
-      std::remove(tmp.c_str());
-      throw std::runtime_error("cannot write '" + path + "'");
-    }
+std::optional<double> parsePlainNumber(const std::string& text) {
+  static const std::regex kNumber(R"([-+]?([0-9]+\.?[0-9]*|\.[0-9]+)([eE][-+]?[0-9]+)?)");
+  if (!std::regex_match(text, kNumber)) return std::nullopt;
+  const double value = std::strtod(text.c_str(), nullptr);
+  if (!std::isfinite(value) || std::fabs(value) > std::numeric_limits<float>::max()) return std::nullopt;
+  return value;
+}
+
+bool checkTimeOption(double time, const char* option) {
+  if (std::isfinite(time) && std::fabs(time) <= std::numeric_limits<float>::max()) return true;
+  std::cerr << "sdfc: error: " << option << " must be a finite number within float32's range (|t| <= "
+            << std::numeric_limits<float>::max() << "), got " << time << "\n";
+  return false;
+}
+
+std::unique_ptr<SourceFile> readSceneFile(const std::string& path) {
+  std::error_code error;
+  if (std::filesystem::is_directory(path, error)) {
+    std::cerr << "sdfc: error: cannot read '" << path << "': it is a directory, not a scene file\n";
+    return nullptr;
   }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    std::remove(tmp.c_str());
-    throw std::runtime_error("cannot write '" + path + "'");
-  }
+  std::unique_ptr<SourceFile> file = readSourceFile(path);
+  if (!file) std::cerr << "sdfc: error: cannot read '" << path << "': " << std::strerror(errno) << "\n";
+  return file;
 }
 
 }  // namespace sdfc

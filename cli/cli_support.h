@@ -1,8 +1,10 @@
 // What every subcommand shares: loading a scene with -D overrides, printing
 // its diagnostics, and writing files through a temporary name.
 #pragma once
+#include <optional>
 #include <string>
 
+#include "atomic_file.h"
 #include "commands.h"
 #include "driver/compile.h"
 
@@ -22,7 +24,18 @@ CompileOptions compileOptionsFrom(const CommandLine& cl);
 LoadedScene loadScene(const CommandLine& cl, Diagnostics& diags, bool emit, bool spirv = true,
                       CompileOptions options = {}, bool options_given = false);
 
-// Writes `bytes` to `path` via "<path>.tmp" and a rename.
-void writeFileAtomically(const std::string& path, const std::string& bytes);
+
+// A number as the language writes one, with an optional sign: digits, an
+// optional fraction and exponent ("-1.5e3"). No hex, "inf" or "nan", and
+// the value must be finite in float32 (the shader's precision).
+std::optional<double> parsePlainNumber(const std::string& text);
+
+// Usage checks shared by render, eval and mesh: --time must be a float32
+// number. Prints the error and returns false when it is not.
+bool checkTimeOption(double time, const char* option = "--time");
+
+// Reads the scene file; on failure prints why (missing, unreadable, a
+// directory) and returns nullptr.
+std::unique_ptr<SourceFile> readSceneFile(const std::string& path);
 
 }  // namespace sdfc

@@ -69,6 +69,7 @@ int runMesh(const CommandLine& cl) {
   options.resolution = cl.resolution;
   options.voxel_size = cl.voxel_size;
   options.time = cl.time;
+  if (!checkTimeOption(cl.time)) return kExitUsage;
   if (cl.voxel_size < 0) {
     std::cerr << "sdfc: error: --voxel-size must be positive\n";
     return kExitUsage;
@@ -81,6 +82,7 @@ int runMesh(const CommandLine& cl) {
       return kExitUsage;
     }
   }
+  checkWritablePath(cl.output);  // before the work, not after
   Diagnostics diags;
   LoadedScene loaded = loadScene(cl, diags, /*emit=*/false);
   if (loaded.exit_code != kExitOk) return loaded.exit_code;

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <optional>
 #include <regex>
 
 #include "cli_support.h"
@@ -25,6 +26,8 @@ uint32_t viewId(const std::string& v) {
   if (v == "iterations") return gpu::kViewIterations;
   return gpu::kViewBeauty;
 }
+
+constexpr double kMaxFrames = 100000;
 
 }  // namespace
 
@@ -57,28 +60,38 @@ int runRender(const CommandLine& cl) {
   o.view = viewId(cl.view);
   o.seed = cl.seed;
   o.time = cl.time;
+  if (!checkTimeOption(cl.time)) return kExitUsage;
   if (cl.shards > 0 || cl.shard_index >= 0) return runRenderShard(cl, o);
-  // Frame sequence: A-B:step over time.
+  // Frame sequence: A-B:step over time. The count is decided (and limited)
+  // before any list is built or any work starts.
   std::vector<double> times = {cl.time};
   if (!cl.frames.empty()) {
     std::smatch m;
-    const std::regex pattern(R"(([-+]?[0-9.]+)-([-+]?[0-9.]+):([0-9.]+))");
-    if (!std::regex_match(cl.frames, m, pattern) || std::stod(m[3]) <= 0 ||
-        std::stod(m[2]) < std::stod(m[1])) {
+    const std::string number = R"([-+]?[0-9.]+(?:[eE][-+]?[0-9]+)?)";
+    const std::regex pattern("(" + number + ")-(" + number + "):(" + number + ")");
+    std::optional<double> a, b, step;
+    if (std::regex_match(cl.frames, m, pattern)) {
+      a = parsePlainNumber(m[1]);
+      b = parsePlainNumber(m[2]);
+      step = parsePlainNumber(m[3]);
+    }
+    if (!a || !b || !step || *step <= 0 || *b < *a) {
       std::cerr << "sdfc: error: --frames expects A-B:step with A <= B and step > 0, e.g. 0-2:0.1\n";
       return kExitUsage;
     }
-    times.clear();
-    const double a = std::stod(m[1]), b = std::stod(m[2]), step = std::stod(m[3]);
-    for (int i = 0; a + i * step <= b + 1e-9; ++i) times.push_back(a + i * step);
-    if (times.size() > 100000) {
-      std::cerr << "sdfc: error: --frames gives more than 100000 frames\n";
+    const double count = std::floor((*b - *a) / *step + 1e-9) + 1;
+    if (!(count <= kMaxFrames)) {
+      std::cerr << "sdfc: error: --frames " << cl.frames << " gives " << count << " frames; at most "
+                << kMaxFrames << "\n";
       return kExitUsage;
     }
+    times.clear();
+    for (int i = 0; i < static_cast<int>(count); ++i) times.push_back(*a + i * *step);
   }
   const auto denoiser = parseDenoiser(cl.denoiser);
-  // Check the output's extension before any work.
+  // Check the output's extension and directory before any work.
   imageFormatFromPath(cl.output);
+  checkWritablePath(times.size() > 1 ? farm::framePath(cl.output, 0) : cl.output);
 
   VulkanContext context;
   ContextOptions context_options;

@@ -239,6 +239,7 @@ void printTimings(const CommandLine& cl, const CompiledScene& first) {
 }  // namespace
 
 int runCompile(const CommandLine& cl) {
+  if (!cl.output.empty()) checkWritablePath(cl.output);  // before the work, not after
   Diagnostics diags;
   const bool needs_spirv = cl.emit == "spv" || cl.emit == "spvasm";
   LoadedScene loaded = loadScene(cl, diags, true, needs_spirv);
@@ -246,8 +247,9 @@ int runCompile(const CommandLine& cl) {
   const CompiledScene& c = loaded.compiled;
   if (cl.timings > 0) printTimings(cl, c);
   if (cl.emit == "spv") {
-    if (cl.output.empty()) {
-      std::cerr << "sdfc: error: --emit spv needs -o (binary output)\n";
+    if (cl.output.empty() || (cl.output == "-" && isatty(STDOUT_FILENO))) {
+      std::cerr << "sdfc: error: --emit spv needs -o (binary output; '-o -' when standard output "
+                   "is not a terminal)\n";
       return kExitUsage;
     }
     std::string bytes(reinterpret_cast<const char*>(c.spirv.data()), c.spirv.size() * 4);
@@ -258,7 +260,11 @@ int runCompile(const CommandLine& cl) {
                      : cl.emit == "ir"    ? ir::dump(c.scene)
                                           : disassembleSpirv(c.spirv);
   if (cl.output.empty() || cl.output == "-") {
-    std::cout << text;
+    std::cout << text << std::flush;
+    if (!std::cout) {
+      std::cerr << "sdfc: error: cannot write to standard output\n";
+      return kExitIo;
+    }
   } else {
     writeFileAtomically(cl.output, text);
   }
@@ -266,6 +272,7 @@ int runCompile(const CommandLine& cl) {
 }
 
 int runEval(const CommandLine& cl) {
+  if (!checkTimeOption(cl.time)) return kExitUsage;
   Diagnostics diags;
   LoadedScene loaded = loadScene(cl, diags, false);
   if (loaded.exit_code != kExitOk) return loaded.exit_code;

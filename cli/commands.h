@@ -52,7 +52,7 @@ struct CommandLine {
   int shards = 0;
   int shard_index = -1;
   double fps = 24;
-  // merge
+  // merge (shard files or directories) and fmt (.sdf files)
   std::vector<std::string> inputs;
   bool png = false;
   // farm submit / status
@@ -75,7 +75,6 @@ struct CommandLine {
   double voxel_size = 0;
   std::string box;
   // fmt
-  std::vector<std::string> inputs;
   bool check_format = false;
   bool write_in_place = false;
   bool lsp_stdio = true;  // lsp: --stdio, the only transport

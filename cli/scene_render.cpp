@@ -2,6 +2,7 @@
 
 #include <regex>
 
+#include "check/checker.h"
 #include "loop_budget.h"
 
 namespace sdfc {
@@ -13,6 +14,8 @@ std::optional<std::pair<int, int>> parseImageSize(const std::string& text) {
   if (w < 1 || h < 1 || w > 16384 || h > 16384) return std::nullopt;
   return std::make_pair(w, h);
 }
+// The checker refuses more lights than the kernel's light loop is budgeted for.
+static_assert(kMaxLights == kMaxSphereLights, "checker.h and loop_budget.h disagree on the light limit");
 
 RenderSettings renderSettingsFor(const CompiledScene& compiled, const RenderOverrides& o) {
   const ir::RenderSettings& r = compiled.scene.render;

@@ -1,9 +1,13 @@
 #!/usr/bin/env bash
-# Builds the libFuzzer target with clang (ASan + UBSan) in its own build
-# directory and fuzzes the front end for a bounded time.
+# Builds the libFuzzer targets with clang (ASan + UBSan) in their own build
+# directory and fuzzes for a bounded time:
+#   sdfc_fuzz          the front end (lexer, parser, checker, passes);
+#   sdfc_compile_fuzz  check, then emit and glslang on every accepted input
+#                      (a checked scene that does not compile is a finding).
 #
-#   fuzz/run.sh [seconds]          fuzz for `seconds` (default 60)
-#   fuzz/run.sh --replay [files]   run inputs once (default: fuzz/regressions/*)
+#   fuzz/run.sh [seconds]          fuzz for `seconds` in all (default 60):
+#                                  a third on sdfc_fuzz, the rest on sdfc_compile_fuzz
+#   fuzz/run.sh --replay [files]   run inputs once through both (default: fuzz/regressions/*)
 #
 # Environment: SDFC_FUZZ_BUILD (build dir, default build-fuzz next to fuzz/),
 # SDFC_FUZZ_JOBS (ninja jobs). Exits non-zero when the fuzzer finds a crash,
@@ -30,20 +34,31 @@ if [ ! -f "$build/build.ninja" ]; then
     -DCMAKE_BUILD_TYPE=Fuzz -DCMAKE_CXX_FLAGS_FUZZ="-O1 -gline-tables-only" \
     -DCMAKE_C_FLAGS_FUZZ="-O1" "${hook[@]}" >"$log" 2>&1 || { cat "$log" >&2; exit 2; }
 fi
-ninja -C "$build" -j "$jobs" sdfc_fuzz >"$log" 2>&1 || { cat "$log" >&2; exit 2; }
-fuzzer=$build/fuzz/sdfc_fuzz
+ninja -C "$build" -j "$jobs" sdfc_fuzz sdfc_compile_fuzz >"$log" 2>&1 || { cat "$log" >&2; exit 2; }
+front=$build/fuzz/sdfc_fuzz
+back=$build/fuzz/sdfc_compile_fuzz
 
 if [ "${1:-}" = "--replay" ]; then
   shift
   if [ $# -eq 0 ]; then set -- "$root"/fuzz/regressions/*.sdf; fi
-  "$fuzzer" "$@"
+  "$front" "$@"
+  "$back" "$@"
   exit
 fi
 
 seconds=${1:-60}
-mkdir -p "$build/corpus" "$build/artifacts"
-# New inputs go to the first directory (in the build tree); fuzz/corpus and
-# examples/ are read-only seeds.
-"$fuzzer" "$build/corpus" "$root/fuzz/corpus" "$root/examples" \
-  -dict="$root/fuzz/sdf.dict" -max_total_time="$seconds" -max_len=4096 -timeout=10 \
-  -rss_limit_mb=2048 -print_final_stats=1 -artifact_prefix="$build/artifacts/"
+front_seconds=$(( seconds / 3 > 0 ? seconds / 3 : 1 ))
+back_seconds=$(( seconds - front_seconds > 0 ? seconds - front_seconds : 1 ))
+mkdir -p "$build/corpus" "$build/corpus-compile" "$build/artifacts"
+# New inputs go to the first directory (in the build tree); fuzz/corpus,
+# fuzz/regressions and examples/ are read-only seeds. The compile target
+# also starts from what the front-end runs found.
+status=0
+"$front" "$build/corpus" "$root/fuzz/corpus" "$root/examples" \
+  -dict="$root/fuzz/sdf.dict" -max_total_time="$front_seconds" -max_len=4096 -timeout=10 \
+  -rss_limit_mb=2048 -print_final_stats=1 -artifact_prefix="$build/artifacts/front-" || status=$?
+"$back" "$build/corpus-compile" "$root/fuzz/corpus" "$root/fuzz/regressions" "$root/examples" \
+  "$build/corpus" -dict="$root/fuzz/sdf.dict" -max_total_time="$back_seconds" -max_len=4096 \
+  -timeout=30 -rss_limit_mb=2048 -print_final_stats=1 -artifact_prefix="$build/artifacts/compile-" ||
+  status=$?
+exit $status

@@ -1,5 +1,7 @@
 #include "image_io.h"
 
+#include "atomic_file.h"
+
 #include <stb_image.h>
 #include <stb_image_write.h>
 #include <tinyexr.h>
@@ -31,29 +33,21 @@ std::vector<float> toRgb(const FloatImage& image) {
   return rgb;
 }
 
-void writePfm(const std::string& path, const FloatImage& image) {
-  std::ofstream file(path, std::ios::binary);
-  if (!file) throw ImageIoError("cannot open " + path + " for writing");
-  // Negative scale = little-endian; rows run bottom to top (PFM convention).
-  file << "PF\n" << image.width << " " << image.height << "\n-1.0\n";
+// Little-endian PFM: negative scale; rows run bottom to top (PFM convention).
+std::string encodePfm(const FloatImage& image) {
+  std::string out = "PF\n" + std::to_string(image.width) + " " + std::to_string(image.height) + "\n-1.0\n";
   const std::vector<float> rgb = toRgb(image);
   static_assert(sizeof(float) == 4);
-  const uint32_t probe = 1;
-  const bool little_endian = *reinterpret_cast<const uint8_t*>(&probe) == 1;
   for (uint32_t row = 0; row < image.height; ++row) {
     const float* line = &rgb[size_t(image.height - 1 - row) * image.width * 3];
-    if (little_endian) {
-      file.write(reinterpret_cast<const char*>(line), std::streamsize(image.width) * 12);
-    } else {
-      for (uint32_t i = 0; i < image.width * 3; ++i) {
-        uint32_t bits;
-        std::memcpy(&bits, &line[i], 4);
-        bits = __builtin_bswap32(bits);
-        file.write(reinterpret_cast<const char*>(&bits), 4);
-      }
+    for (uint32_t i = 0; i < image.width * 3; ++i) {
+      uint32_t bits;
+      std::memcpy(&bits, &line[i], 4);
+      const char bytes[4] = {char(bits), char(bits >> 8), char(bits >> 16), char(bits >> 24)};
+      out.append(bytes, 4);
     }
   }
-  if (!file.flush()) throw ImageIoError("write failed: " + path);
+  return out;
 }
 
 FloatImage readPfm(const std::string& path) {
@@ -89,31 +83,67 @@ FloatImage readPfm(const std::string& path) {
   return image;
 }
 
-void writeDirect(const std::string& path, ImageFormat format, const FloatImage& image,
-                 const ToneMap& tone_map) {
+// The whole file in memory, so that one checked writer (atomic_file.h) puts
+// it on disk: a short write or a full disk is an error, never a truncated file.
+std::string encodeImage(ImageFormat format, const FloatImage& image, const ToneMap& tone_map) {
   switch (format) {
     case ImageFormat::Png: {
       const std::vector<uint8_t> bytes = toSrgb8(image, tone_map);
-      if (!stbi_write_png(path.c_str(), int(image.width), int(image.height), 3, bytes.data(),
-                          int(image.width) * 3))
-        throw ImageIoError("cannot write PNG " + path);
-      return;
+      std::string out;
+      auto append = [](void* context, void* data, int size) {
+        static_cast<std::string*>(context)->append(static_cast<const char*>(data), size_t(size));
+      };
+      if (!stbi_write_png_to_func(append, &out, int(image.width), int(image.height), 3, bytes.data(),
+                                  int(image.width) * 3))
+        throw ImageIoError("cannot encode PNG");
+      return out;
     }
     case ImageFormat::Exr: {
-      const std::vector<float> rgb = toRgb(image);
-      const char* err = nullptr;
-      if (SaveEXR(rgb.data(), int(image.width), int(image.height), 3, /*save_as_fp16=*/0,
-                  path.c_str(), &err) != TINYEXR_SUCCESS) {
-        const std::string message = err ? err : "unknown error";
-        FreeEXRErrorMessage(err);
-        throw ImageIoError("cannot write EXR " + path + ": " + message);
+      // One float plane per channel, B G R as tinyexr's SaveEXR orders them.
+      const size_t n = image.pixelCount();
+      std::vector<float> planes[3];
+      for (int c = 0; c < 3; ++c) {
+        planes[c].resize(n);
+        for (size_t i = 0; i < n; ++i) planes[c][i] = image.rgba[i * 4 + (2 - c)];
       }
-      return;
+      float* pointers[3] = {planes[0].data(), planes[1].data(), planes[2].data()};
+      EXRImage exr;
+      InitEXRImage(&exr);
+      exr.num_channels = 3;
+      exr.images = reinterpret_cast<unsigned char**>(pointers);
+      exr.width = int(image.width);
+      exr.height = int(image.height);
+      EXRHeader header;
+      InitEXRHeader(&header);
+      header.num_channels = 3;
+      std::vector<EXRChannelInfo> channels(3);
+      const char* names[3] = {"B", "G", "R"};
+      for (int c = 0; c < 3; ++c) {
+        std::memset(&channels[c], 0, sizeof(EXRChannelInfo));
+        std::strncpy(channels[c].name, names[c], 255);
+      }
+      header.channels = channels.data();
+      int pixel_types[3] = {TINYEXR_PIXELTYPE_FLOAT, TINYEXR_PIXELTYPE_FLOAT, TINYEXR_PIXELTYPE_FLOAT};
+      header.pixel_types = pixel_types;
+      header.requested_pixel_types = pixel_types;
+      // As tinyexr's SaveEXR: ZIP, but none for images under 16x16.
+      header.compression_type = image.width < 16 && image.height < 16 ? TINYEXR_COMPRESSIONTYPE_NONE
+                                                                       : TINYEXR_COMPRESSIONTYPE_ZIP;
+      unsigned char* memory = nullptr;
+      const char* err = nullptr;
+      const size_t size = SaveEXRImageToMemory(&exr, &header, &memory, &err);
+      if (size == 0 || !memory) {
+        const std::string message = err ? err : "unknown error";
+        if (err) FreeEXRErrorMessage(err);
+        throw ImageIoError("cannot encode EXR: " + message);
+      }
+      std::string out(reinterpret_cast<const char*>(memory), size);
+      std::free(memory);
+      return out;
     }
-    case ImageFormat::Pfm:
-      writePfm(path, image);
-      return;
+    case ImageFormat::Pfm: return encodePfm(image);
   }
+  return {};
 }
 
 void checkSameSize(const FloatImage& a, const FloatImage& b) {
@@ -226,18 +256,10 @@ void writeImage(const std::string& path, const FloatImage& image, const ToneMap&
   const ImageFormat format = imageFormatFromPath(path);
   if (image.width == 0 || image.height == 0 || image.rgba.size() != image.pixelCount() * 4)
     throw ImageIoError("cannot write an empty or malformed image to " + path);
-  const std::string temporary = path + ".tmp";
   try {
-    writeDirect(temporary, format, image, tone_map);
-    std::filesystem::rename(temporary, path);  // atomic on POSIX within one directory
-  } catch (const std::filesystem::filesystem_error& error) {
-    std::error_code ignored;
-    std::filesystem::remove(temporary, ignored);
-    throw ImageIoError("cannot write " + path + ": " + error.code().message());
-  } catch (...) {
-    std::error_code ignored;
-    std::filesystem::remove(temporary, ignored);
-    throw;
+    writeFileAtomically(path, encodeImage(format, image, tone_map));
+  } catch (const FileWriteError& error) {
+    throw ImageIoError(error.what());
   }
 }
 

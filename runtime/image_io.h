@@ -1,6 +1,7 @@
 // Image files: PNG (8-bit sRGB, tone-mapped), EXR (linear float) and PFM
-// (linear float), chosen by extension. Writers go through "<path>.tmp" and a
-// rename, so an interrupted program never leaves a half-written image.
+// (linear float), chosen by extension. Images are encoded in memory and written
+// by writeFileAtomically (atomic_file.h), so a failed or interrupted write
+// never leaves a half-written image.
 // Also readers and comparison metrics for golden-image tests.
 #pragma once
 #include <cstdint>

@@ -20,6 +20,8 @@ packages=(
   libglm-dev libtinygltf-dev nlohmann-json3-dev libstb-dev libtinyexr-dev libcli11-dev
   # tests, benchmark smoke run, fuzzing
   libgtest-dev python3-numpy python3-matplotlib clang
+  # libFuzzer's and the sanitizers' runtimes (clang alone does not bring them)
+  libclang-rt-14-dev
   # the render farm's tests: a single-node Slurm cluster
   slurmctld slurmd slurm-client munge
   # sdfc view: the window (GLFW), and its tests under Xvfb with an X screenshot (xwd)

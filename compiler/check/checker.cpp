@@ -1,9 +1,12 @@
 #include "check/checker.h"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <functional>
 #include <set>
 #include <unordered_map>
+#include <unordered_set>
 
 #include "check/builtins.h"
 #include "check/point_file.h"
@@ -109,7 +112,8 @@ class Checker {
       Binding& b = bindings_[name];
       if (b.state == Binding::State::Unresolved) resolve(name, b);
       // An unused material gets its own warning below.
-      if (!b.used && b.value.type != Value::Type::Material)
+      // A definition with errors has been reported already: one mistake, one message.
+      if (!b.used && b.value.type != Value::Type::Material && b.value.type != Value::Type::Error)
         diags_.warning(b.statement->name_range, "'" + name + "' is never used");
     }
     for (size_t i = 0; i < scene_.materials.size(); ++i)
@@ -173,6 +177,7 @@ class Checker {
   }
 
   Value lookupName(const ast::Expr& e) {
+    if (e.bad_name) return {};  // the lexer reported it
     if (e.name == "time") {
       scene_.uses_time = true;
       return number(ir::timeScalar(), e.range);
@@ -244,7 +249,10 @@ class Checker {
       }
       case ast::ExprKind::Unary: {
         Value a = evalExpr(*e.operands[0]);
-        if (a.type == Value::Type::Number) return number(ir::unary('-', a.number), e.range);
+        if (a.type == Value::Type::Number) {
+          const Scalar r = ir::unary('-', a.number);
+          return timeExpressionFits(r, e.range) ? number(r, e.range) : Value{};
+        }
         if (a.type == Value::Type::Vector) {
           for (Scalar& s : a.vector) s = ir::unary('-', s);
           a.range = e.range;
@@ -287,6 +295,17 @@ class Checker {
         diags_.error(e.range, "this arithmetic overflows to a value that is not finite");
         return std::nullopt;
       }
+      if (!timeExpressionFits(r, e.range)) return std::nullopt;
+      if (op == '/' && !y.isConst()) {
+        const ir::Interval d = y.range();
+        if (d.lo == 0 && d.hi == 0) {
+          diags_.error(e.operands[1]->range, "division by zero at every time");
+          return std::nullopt;
+        }
+        if (d.lo <= 0 && d.hi >= 0)
+          diags_.warning(e.operands[1]->range, "the divisor ranges over " + rangeText(d) +
+                                                   " over time; where it is 0 the value is not finite");
+      }
       return r;
     };
     if (a.type == Value::Type::Number && b.type == Value::Type::Number) {
@@ -321,6 +340,7 @@ class Checker {
   // ---- calls -------------------------------------------------------------
 
   Value evalCall(const ast::Expr& e) {
+    if (e.bad_name) return {};  // the lexer reported it
     if (e.name == "file") {
       diags_.error(e.name_range, "'file' may only give the positions of instances(...)");
       return {};
@@ -372,7 +392,82 @@ class Checker {
       diags_.error(e.range, "'" + e.name + "' gives a value that is not finite here");
       return {};
     }
+    if (!r.isConst() && (!timeExpressionFits(r, e.range) || !checkDomainOverTime(e, args)))
+      return {};
     return number(r, e.range);
+  }
+
+  // ---- values the shader computes in float32 ------------------------------
+
+  static std::string rangeText(const ir::Interval& r) { return "[" + fmt(r.lo) + ", " + fmt(r.hi) + "]"; }
+
+  // A time-dependent expression is written out whole into the shader (and
+  // walked by interval arithmetic): its size is limited.
+  bool timeExpressionFits(const Scalar& s, const SourceRange& range) {
+    if (s.isConst() || s.expr->size <= kMaxTimeExpressionSize) return true;
+    diags_.error(range, "this expression depends on 'time' and would be " + fmt(s.expr->size) +
+                            " operations in the shader; at most " + std::to_string(kMaxTimeExpressionSize) +
+                            " (name a part with 'let' only shares it in the checker, not in the shader)");
+    return false;
+  }
+
+  // Functions undefined (or overflowing float32) for part of their domain,
+  // over the argument's range across all times: never defined is an error,
+  // sometimes a warning that names the range.
+  bool checkDomainOverTime(const ast::Expr& e, const std::vector<Scalar>& args) {
+    auto report = [&](bool never, const std::string& what) {
+      if (never) {
+        diags_.error(e.range, "'" + e.name + "' is not finite at any time: " + what);
+        return false;
+      }
+      diags_.warning(e.range, "'" + e.name + "' is not finite for some times: " + what);
+      return true;
+    };
+    if (e.name == "sqrt") {
+      const ir::Interval a = args[0].range();
+      if (a.lo < 0) return report(a.hi < 0, "its argument ranges over " + rangeText(a) +
+                                                " and is negative there");
+    } else if (e.name == "exp") {
+      const double limit = std::log(static_cast<double>(std::numeric_limits<float>::max()));
+      const ir::Interval a = args[0].range();
+      if (a.hi > limit)
+        return report(a.lo > limit, "its argument ranges over " + rangeText(a) + ", and above " +
+                                        fmt(limit) + " the result overflows float32");
+    } else if (e.name == "pow") {
+      const ir::Interval a = args[0].range();
+      const bool whole_exponent = args[1].isConst() && args[1].value == std::floor(args[1].value);
+      if (a.lo < 0 && !whole_exponent)
+        return report(a.hi < 0, "its base ranges over " + rangeText(a) +
+                                    " and a negative base needs a whole exponent");
+    }
+    return true;
+  }
+
+  // Every number the shader receives must be a float32: a constant beyond
+  // its range is an error (translate by 1e39 would be infinite in the
+  // shader); a time-dependent value outside it at every time is an error,
+  // at some times a warning naming its range.
+  bool checkShaderValue(const Scalar& s, const SourceRange& range, const std::string& what) {
+    constexpr double kFloatMax = std::numeric_limits<float>::max();
+    const double largest = ir::largestConstant(s);
+    if (largest > kFloatMax) {
+      diags_.error(range, what + (s.isConst() ? " is " : " uses the constant ") + fmt(s.isConst() ? s.value : largest) +
+                              ", beyond the range of the shader's float32 numbers (" + fmt(kFloatMax) + ")");
+      return false;
+    }
+    if (s.isConst()) return true;
+    const ir::Interval r = s.range();
+    if (!r.bounded()) return true;  // grows with time without bound: fine at any one time
+    if (r.lo > kFloatMax || r.hi < -kFloatMax) {
+      diags_.error(range, what + " ranges over " + rangeText(r) +
+                              " over time, beyond the range of the shader's float32 numbers");
+      return false;
+    }
+    if (r.hi > kFloatMax || r.lo < -kFloatMax)
+      diags_.warning(range, what + " ranges over " + rangeText(r) +
+                                " over time; where it is beyond " + fmt(kFloatMax) +
+                                " the shader's float32 value is infinite");
+    return true;
   }
 
   // Matches call arguments to a parameter list: positional in order, then
@@ -505,8 +600,9 @@ class Checker {
       return std::nullopt;
     }
     if (!checkTimeAllowed(v, spec, callee)) return std::nullopt;
-    if (!checkRule(v.number, spec.rule, v.range, "'" + std::string(spec.name) + "' of '" + callee + "'"))
-      return std::nullopt;
+    const std::string what = "'" + std::string(spec.name) + "' of '" + callee + "'";
+    if (!checkShaderValue(v.number, v.range, what)) return std::nullopt;
+    if (!checkRule(v.number, spec.rule, v.range, what)) return std::nullopt;
     return v.number;
   }
 
@@ -515,6 +611,8 @@ class Checker {
     auto vec = asVec3(v, spec, callee);
     if (!vec) return std::nullopt;
     const std::string what = "'" + std::string(spec.name) + "' of '" + callee + "'";
+    for (const Scalar* s : {&vec->x, &vec->y, &vec->z})
+      if (!checkShaderValue(*s, v.range, "a component of " + what)) return std::nullopt;
     if (spec.rule == ValueRule::Positive)
       for (const Scalar* s : {&vec->x, &vec->y, &vec->z})
         if (!checkRule(*s, ValueRule::Positive, v.range, "every component of " + what)) return std::nullopt;
@@ -522,9 +620,20 @@ class Checker {
       for (const Scalar* s : {&vec->x, &vec->y, &vec->z})
         if (!checkRule(*s, ValueRule::NonNegative, v.range, "every component of " + what))
           return std::nullopt;
-    if (spec.nonzero && vec->isConst() && glm::length(vec->value()) == 0) {
+    const dvec3 direction = vec->isConst() ? vec->value() : dvec3(1);
+    if (spec.nonzero && std::max({std::fabs(direction.x), std::fabs(direction.y), std::fabs(direction.z)}) == 0) {
       diags_.error(v.range, what + " must not be the zero vector");
       return std::nullopt;
+    }
+    if (spec.nonzero && vec->isConst()) {
+      // Only the direction matters: rescale so the largest component is 1,
+      // so normalising later neither overflows ([0.5, -1e308, 0.6]) nor
+      // underflows ([1e-200, 0, 0]); components below float32's range vanish.
+      dvec3 d = vec->value();
+      d /= std::max({std::fabs(d.x), std::fabs(d.y), std::fabs(d.z)});
+      for (int i = 0; i < 3; ++i)
+        if (std::fabs(d[i]) < 1e-30) d[i] = 0;
+      *vec = ir::constantVec(d);
     }
     return vec;
   }
@@ -644,6 +753,12 @@ class Checker {
       diags_.error(e.range, "'" + e.name + "' has an empty block");
       return {};
     }
+    // morph's 't' is checked even when a child has an error: all errors in one run.
+    std::optional<Scalar> morph_t;
+    if (e.name == "morph" && args.ok && args.values[0]) {
+      morph_t = numberArg(*args.values[0], sig.args[0], e.name);
+      if (!morph_t || !checkMorphAmount(*morph_t, args.values[0]->range)) return {};
+    }
     if (!ok) return {};
     auto node = std::make_shared<ir::Node>();
     node->range = e.range;
@@ -681,10 +796,9 @@ class Checker {
         diags_.error(e.range, "'morph' blends exactly 2 shapes, got " + std::to_string(children.size()));
         return {};
       }
-      auto t = numberArg(*arg(0), sig.args[0], name);
-      if (!t) return {};
+      if (!morph_t) return {};
       node->kind = ir::NodeKind::Morph;
-      node->amount = *t;
+      node->amount = *morph_t;
       node->children = children;
       diags_.warning(e.name_range, "'morph' gives a distance bound, not an exact distance");
       return shapeValue(node, e.range);
@@ -910,6 +1024,26 @@ class Checker {
       node->material = materialOf(args);
     }
     return shapeValue(node, e.range);
+  }
+
+  // Outside [0, 1] morph extrapolates, and its distance must be divided by
+  // |t| + |1 - t| (passes/analyze.cpp) to stay a bound: an unbounded t allows
+  // no step at all, a huge one a step too small to reach anything.
+  bool checkMorphAmount(const Scalar& t, const SourceRange& range) {
+    const ir::Interval r = t.range();
+    if (!r.bounded()) {
+      diags_.error(range, "morph 't' is unbounded over time, so no step size is safe; keep it in a "
+                          "range, e.g. with clamp() or sin()");
+      return false;
+    }
+    const double stretch = std::max(std::fabs(r.lo) + std::fabs(1 - r.lo), std::fabs(r.hi) + std::fabs(1 - r.hi));
+    if (stretch > kMaxMorphStretch) {
+      diags_.error(range, "morph 't' ranges over " + rangeText(r) + "; marching must divide its distance by " +
+                              fmt(stretch) + ", at most " + fmt(kMaxMorphStretch) + " (t within [" +
+                              fmt((1 - kMaxMorphStretch) / 2) + ", " + fmt((1 + kMaxMorphStretch) / 2) + "])");
+      return false;
+    }
+    return true;
   }
 
   Value evalRotate(const ast::Expr& e, const BuiltinSignature& sig, const BoundArgs& args,
@@ -1148,6 +1282,12 @@ class Checker {
       s.radiance = color * strength / solid_angle;
       scene_.sun = s;
     } else if (e.name == "light") {
+      if (scene_.lights.size() >= static_cast<size_t>(kMaxLights)) {
+        diags_.error(e.name_range, "a scene has at most " + std::to_string(kMaxLights) +
+                                       " 'light's (the kernel's per-ray light loop is bounded); this is light " +
+                                       std::to_string(scene_.lights.size() + 1));
+        return;
+      }
       ir::SphereLight l;
       if (auto v = vec(0)) l.position = *v;
       if (auto v = num(1)) l.radius = *v;

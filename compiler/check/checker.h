@@ -22,6 +22,14 @@ constexpr int kMaxSamples = 1 << 20;
 constexpr int kMaxBounces = 64;
 // Instance indices reach the shader as float32 values: exact below 2^24.
 constexpr size_t kMaxInstances = size_t(1) << 23;
+// runtime/loop_budget.h's kMaxLights: the kernel's light loop is bounded by it.
+constexpr int kMaxLights = 16;
+// morph's |t| + |1 - t| over time (t within [-3.5, 4.5]).
+constexpr double kMaxMorphStretch = 8;
+// Operations in one time-dependent expression as written into the shader.
+constexpr int kMaxTimeExpressionSize = 10000;
+// Shape nodes (primitives and operations, shared ones once) in a scene.
+constexpr int kMaxSceneNodes = 4096;
 
 ir::Scene check(const ast::File& file, const SourceFile& source, Diagnostics& diags,
                 const CheckOptions& options = {});

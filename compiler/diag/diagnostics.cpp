@@ -48,14 +48,20 @@ void appendOne(std::ostringstream& out, const Diagnostic& d, bool color) {
     out << "\n";
     const std::string_view text = file->lineText(line);
     out << text << "\n";
-    // The caret spans the range on its first line; tabs are kept so it lines up.
+    // The caret spans the range on its first line; tabs are kept so it
+    // lines up, and each character (not byte) before it is one column.
+    const size_t line_begin = file->lineStart(line);
+    const size_t before = std::min(d.range.begin - std::min(d.range.begin, line_begin), text.size());
     std::string marker;
-    for (int i = 1; i < col && static_cast<size_t>(i - 1) < text.size(); ++i)
-      marker += text[i - 1] == '\t' ? '\t' : ' ';
-    size_t width = d.range.end > d.range.begin ? d.range.end - d.range.begin : 1;
-    width = std::min(width, text.size() >= static_cast<size_t>(col - 1)
-                                ? std::max<size_t>(1, text.size() - (col - 1))
-                                : size_t{1});
+    for (size_t i = 0; i < before; ++i) {
+      if ((static_cast<unsigned char>(text[i]) & 0xC0) == 0x80) continue;
+      marker += text[i] == '\t' ? '\t' : ' ';
+    }
+    const size_t range_end = std::min(d.range.end, line_begin + text.size());
+    size_t width = range_end > d.range.begin
+                       ? codePointCount(text.substr(before, range_end - line_begin - before))
+                       : 1;
+    width = std::max<size_t>(width, 1);
     marker += '^';
     marker += std::string(width - 1, '~');
     if (color) out << "\033[1;32m";
@@ -117,7 +123,10 @@ std::string Diagnostics::formatJson() const {
     std::string path;
     if (d.range.file) {
       std::tie(line, col) = d.range.file->lineColumn(d.range.begin);
-      end_col = col + static_cast<int>(d.range.end - d.range.begin);
+      const std::string_view text = d.range.file->text;
+      const size_t begin = std::min(d.range.begin, text.size());
+      const size_t end = std::max(begin, std::min(d.range.end, text.size()));
+      end_col = col + static_cast<int>(codePointCount(text.substr(begin, end - begin)));
       path = d.range.file->path;
     }
     out << "{\"file\":\"" << jsonEscape(path) << "\",\"line\":" << line << ",\"column\":" << col

@@ -13,10 +13,16 @@ struct SourceFile {
   std::vector<size_t> line_starts;  // byte offset of each line's first character
 
   SourceFile(std::string path_, std::string text_);
-  // 1-based line and column of a byte offset (columns count bytes, as gcc's do).
+  // 1-based line and column of a byte offset. Columns count characters
+  // (UTF-8 code points), so a caret lines up after "è"; lines end at \n,
+  // \r\n or a lone \r.
   std::pair<int, int> lineColumn(size_t offset) const;
-  std::string_view lineText(int line) const;  // without the newline
+  std::string_view lineText(int line) const;  // without the line ending
+  size_t lineStart(int line) const;           // byte offset of the line's first character
 };
+
+// Characters (UTF-8 code points; a stray byte counts as one) in `bytes`.
+size_t codePointCount(std::string_view bytes);
 
 // A half-open byte range [begin, end) in one file.
 struct SourceRange {

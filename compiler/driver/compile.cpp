@@ -1,6 +1,10 @@
 #include "driver/compile.h"
 
 #include <chrono>
+#include <unordered_set>
+#include <vector>
+
+#include "check/checker.h"
 
 #include "passes/passes.h"
 #include "spirv/glsl_to_spirv.h"
@@ -32,9 +36,35 @@ CompiledScene frontEnd(const std::string& path, std::string text, const CompileO
     formInstances(out.scene, options.instancing);
     Diagnostics quiet;  // the second run repeats the first one's warnings
     analyze(out.scene, quiet);
+    // Compile time (glslang, then the driver's pipeline) grows faster than
+    // the shader: 1000 translated spheres as code take 1.3 s to SPIR-V, 4000
+    // take 17 s. Refuse, with the size, instead of running for minutes.
+    const size_t nodes = codeNodeCount(out.scene);
+    if (nodes > static_cast<size_t>(kMaxSceneNodes))
+      diags.error(out.scene.root->range,
+                  "the scene has " + std::to_string(nodes) +
+                      " shapes and operations as shader code (a named shape counts once; copies "
+                      "of one shape with constant placements become data); at most " +
+                      std::to_string(kMaxSceneNodes) +
+                      ", as compile time grows faster than that; use 'instances' or 'repeat' for many "
+                      "copies");
   }
   out.times.passes = secondsSince(t0);
   return out;
+}
+
+// Shape nodes that become shader code, each shared one once. Copies grouped
+// into an Instances node are data; only its template is code.
+size_t codeNodeCount(const ir::Scene& scene) {
+  std::unordered_set<const ir::Node*> seen;
+  std::vector<const ir::Node*> stack = {scene.root.get()};
+  while (!stack.empty()) {
+    const ir::Node* n = stack.back();
+    stack.pop_back();
+    if (!seen.insert(n).second) continue;
+    for (const ir::NodeRef& c : n->children) stack.push_back(c.get());
+  }
+  return seen.size();
 }
 
 }  // namespace

@@ -53,6 +53,28 @@ std::string number(double v) {
   return s;
 }
 
+// Interval arithmetic over all times, with the conventions 0 * inf = 0 and
+// inf - inf = the widest bound, so an unbounded input never yields NaN.
+double lower(double v) { return std::isnan(v) ? -kInf : v; }
+double higher(double v) { return std::isnan(v) ? kInf : v; }
+double product(double a, double b) { return a == 0 || b == 0 ? 0 : a * b; }
+
+Interval multiply(Interval a, Interval b) {
+  const double c[] = {product(a.lo, b.lo), product(a.lo, b.hi), product(a.hi, b.lo), product(a.hi, b.hi)};
+  return {*std::min_element(c, c + 4), *std::max_element(c, c + 4)};
+}
+
+// Structural equality, so that `time * time` is known to be a square.
+bool sameExpr(const Expr& a, const Expr& b) {
+  if (&a == &b) return true;
+  if (a.op != b.op || a.value != b.value || a.function != b.function || a.args.size() != b.args.size() ||
+      a.size != b.size)
+    return false;
+  for (size_t i = 0; i < a.args.size(); ++i)
+    if (!sameExpr(*a.args[i], *b.args[i])) return false;
+  return true;
+}
+
 Interval rangeOf(const Expr& e) {
   switch (e.op) {
     case Expr::Op::Const: return {e.value, e.value};
@@ -63,23 +85,25 @@ Interval rangeOf(const Expr& e) {
     }
     case Expr::Op::Add: {
       Interval a = rangeOf(*e.args[0]), b = rangeOf(*e.args[1]);
-      return {a.lo + b.lo, a.hi + b.hi};
+      return {lower(a.lo + b.lo), higher(a.hi + b.hi)};
     }
     case Expr::Op::Sub: {
       Interval a = rangeOf(*e.args[0]), b = rangeOf(*e.args[1]);
-      return {a.lo - b.hi, a.hi - b.lo};
+      return {lower(a.lo - b.hi), higher(a.hi - b.lo)};
     }
     case Expr::Op::Mul: {
-      Interval a = rangeOf(*e.args[0]), b = rangeOf(*e.args[1]);
-      if (!a.bounded() || !b.bounded()) return {-kInf, kInf};
-      const double c[] = {a.lo * b.lo, a.lo * b.hi, a.hi * b.lo, a.hi * b.hi};
-      return {*std::min_element(c, c + 4), *std::max_element(c, c + 4)};
+      Interval a = rangeOf(*e.args[0]);
+      if (sameExpr(*e.args[0], *e.args[1])) {  // a square is never negative
+        const double top = std::max(product(a.lo, a.lo), product(a.hi, a.hi));
+        const double bottom = a.lo <= 0 && a.hi >= 0 ? 0 : std::min(product(a.lo, a.lo), product(a.hi, a.hi));
+        return {bottom, top};
+      }
+      return multiply(a, rangeOf(*e.args[1]));
     }
     case Expr::Op::Div: {
       Interval a = rangeOf(*e.args[0]), b = rangeOf(*e.args[1]);
-      if (!a.bounded() || !b.bounded() || (b.lo <= 0 && b.hi >= 0)) return {-kInf, kInf};
-      const double c[] = {a.lo / b.lo, a.lo / b.hi, a.hi / b.lo, a.hi / b.hi};
-      return {*std::min_element(c, c + 4), *std::max_element(c, c + 4)};
+      if (b.lo <= 0 && b.hi >= 0) return {-kInf, kInf};
+      return multiply(a, {1 / b.hi, 1 / b.lo});
     }
     case Expr::Op::Call: {
       const std::string& f = e.function;
@@ -104,10 +128,34 @@ Interval rangeOf(const Expr& e) {
         Interval a = rangeOf(*e.args[0]), b = rangeOf(*e.args[1]), t = rangeOf(*e.args[2]);
         if (t.lo >= 0 && t.hi <= 1) return {std::min(a.lo, b.lo), std::max(a.hi, b.hi)};
       }
+      // Monotonic functions map the bounds (where defined: sqrt of the
+      // non-negative part; its negative part is reported by the checker).
+      if (f == "sqrt") {
+        Interval a = rangeOf(*e.args[0]);
+        return {std::sqrt(std::max(a.lo, 0.0)), std::sqrt(std::max(a.hi, 0.0))};
+      }
+      if (f == "exp") {
+        Interval a = rangeOf(*e.args[0]);
+        return {std::exp(a.lo), std::exp(a.hi)};
+      }
+      if (f == "floor") {
+        Interval a = rangeOf(*e.args[0]);
+        return {std::floor(a.lo), std::floor(a.hi)};
+      }
+      if (f == "radians") {
+        Interval a = rangeOf(*e.args[0]);
+        return {a.lo * M_PI / 180.0, a.hi * M_PI / 180.0};
+      }
       return {-kInf, kInf};
     }
   }
   return {-kInf, kInf};
+}
+
+double largestConstantOf(const Expr& e) {
+  double m = e.op == Expr::Op::Const ? std::fabs(e.value) : 0;
+  for (const ExprRef& a : e.args) m = std::max(m, largestConstantOf(*a));
+  return m;
 }
 
 std::string glslOf(const Expr& e, bool for_glsl) {
@@ -136,6 +184,8 @@ std::string glslOf(const Expr& e, bool for_glsl) {
 }
 
 Scalar fromExpr(Expr e, double time0_value) {
+  for (const ExprRef& a : e.args) e.size += a->size;
+  e.size = std::min(e.size, 1e18);
   Scalar s;
   s.value = time0_value;
   s.expr = std::make_shared<const Expr>(std::move(e));
@@ -171,6 +221,10 @@ double evaluate(const Expr& e, double time) {
     }
   }
   return 0;
+}
+
+double largestConstant(const Scalar& s) {
+  return s.expr ? largestConstantOf(*s.expr) : std::fabs(s.value);
 }
 
 double Scalar::at(double time) const { return expr ? evaluate(*expr, time) : value; }

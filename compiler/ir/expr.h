@@ -16,6 +16,9 @@ struct Expr {
   double value = 0;      // Const
   std::string function;  // Call: one of mathFunctionNames()
   std::vector<ExprRef> args;
+  // Nodes of the tree written out in full (shared subexpressions count each
+  // time), i.e. the size of its GLSL and of a walk over it; saturates.
+  double size = 1;
 };
 
 // Closed interval, for bounds over all times.
@@ -44,5 +47,8 @@ int mathFunctionArity(const std::string& name);  // -1 if unknown
 Scalar callFunction(const std::string& name, const std::vector<Scalar>& args);
 
 double evaluate(const Expr& e, double time);
+
+// The largest |constant| in the expression (what the shader must represent).
+double largestConstant(const Scalar& s);
 
 }  // namespace sdfc::ir

@@ -134,12 +134,8 @@ class Analyzer {
           const double l = t.bounded() ? std::max(std::fabs(t.lo) + std::fabs(1 - t.lo),
                                                   std::fabs(t.hi) + std::fabs(1 - t.hi))
                                        : kInf;
-          if (!std::isfinite(l)) {
-            diags_.error(n.range, "morph 't' is unbounded over time, so no step size is safe; "
-                                  "keep it in a range, e.g. with clamp() or sin()");
-          } else {
-            n.lipschitz = std::max(n.lipschitz, l) ;
-          }
+          // The checker rejects an unbounded or huge t (checkMorphAmount).
+          if (std::isfinite(l)) n.lipschitz = std::max(n.lipschitz, l);
         }
         n.cost += 0.2;
         break;

@@ -34,6 +34,8 @@ struct Expr {
   // The outermost "(...)" written around it (file == nullptr when none): the
   // formatter keeps the parentheses; `range` itself never includes them.
   SourceRange paren_range;
+  bool bad_name = false;            // Name, Call: already reported (non-ASCII name)
+  int height = 1;                   // levels of this tree (later stages recurse that deep)
 };
 
 struct Statement {

@@ -1,6 +1,9 @@
 #include "syntax/lexer.h"
 
 #include <cctype>
+#include <cstdint>
+#include <cstdio>
+#include <utility>
 #include <cmath>
 #include <cstdlib>
 #include <string>
@@ -39,6 +42,37 @@ namespace {
 bool isIdentStart(char c) { return std::isalpha(static_cast<unsigned char>(c)) || c == '_'; }
 bool isIdentChar(char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; }
 bool isDigit(char c) { return c >= '0' && c <= '9'; }
+bool isNonAscii(char c) { return static_cast<unsigned char>(c) >= 0x80; }
+
+// The UTF-8 sequence at s[i]: its code point and length, or length 0 when
+// the bytes are not valid UTF-8.
+std::pair<uint32_t, size_t> decodeUtf8(const std::string& s, size_t i) {
+  const unsigned char c = static_cast<unsigned char>(s[i]);
+  size_t length = c >= 0xF0 && c < 0xF5 ? 4 : c >= 0xE0 ? 3 : c >= 0xC2 && c < 0xE0 ? 2 : 0;
+  if (c >= 0xF5) length = 0;
+  if (length == 0 || i + length > s.size()) return {0, 0};
+  uint32_t cp = c & (0x7F >> length);
+  for (size_t k = 1; k < length; ++k) {
+    const unsigned char b = static_cast<unsigned char>(s[i + k]);
+    if ((b & 0xC0) != 0x80) return {0, 0};
+    cp = (cp << 6) | (b & 0x3F);
+  }
+  const uint32_t smallest[] = {0, 0, 0x80, 0x800, 0x10000};
+  if (cp < smallest[length] || cp > 0x10FFFF || (cp >= 0xD800 && cp <= 0xDFFF)) return {0, 0};
+  return {cp, length};
+}
+
+// "U+00E8 'è'" for a valid character, "byte 0xc3" for a stray byte.
+std::string describeNonAscii(const std::string& s, size_t i) {
+  char buf[16];
+  auto [cp, length] = decodeUtf8(s, i);
+  if (length == 0) {
+    std::snprintf(buf, sizeof buf, "byte 0x%02x", static_cast<unsigned char>(s[i]));
+    return buf;
+  }
+  std::snprintf(buf, sizeof buf, "U+%04X", cp);
+  return std::string(buf) + " '" + s.substr(i, length) + "'";
+}
 
 TokenKind punctuation(char c) {
   switch (c) {
@@ -83,7 +117,7 @@ std::vector<Token> lex(const SourceFile& file, Diagnostics& diags, std::vector<C
     // Comments: `//` to end of line and `/* ... */`.
     if (c == '/' && i + 1 < s.size() && s[i + 1] == '/') {
       const size_t begin = i;
-      while (i < s.size() && s[i] != '\n') ++i;
+      while (i < s.size() && s[i] != '\n' && s[i] != '\r') ++i;
       size_t end = i;
       while (end > begin + 2 && (s[end - 1] == '\r' || s[end - 1] == ' ' || s[end - 1] == '\t')) --end;
       if (comments) comments->push_back({{&file, begin, end}, true});
@@ -102,9 +136,30 @@ std::vector<Token> lex(const SourceFile& file, Diagnostics& diags, std::vector<C
       continue;
     }
     const size_t begin = i;
-    if (isIdentStart(c)) {
-      while (i < s.size() && isIdentChar(s[i])) ++i;
+    if (isIdentStart(c) || isNonAscii(c)) {
+      // Non-ASCII bytes glued to a name are taken into it, so "sphère" is
+      // one token and one error, not three.
+      size_t first_non_ascii = std::string::npos;
+      while (i < s.size() && (isIdentChar(s[i]) || isNonAscii(s[i]))) {
+        if (isNonAscii(s[i]) && first_non_ascii == std::string::npos) first_non_ascii = i;
+        ++i;
+      }
       Token t = make(TokenKind::Identifier, begin, i);
+      if (first_non_ascii != std::string::npos) {
+        bool has_ascii_letter = false;
+        for (size_t k = begin; k < i; ++k) has_ascii_letter = has_ascii_letter || isIdentStart(s[k]);
+        const std::string what = describeNonAscii(s, first_non_ascii);
+        if (!has_ascii_letter) {
+          // Only non-ASCII: a stray character (or binary junk), not a name.
+          diags.error(t.range, "unexpected character " + what +
+                                   (what[0] == 'U' ? "; outside comments, scene files are ASCII" : ""));
+          t.kind = TokenKind::Invalid;
+        } else {
+          diags.error(t.range, "names use only ASCII letters, digits and '_'; '" + std::string(t.text) +
+                                   "' contains " + what);
+          t.bad_name = true;
+        }
+      }
       if (t.text == "let") t.kind = TokenKind::KeywordLet;
       tokens.push_back(t);
       continue;
@@ -157,7 +212,7 @@ std::vector<Token> lex(const SourceFile& file, Diagnostics& diags, std::vector<C
     if (kind == TokenKind::Invalid) {
       // Group a run of bad bytes into one message (random input stays readable).
       while (i < s.size() && punctuation(s[i]) == TokenKind::Invalid && !isIdentStart(s[i]) &&
-             !isDigit(s[i]) && !std::isspace(static_cast<unsigned char>(s[i])))
+             !isNonAscii(s[i]) && !isDigit(s[i]) && !std::isspace(static_cast<unsigned char>(s[i])))
         ++i;
       const unsigned char shown = static_cast<unsigned char>(c);
       std::string what = std::isprint(shown) ? std::string("'") + c + "'" : "byte 0x" + [&] {

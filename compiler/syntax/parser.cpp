@@ -1,5 +1,6 @@
 #include "syntax/parser.h"
 
+#include <algorithm>
 #include <optional>
 
 #include "syntax/lexer.h"
@@ -28,7 +29,34 @@ class Parser {
   Diagnostics& diags_;
   size_t pos_ = 0;
   int depth_ = 0;
-  bool depth_reported_ = false;
+  // Set once a limit is hit: the rest of the file is skipped, and nothing
+  // more is reported (no "expected ']'" for every level left open).
+  bool abandoned_ = false;
+
+  void abandon(SourceRange where, const std::string& message) {
+    if (!abandoned_) diags_.error(where, message);
+    abandoned_ = true;
+    while (!at(TokenKind::EndOfFile)) advance();
+  }
+  void abandonTooDeep() {
+    abandon(peek().range, "nesting is deeper than " + std::to_string(kMaxNestingDepth) + " levels");
+  }
+  // Heights are computed as nodes are built, so no tree taller than the
+  // limit is ever made (or destroyed recursively).
+  static int heightOf(const ast::Expr& e) {
+    int h = 0;
+    for (const ast::ExprPtr& o : e.operands) h = std::max(h, o->height);
+    for (const ast::Argument& a : e.arguments) h = std::max(h, a.value->height);
+    for (const ast::ExprPtr& c : e.children) h = std::max(h, c->height);
+    return h + 1;
+  }
+  bool tooTall(int height, SourceRange where) {
+    if (height <= kMaxExpressionHeight) return false;
+    abandon(where, "this expression is more than " + std::to_string(kMaxExpressionHeight) +
+                    " levels deep (each operator in a chain such as 'a + b + c' is a level); split "
+                    "it with 'let'");
+    return true;
+  }
 
   const Token& peek(size_t ahead = 0) const {
     return tokens_[std::min(pos_ + ahead, tokens_.size() - 1)];
@@ -48,7 +76,7 @@ class Parser {
   // already reported by the lexer, so they are not reported again.
   bool expect(TokenKind kind, const char* context) {
     if (accept(kind)) return true;
-    if (!at(TokenKind::Invalid))
+    if (!at(TokenKind::Invalid) && !abandoned_)
       diags_.error(peek().range, std::string("expected ") + tokenKindName(kind) + " " + context +
                                      ", found " + describe(peek()));
     return false;
@@ -117,14 +145,10 @@ class Parser {
 
   // expr : additive
   ast::ExprPtr parseExpr() {
+    if (abandoned_) return errorExpr(peek().range);
     if (++depth_ > kMaxNestingDepth) {
-      if (!depth_reported_)
-        diags_.error(peek().range, "nesting is deeper than " + std::to_string(kMaxNestingDepth) +
-                                       " levels");
-      depth_reported_ = true;
       --depth_;
-      // Skip the rest of the file: nothing useful can be said about it.
-      while (!at(TokenKind::EndOfFile)) advance();
+      abandonTooDeep();
       return errorExpr(peek().range);
     }
     auto e = parseAdditive();
@@ -139,27 +163,17 @@ class Parser {
     e->range = lhs->range.to(rhs->range);
     e->operands.push_back(std::move(lhs));
     e->operands.push_back(std::move(rhs));
+    e->height = heightOf(*e);
     return e;
   }
 
   // additive : term { ("+" | "-") term }
-  // A chain of operators builds a tree as deep as the chain, and every later
-  // stage recurses over it: each operator counts as a level of nesting.
-  bool chainTooDeep(int& chain) {
-    if (++chain + depth_ <= kMaxNestingDepth) return false;
-    if (!depth_reported_)
-      diags_.error(peek().range, "nesting is deeper than " + std::to_string(kMaxNestingDepth) +
-                                     " levels");
-    depth_reported_ = true;
-    while (!at(TokenKind::EndOfFile)) advance();
-    return true;
-  }
-
+  // A chain of operators builds a left-leaning tree one level per operator;
+  // it stops (with one error) before growing past kMaxExpressionHeight.
   ast::ExprPtr parseAdditive() {
     auto lhs = parseTerm();
-    int chain = 0;
     while (at(TokenKind::Plus) || at(TokenKind::Minus)) {
-      if (chainTooDeep(chain)) return errorExpr(peek().range);
+      if (tooTall(lhs->height + 1, peek().range)) return errorExpr(peek().range);
       const char op = advance().text[0];
       lhs = binary(op, std::move(lhs), parseTerm());
     }
@@ -169,9 +183,8 @@ class Parser {
   // term : unary { ("*" | "/") unary }
   ast::ExprPtr parseTerm() {
     auto lhs = parseUnary();
-    int chain = 0;
     while (at(TokenKind::Star) || at(TokenKind::Slash)) {
-      if (chainTooDeep(chain)) return errorExpr(peek().range);
+      if (tooTall(lhs->height + 1, peek().range)) return errorExpr(peek().range);
       const char op = advance().text[0];
       lhs = binary(op, std::move(lhs), parseUnary());
     }
@@ -184,7 +197,8 @@ class Parser {
       const Token& minus = advance();
       if (++depth_ > kMaxNestingDepth) {
         --depth_;
-        return parseExpr();  // reports the depth error
+        abandonTooDeep();
+        return errorExpr(peek().range);
       }
       auto operand = parseUnary();
       --depth_;
@@ -193,6 +207,8 @@ class Parser {
       e->op = '-';
       e->range = minus.range.to(operand->range);
       e->operands.push_back(std::move(operand));
+      e->height = heightOf(*e);
+      if (tooTall(e->height, e->range)) return errorExpr(e->range);
       return e;
     }
     return parsePostfix();
@@ -201,9 +217,8 @@ class Parser {
   // postfix : primary { "." IDENT }
   ast::ExprPtr parsePostfix() {
     auto e = parsePrimary();
-    int chain = 0;
     while (at(TokenKind::Dot)) {
-      if (chainTooDeep(chain)) return errorExpr(peek().range);
+      if (tooTall(e->height + 1, peek().range)) return errorExpr(peek().range);
       advance();
       if (!at(TokenKind::Identifier)) {
         expect(TokenKind::Identifier, "after '.'");
@@ -216,6 +231,7 @@ class Parser {
       m->name_range = field.range;
       m->range = e->range.to(field.range);
       m->operands.push_back(std::move(e));
+      m->height = heightOf(*m);
       e = std::move(m);
     }
     return e;
@@ -247,9 +263,12 @@ class Parser {
         e->name = std::string(t.text);
         e->name_range = t.range;
         e->range = t.range;
+        e->bad_name = t.bad_name;
         if (at(TokenKind::LeftParen) || at(TokenKind::LeftBrace)) {
           e->kind = ast::ExprKind::Call;
           parseCallTail(*e);
+          e->height = heightOf(*e);
+          if (tooTall(e->height, e->range)) return errorExpr(e->range);
         } else {
           e->kind = ast::ExprKind::Name;
         }
@@ -268,7 +287,9 @@ class Parser {
         const Token& close = peek();
         expect(TokenKind::RightBracket, "to close the vector");
         e->range = t.range.to(close.range);
-        if (e->operands.empty()) diags_.error(e->range, "a vector needs at least one element");
+        if (e->operands.empty() && !abandoned_) diags_.error(e->range, "a vector needs at least one element");
+        e->height = heightOf(*e);
+        if (tooTall(e->height, e->range)) return errorExpr(e->range);
         return e;
       }
       case TokenKind::LeftParen: {
@@ -283,7 +304,7 @@ class Parser {
         advance();
         return errorExpr(t.range);
       default:
-        diags_.error(t.range, "expected an expression, found " + describe(t));
+        if (!abandoned_) diags_.error(t.range, "expected an expression, found " + describe(t));
         return errorExpr(t.range);
     }
   }
@@ -342,7 +363,7 @@ class Parser {
       }
     }
     const Token& close = peek();
-    if (!accept(TokenKind::RightBrace)) {
+    if (!accept(TokenKind::RightBrace) && !abandoned_) {
       Diagnostic& d = diags_.error(close.range, "expected '}' to close the block");
       d.notes.push_back({Severity::Note, open.range, "the block opens here", {}});
     }

@@ -18,6 +18,9 @@ struct Token {
   SourceRange range;
   std::string_view text;
   double number = 0;  // for Number
+  // Identifier: a name with non-ASCII letters ("sphère"). The lexer has
+  // reported it; later stages treat it as unknown without saying more.
+  bool bad_name = false;
 };
 
 // A comment the lexer skipped: kept for the formatter and the editor (trivia).

@@ -1,0 +1,89 @@
+#!/usr/bin/env bash
+# Issue 18: the command line's answers to bad input, by exit code (0 ok,
+# 1 scene errors, 2 usage, 4 files) and message; each case is decided before
+# any rendering (no device is needed for them). Usage: cli_bad_input_test.sh <sdfc>
+set -uo pipefail
+sdfc=$1
+root=$(cd "$(dirname "$0")/.." && pwd)
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+failures=0
+
+# expect CODE PATTERN -- command...: exit code CODE and stderr matching
+# PATTERN ("" for any stderr).
+expect() {
+  local code=$1 pattern=$2
+  shift 3
+  "$@" >"$work/out" 2>"$work/err"
+  local got=$?
+  if [ "$got" -ne "$code" ] || { [ -n "$pattern" ] && ! grep -Eq -- "$pattern" "$work/err"; }; then
+    echo "FAIL: $* -> exit $got (want $code), stderr:" >&2
+    cat "$work/err" >&2
+    failures=$((failures + 1))
+  else
+    echo "ok: $*"
+  fi
+}
+
+scene=$root/examples/morph.sdf
+printf 'let r = 1\nscene { sphere(radius: r) }\n' >"$work/r.sdf"
+
+# --time that float32 cannot hold: usage errors before any work.
+for t in nan inf -inf 1e39; do
+  expect 2 "--time must be a finite number" -- "$sdfc" render "$scene" --time "$t" -o "$work/x.png"
+  expect 2 "--time must be a finite number" -- "$sdfc" eval "$scene" --time "$t"
+done
+# Frame counts are counted before any list is built.
+expect 2 "gives 1e\+18 frames; at most 100000" -- "$sdfc" render "$scene" --frames 0-1000000000:0.000000001 -o "$work/x.png"
+expect 2 "gives 1e\+18 frames; at most 100000" -- "$sdfc" render "$scene" --frames 0-1e9:1e-9 -o "$work/x.png"
+expect 2 "--frames expects" -- "$sdfc" render "$scene" --frames 0-1e999:1 -o "$work/x.png"
+# -D takes a plain decimal number.
+for v in 0x10 inf 1e999 nan 1,5; do
+  expect 2 "-D expects name=number with a plain decimal number" -- "$sdfc" check "$work/r.sdf" -D "r=$v"
+done
+expect 0 "" -- "$sdfc" check "$work/r.sdf" -D r=+1.5e0
+# A directory as the scene: unreadable input.
+expect 4 "it is a directory, not a scene file" -- "$sdfc" check "$work"
+# The output directory is checked before compiling or rendering.
+expect 4 "cannot write '$work/missing/x.png': directory" -- "$sdfc" render "$scene" -o "$work/missing/x.png"
+expect 4 "it is a directory" -- "$sdfc" compile "$scene" -o "$work"
+# Devices and FIFOs are written in place, never replaced by a regular file.
+expect 4 "cannot write '/dev/full': No space left on device" -- "$sdfc" compile "$scene" -o /dev/full
+mkfifo "$work/pipe.glsl"
+cat "$work/pipe.glsl" >"$work/from_pipe" &
+expect 0 "" -- "$sdfc" compile "$scene" -o "$work/pipe.glsl"
+wait
+[ -p "$work/pipe.glsl" ] && [ -s "$work/from_pipe" ] || { echo "FAIL: FIFO replaced or empty" >&2; failures=$((failures + 1)); }
+# '-o -' writes to standard output (SPIR-V too, when it is not a terminal).
+"$sdfc" compile "$scene" -o - --emit spv >"$work/stdout.spv" 2>"$work/err" &&
+  [ "$(head -c 4 "$work/stdout.spv" | od -An -tx4 | tr -d ' ')" = 07230203 ] ||
+  { echo "FAIL: --emit spv -o - did not write SPIR-V" >&2; failures=$((failures + 1)); }
+# A stale temporary beside the output does not get in the way.
+mkdir "$work/out.glsl.tmp"
+expect 0 "" -- "$sdfc" compile "$scene" -o "$work/out.glsl"
+# Checked scenes that once failed in glslang are scene errors now.
+expect 1 "at most 16 'light's" -- "$sdfc" compile "$root/fuzz/regressions/issue18_seventeen_lights.sdf" -o "$work/l.glsl"
+expect 1 "beyond the range of the shader's float32 numbers" -- "$sdfc" compile "$root/fuzz/regressions/issue18_sun_direction_overflow.sdf" -o "$work/s.glsl"
+
+# A full disk (a 64 KiB tmpfs, when this machine lets us mount one): the
+# image write fails with exit 4 and the previous file stays whole.
+full=$work/full
+mkdir "$full"
+if mount -t tmpfs -o size=64k tmpfs "$full" 2>/dev/null; then
+  printf 'keep' >"$full/x.pfm"
+  head -c 40000 /dev/zero >"$full/filler"
+  expect 4 "No space left on device" -- "$sdfc" compile "$scene" -o "$full/x.pfm" --emit glsl
+  [ "$(cat "$full/x.pfm")" = keep ] || { echo "FAIL: previous file damaged" >&2; failures=$((failures + 1)); }
+  # The case from the issue: a PNG render to a full disk once exited 0 and
+  # left a truncated file.
+  printf 'keep' >"$full/x.png"
+  expect 4 "No space left on device" -- "$sdfc" render "$scene" --size 256x256 --spp 1 -q -o "$full/x.png"
+  [ "$(cat "$full/x.png")" = keep ] || { echo "FAIL: previous PNG damaged" >&2; failures=$((failures + 1)); }
+  [ "$(ls -A "$full" | wc -l)" -eq 3 ] || { echo "FAIL: temporary left: $(ls -A "$full")" >&2; failures=$((failures + 1)); }
+  umount "$full"
+else
+  echo "skip: cannot mount a tmpfs here (full-disk writes are also covered by BadInputWrites.AFullDiskFailsEveryFormatAndKeepsThePreviousFile)"
+fi
+
+echo "$failures failure(s)"
+[ "$failures" -eq 0 ]
