@@ -17,6 +17,20 @@ double secondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
+// Shape nodes that become shader code, each shared one once. Copies grouped
+// into an Instances node are data; only its template is code.
+size_t codeNodeCount(const ir::Scene& scene) {
+  std::unordered_set<const ir::Node*> seen;
+  std::vector<const ir::Node*> stack = {scene.root.get()};
+  while (!stack.empty()) {
+    const ir::Node* n = stack.back();
+    stack.pop_back();
+    if (!seen.insert(n).second) continue;
+    for (const ir::NodeRef& c : n->children) stack.push_back(c.get());
+  }
+  return seen.size();
+}
+
 CompiledScene frontEnd(const std::string& path, std::string text, const CompileOptions& options,
                        Diagnostics& diags) {
   CompiledScene out;
@@ -51,20 +65,6 @@ CompiledScene frontEnd(const std::string& path, std::string text, const CompileO
   }
   out.times.passes = secondsSince(t0);
   return out;
-}
-
-// Shape nodes that become shader code, each shared one once. Copies grouped
-// into an Instances node are data; only its template is code.
-size_t codeNodeCount(const ir::Scene& scene) {
-  std::unordered_set<const ir::Node*> seen;
-  std::vector<const ir::Node*> stack = {scene.root.get()};
-  while (!stack.empty()) {
-    const ir::Node* n = stack.back();
-    stack.pop_back();
-    if (!seen.insert(n).second) continue;
-    for (const ir::NodeRef& c : n->children) stack.push_back(c.get());
-  }
-  return seen.size();
 }
 
 }  // namespace
