@@ -1,5 +1,7 @@
 #include "denoise.h"
 
+#include "denoise_svgf.h"
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -30,6 +32,7 @@ std::optional<Denoiser> parseDenoiser(std::string_view name) {
   if (name == "none" || name == "off") return Denoiser::None;
   if (name == "bilateral") return Denoiser::Bilateral;
   if (name == "atrous" || name == "a-trous" || name == "a_trous") return Denoiser::ATrous;
+  if (name == "svgf") return Denoiser::Svgf;
   return std::nullopt;
 }
 
@@ -38,6 +41,7 @@ const char* denoiserName(Denoiser denoiser) {
     case Denoiser::None: return "none";
     case Denoiser::Bilateral: return "bilateral";
     case Denoiser::ATrous: return "atrous";
+    case Denoiser::Svgf: return "svgf";
   }
   return "?";
 }
@@ -138,9 +142,14 @@ FloatImage atrousFilter(const FloatImage& color, const FloatImage& normal_depth,
   return current;
 }
 
+bool needsVariance(Denoiser denoiser) { return denoiser == Denoiser::Svgf; }
+
 FloatImage denoise(Denoiser denoiser, const FloatImage& color, const FloatImage& normal_depth,
-                   const FloatImage& albedo_steps) {
+                   const FloatImage& albedo_steps, const FloatImage* variance) {
   switch (denoiser) {
+    case Denoiser::Svgf:
+      if (!variance) throw std::invalid_argument("denoise: svgf needs the variance image");
+      return svgfFilter(color, *variance, normal_depth, albedo_steps);
     case Denoiser::Bilateral: return bilateralFilter(color);
     case Denoiser::ATrous: return atrousFilter(color, normal_depth, albedo_steps);
     case Denoiser::None: break;

@@ -6,6 +6,8 @@
 //    Filtering": 5x5 B3-spline taps spread 2^i apart, edge-stopping weights on
 //    colour, normal, depth and albedo; the colour is divided by the albedo first
 //    (demodulation) and multiplied back afterwards.
+//  - Svgf: variance-guided A-Trous (denoise_svgf.h); needs the per-pixel variance
+//    of two half-sample renders (renderWithVariance in renderer.h).
 #pragma once
 #include <optional>
 #include <string>
@@ -15,9 +17,9 @@
 
 namespace sdfc {
 
-enum class Denoiser { None, Bilateral, ATrous };
+enum class Denoiser { None, Bilateral, ATrous, Svgf };
 
-// "none", "bilateral", "atrous" (also "a-trous"); nullopt otherwise.
+// "none", "bilateral", "atrous" (also "a-trous"), "svgf"; nullopt otherwise.
 std::optional<Denoiser> parseDenoiser(std::string_view name);
 const char* denoiserName(Denoiser denoiser);
 
@@ -45,8 +47,12 @@ struct ATrousParams {
 FloatImage atrousFilter(const FloatImage& color, const FloatImage& normal_depth,
                         const FloatImage& albedo_steps, const ATrousParams& params = {});
 
-// Dispatch with default parameters; None returns `color` unchanged.
+// Whether `denoiser` needs the variance image (two half-sample renders).
+bool needsVariance(Denoiser denoiser);
+
+// Dispatch with default parameters; None returns `color` unchanged. Svgf needs
+// `variance` (varianceFromHalves) and throws std::invalid_argument without it.
 FloatImage denoise(Denoiser denoiser, const FloatImage& color, const FloatImage& normal_depth,
-                   const FloatImage& albedo_steps);
+                   const FloatImage& albedo_steps, const FloatImage* variance = nullptr);
 
 }  // namespace sdfc

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cstdio>
 
+#include "denoise_svgf.h"
 #include "vk_check.h"
 
 namespace sdfc {
@@ -225,6 +226,26 @@ RenderOutput Renderer::render(const CameraDesc& camera, const RenderSettings& se
     progress(info);
   }
   return out;
+}
+
+RenderOutput renderWithVariance(Renderer& renderer, const CameraDesc& camera,
+                                const RenderSettings& settings, FloatImage* variance,
+                                const ProgressCallback& progress,
+                                const std::atomic<bool>* interrupt) {
+  if (variance) *variance = FloatImage();
+  if (settings.view != gpu::kViewBeauty || settings.spp < 2)
+    return renderer.render(camera, settings, progress, interrupt);
+  RenderSettings first = settings;
+  first.spp = settings.spp / 2;
+  RenderOutput a = renderer.render(camera, first, progress, interrupt);
+  if (a.interrupted) return a;
+  RenderSettings second = settings;
+  second.spp = settings.spp - first.spp;
+  second.first_sample = settings.first_sample + first.spp;
+  RenderOutput b = renderer.render(camera, second, progress, interrupt);
+  if (b.samples_done == 0) return a;
+  if (variance) *variance = varianceFromHalves(a.color, a.samples_done, b.color, b.samples_done);
+  return mergeRenders(a, b);
 }
 
 }  // namespace sdfc

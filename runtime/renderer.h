@@ -106,4 +106,15 @@ class Renderer {
   RenderTarget target_;
 };
 
+// Renders samples [first, first + n/2) and [first + n/2, first + n) of `settings`
+// as two independent halves and returns their merge (the same estimator as one
+// render of n samples) with, in `*variance`, varianceFromHalves of the two: the
+// per-pixel noise the variance-guided denoiser needs, for the cost of one more
+// primary AOV ray per pixel. With fewer than 2 samples, or when interrupted in
+// the first half, `*variance` is left empty.
+RenderOutput renderWithVariance(Renderer& renderer, const CameraDesc& camera,
+                                const RenderSettings& settings, FloatImage* variance,
+                                const ProgressCallback& progress = {},
+                                const std::atomic<bool>* interrupt = nullptr);
+
 }  // namespace sdfc
