@@ -1,7 +1,5 @@
 #include "denoise.h"
 
-#include "denoise_svgf.h"
-
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -145,11 +143,12 @@ FloatImage atrousFilter(const FloatImage& color, const FloatImage& normal_depth,
 bool needsVariance(Denoiser denoiser) { return denoiser == Denoiser::Svgf; }
 
 FloatImage denoise(Denoiser denoiser, const FloatImage& color, const FloatImage& normal_depth,
-                   const FloatImage& albedo_steps, const FloatImage* variance) {
+                   const FloatImage& albedo_steps, const SampleHalves* halves) {
   switch (denoiser) {
     case Denoiser::Svgf:
-      if (!variance) throw std::invalid_argument("denoise: svgf needs the variance image");
-      return svgfFilter(color, *variance, normal_depth, albedo_steps);
+      if (!halves || halves->samples_a == 0 || halves->samples_b == 0)
+        throw std::invalid_argument("denoise: svgf needs two half-sample renders");
+      return svgfDenoise(*halves, normal_depth, albedo_steps);
     case Denoiser::Bilateral: return bilateralFilter(color);
     case Denoiser::ATrous: return atrousFilter(color, normal_depth, albedo_steps);
     case Denoiser::None: break;

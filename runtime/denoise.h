@@ -6,13 +6,14 @@
 //    Filtering": 5x5 B3-spline taps spread 2^i apart, edge-stopping weights on
 //    colour, normal, depth and albedo; the colour is divided by the albedo first
 //    (demodulation) and multiplied back afterwards.
-//  - Svgf: variance-guided A-Trous (denoise_svgf.h); needs the per-pixel variance
-//    of two half-sample renders (renderWithVariance in renderer.h).
+//  - Svgf: variance-guided A-Trous with per-pixel strength selection
+//    (denoise_svgf.h); needs two half-sample renders (renderHalves in renderer.h).
 #pragma once
 #include <optional>
 #include <string>
 #include <string_view>
 
+#include "denoise_svgf.h"
 #include "float_image.h"
 
 namespace sdfc {
@@ -47,12 +48,12 @@ struct ATrousParams {
 FloatImage atrousFilter(const FloatImage& color, const FloatImage& normal_depth,
                         const FloatImage& albedo_steps, const ATrousParams& params = {});
 
-// Whether `denoiser` needs the variance image (two half-sample renders).
+// Whether `denoiser` needs two half-sample renders (SampleHalves).
 bool needsVariance(Denoiser denoiser);
 
 // Dispatch with default parameters; None returns `color` unchanged. Svgf needs
-// `variance` (varianceFromHalves) and throws std::invalid_argument without it.
+// `halves` (with samples in both) and throws std::invalid_argument without them.
 FloatImage denoise(Denoiser denoiser, const FloatImage& color, const FloatImage& normal_depth,
-                   const FloatImage& albedo_steps, const FloatImage* variance = nullptr);
+                   const FloatImage& albedo_steps, const SampleHalves* halves = nullptr);
 
 }  // namespace sdfc

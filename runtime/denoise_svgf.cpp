@@ -248,4 +248,17 @@ FloatImage svgfFilter(const FloatImage& color, const FloatImage& variance,
   return out;
 }
 
+FloatImage svgfDenoise(const SampleHalves& halves, const FloatImage& normal_depth,
+                       const FloatImage& albedo_steps, const SvgfParams& params) {
+  const double n_a = halves.samples_a, n_b = halves.samples_b, n = n_a + n_b;
+  FloatImage mean(halves.a.width, halves.a.height, 1.0f);
+  for (size_t i = 0; i < mean.pixelCount(); ++i)
+    for (int c = 0; c < 3; ++c)
+      mean.rgba[i * 4 + c] =
+          float((n_a * halves.a.rgba[i * 4 + c] + n_b * halves.b.rgba[i * 4 + c]) / n);
+  const FloatImage variance =
+      varianceFromHalves(halves.a, halves.samples_a, halves.b, halves.samples_b);
+  return svgfFilter(mean, variance, normal_depth, albedo_steps, params);
+}
+
 }  // namespace sdfc

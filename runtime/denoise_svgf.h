@@ -37,4 +37,13 @@ FloatImage svgfFilter(const FloatImage& color, const FloatImage& variance,
                       const FloatImage& normal_depth, const FloatImage& albedo_steps,
                       const SvgfParams& params = {});
 
+// Two independent renders of one pixel set: the input `--denoise svgf` needs.
+struct SampleHalves {
+  FloatImage a, b;  // means of samples [0, samples_a) and [samples_a, samples_a + samples_b)
+  uint32_t samples_a = 0, samples_b = 0;
+};
+// svgfFilter of the halves' sample-weighted mean, with varianceFromHalves.
+FloatImage svgfDenoise(const SampleHalves& halves, const FloatImage& normal_depth,
+                       const FloatImage& albedo_steps, const SvgfParams& params = {});
+
 }  // namespace sdfc

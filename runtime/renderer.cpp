@@ -4,7 +4,6 @@
 #include <chrono>
 #include <cstdio>
 
-#include "denoise_svgf.h"
 #include "vk_check.h"
 
 namespace sdfc {
@@ -228,11 +227,11 @@ RenderOutput Renderer::render(const CameraDesc& camera, const RenderSettings& se
   return out;
 }
 
-RenderOutput renderWithVariance(Renderer& renderer, const CameraDesc& camera,
-                                const RenderSettings& settings, FloatImage* variance,
-                                const ProgressCallback& progress,
-                                const std::atomic<bool>* interrupt) {
-  if (variance) *variance = FloatImage();
+RenderOutput renderHalves(Renderer& renderer, const CameraDesc& camera,
+                          const RenderSettings& settings, SampleHalves* halves,
+                          const ProgressCallback& progress,
+                          const std::atomic<bool>* interrupt) {
+  *halves = SampleHalves();
   if (settings.view != gpu::kViewBeauty || settings.spp < 2)
     return renderer.render(camera, settings, progress, interrupt);
   RenderSettings first = settings;
@@ -244,8 +243,12 @@ RenderOutput renderWithVariance(Renderer& renderer, const CameraDesc& camera,
   second.first_sample = settings.first_sample + first.spp;
   RenderOutput b = renderer.render(camera, second, progress, interrupt);
   if (b.samples_done == 0) return a;
-  if (variance) *variance = varianceFromHalves(a.color, a.samples_done, b.color, b.samples_done);
-  return mergeRenders(a, b);
+  RenderOutput merged = mergeRenders(a, b);
+  halves->a = std::move(a.color);
+  halves->b = std::move(b.color);
+  halves->samples_a = a.samples_done;
+  halves->samples_b = b.samples_done;
+  return merged;
 }
 
 }  // namespace sdfc

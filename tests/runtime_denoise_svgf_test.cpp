@@ -123,16 +123,22 @@ TEST(RuntimeDenoiseSvgf, StrengthFallsWithVariance) {
   EXPECT_LT(previous, 1e-10);
 }
 
-TEST(RuntimeDenoiseSvgf, DispatchNeedsVariance) {
-  FloatImage normal_depth, albedo, mean, variance;
+TEST(RuntimeDenoiseSvgf, DispatchNeedsHalves) {
+  FloatImage normal_depth, albedo;
   planeGuides(normal_depth, albedo, false);
-  noisyHalves(0.2f, 4, flatTruth, 13, mean, variance);
+  SampleHalves halves;
+  halves.a = FloatImage(kSize, kSize, 0.2f);
+  halves.b = FloatImage(kSize, kSize, 0.3f);
+  halves.samples_a = 2;
+  halves.samples_b = 6;
   EXPECT_EQ(parseDenoiser("svgf"), Denoiser::Svgf);
   EXPECT_TRUE(needsVariance(Denoiser::Svgf));
   EXPECT_FALSE(needsVariance(Denoiser::ATrous));
-  EXPECT_THROW(denoise(Denoiser::Svgf, mean, normal_depth, albedo), std::invalid_argument);
-  EXPECT_EQ(denoise(Denoiser::Svgf, mean, normal_depth, albedo, &variance).rgba,
-            svgfFilter(mean, variance, normal_depth, albedo).rgba);
+  EXPECT_THROW(denoise(Denoiser::Svgf, halves.a, normal_depth, albedo), std::invalid_argument);
+  // Constant halves: the mean (0.2 * 2 + 0.3 * 6) / 8 = 0.275 comes out unchanged.
+  const FloatImage out = denoise(Denoiser::Svgf, halves.a, normal_depth, albedo, &halves);
+  for (size_t i = 0; i < out.pixelCount(); ++i)
+    for (int c = 0; c < 3; ++c) ASSERT_NEAR(out.rgba[i * 4 + c], 0.275f, 1e-6f);
 }
 
 }  // namespace
