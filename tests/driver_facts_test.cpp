@@ -31,7 +31,7 @@ void main() {
 }
 )";
 
-TEST(DriverFacts, LavapipeEndsLoopsAtItsCap) {
+TEST(DriverFacts, LoopCapIsMeasured) {
   VulkanContext context;
   createContext(context);
   const bool lavapipe = context.properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
@@ -48,17 +48,24 @@ TEST(DriverFacts, LavapipeEndsLoopsAtItsCap) {
     Renderer renderer(context, spirv.words);
     gpu::FrameParams params{};
     params.width = params.height = 4;
-    for (uint32_t asked : {1000u, 65534u, 65535u, 65536u, 200000u}) {
+    auto ran = [&](uint32_t asked) {
       params.seed = asked;
       FloatImage color, normal_depth, albedo_steps;
       renderer.renderPass(params, 60.0, color, normal_depth, albedo_steps);
-      const uint32_t ran = uint32_t(color.at(0, 0)[0]);
-      std::printf("[ driver   ] loop asked %u iterations, ran %u\n", asked, ran);
-      if (lavapipe)
-        EXPECT_EQ(ran, std::min(asked, gpu::kLavapipeLoopCap));
-      else
-        EXPECT_EQ(ran, asked);
-    }
+      const uint32_t count = uint32_t(color.at(0, 0)[0]);
+      std::printf("[ driver   ] loop asked %u iterations, ran %u\n", asked, count);
+      return count;
+    };
+    // Measured: Mesa 22.3.6's lavapipe (Vulkan 1.3) ends loops at the cap; Mesa
+    // 25.0.7's (Vulkan 1.4, tools/lavapipe25.sh) runs them to the end. Either
+    // way the driver must do one of the two, for every loop length.
+    const bool capped = ran(200000u) == gpu::kLavapipeLoopCap;
+    std::printf("[ driver   ] loops %s\n", capped ? "end at the cap" : "run to the end");
+    if (lavapipe && VK_API_VERSION_MINOR(context.properties.apiVersion) <= 3)
+      EXPECT_TRUE(capped);
+    if (!lavapipe) EXPECT_FALSE(capped);
+    for (uint32_t asked : {1000u, 65534u, 65535u, 65536u, 200000u})
+      EXPECT_EQ(ran(asked), capped ? std::min(asked, gpu::kLavapipeLoopCap) : asked);
   }
   destroyContext(context);
 }
