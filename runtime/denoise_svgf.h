@@ -21,7 +21,7 @@ struct SvgfParams {
   float sigma_luminance = 4.0f;   // luminance edge stop, in noise standard deviations
   float sigma_normal = 128.0f;    // exponent on max(0, n_p . n_q)
   float sigma_depth = 1.0f;       // on |z_p - z_q| / |grad z . offset|
-  float sigma_albedo = 0.05f;     // on |albedo_p - albedo_q|
+  float sigma_albedo = 0.05f;     // on (a_p - a_q) / (a_p + a_q) per channel
   int variance_radius = 3;        // feature-weighted prefilter of the two-half variance
 };
 
