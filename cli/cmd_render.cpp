@@ -121,13 +121,21 @@ int runRender(const CommandLine& cl) {
   for (size_t f = 0; f < times.size(); ++f) {
     o.time = times[f];
     RenderSettings settings = renderSettingsFor(compiled, o);
-    RenderOutput out = renderer.render(cameraFor(compiled.scene), settings,
-                                       quiet ? ProgressCallback{} : makeTerminalProgress("render"),
-                                       interrupt);
+    const ProgressCallback progress = quiet ? ProgressCallback{} : makeTerminalProgress("render");
+    // The variance-guided denoiser renders the samples as two halves: their
+    // difference is its per-pixel noise estimate.
+    SampleHalves halves;
+    const bool with_halves = o.view == gpu::kViewBeauty && denoiser && needsVariance(*denoiser);
+    RenderOutput out =
+        with_halves
+            ? renderHalves(renderer, cameraFor(compiled.scene), settings, &halves, progress, interrupt)
+            : renderer.render(cameraFor(compiled.scene), settings, progress, interrupt);
     // Write out.color in place unless denoised: a copy is a full-size image (memory).
+    // Without two halves (1 spp, or interrupted early) svgf leaves the image as it is.
     FloatImage denoised;
-    if (o.view == gpu::kViewBeauty && denoiser && *denoiser != Denoiser::None)
-      denoised = denoise(*denoiser, out.color, out.normal_depth, out.albedo_steps);
+    if (o.view == gpu::kViewBeauty && denoiser && *denoiser != Denoiser::None &&
+        (!with_halves || halves.samples_b > 0))
+      denoised = denoise(*denoiser, out.color, out.normal_depth, out.albedo_steps, &halves);
     const FloatImage& image = denoised.empty() ? out.color : denoised;
     const std::string path = times.size() > 1 ? farm::framePath(cl.output, static_cast<int>(f)) : cl.output;
     writeImage(path, image, tone);

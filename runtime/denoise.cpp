@@ -30,6 +30,7 @@ std::optional<Denoiser> parseDenoiser(std::string_view name) {
   if (name == "none" || name == "off") return Denoiser::None;
   if (name == "bilateral") return Denoiser::Bilateral;
   if (name == "atrous" || name == "a-trous" || name == "a_trous") return Denoiser::ATrous;
+  if (name == "svgf") return Denoiser::Svgf;
   return std::nullopt;
 }
 
@@ -38,6 +39,7 @@ const char* denoiserName(Denoiser denoiser) {
     case Denoiser::None: return "none";
     case Denoiser::Bilateral: return "bilateral";
     case Denoiser::ATrous: return "atrous";
+    case Denoiser::Svgf: return "svgf";
   }
   return "?";
 }
@@ -138,9 +140,15 @@ FloatImage atrousFilter(const FloatImage& color, const FloatImage& normal_depth,
   return current;
 }
 
+bool needsVariance(Denoiser denoiser) { return denoiser == Denoiser::Svgf; }
+
 FloatImage denoise(Denoiser denoiser, const FloatImage& color, const FloatImage& normal_depth,
-                   const FloatImage& albedo_steps) {
+                   const FloatImage& albedo_steps, const SampleHalves* halves) {
   switch (denoiser) {
+    case Denoiser::Svgf:
+      if (!halves || halves->samples_a == 0 || halves->samples_b == 0)
+        throw std::invalid_argument("denoise: svgf needs two half-sample renders");
+      return svgfDenoise(*halves, normal_depth, albedo_steps);
     case Denoiser::Bilateral: return bilateralFilter(color);
     case Denoiser::ATrous: return atrousFilter(color, normal_depth, albedo_steps);
     case Denoiser::None: break;

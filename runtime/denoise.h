@@ -6,18 +6,21 @@
 //    Filtering": 5x5 B3-spline taps spread 2^i apart, edge-stopping weights on
 //    colour, normal, depth and albedo; the colour is divided by the albedo first
 //    (demodulation) and multiplied back afterwards.
+//  - Svgf: variance-guided A-Trous with per-pixel strength selection
+//    (denoise_svgf.h); needs two half-sample renders (renderHalves in renderer.h).
 #pragma once
 #include <optional>
 #include <string>
 #include <string_view>
 
+#include "denoise_svgf.h"
 #include "float_image.h"
 
 namespace sdfc {
 
-enum class Denoiser { None, Bilateral, ATrous };
+enum class Denoiser { None, Bilateral, ATrous, Svgf };
 
-// "none", "bilateral", "atrous" (also "a-trous"); nullopt otherwise.
+// "none", "bilateral", "atrous" (also "a-trous"), "svgf"; nullopt otherwise.
 std::optional<Denoiser> parseDenoiser(std::string_view name);
 const char* denoiserName(Denoiser denoiser);
 
@@ -45,8 +48,12 @@ struct ATrousParams {
 FloatImage atrousFilter(const FloatImage& color, const FloatImage& normal_depth,
                         const FloatImage& albedo_steps, const ATrousParams& params = {});
 
-// Dispatch with default parameters; None returns `color` unchanged.
+// Whether `denoiser` needs two half-sample renders (SampleHalves).
+bool needsVariance(Denoiser denoiser);
+
+// Dispatch with default parameters; None returns `color` unchanged. Svgf needs
+// `halves` (with samples in both) and throws std::invalid_argument without them.
 FloatImage denoise(Denoiser denoiser, const FloatImage& color, const FloatImage& normal_depth,
-                   const FloatImage& albedo_steps);
+                   const FloatImage& albedo_steps, const SampleHalves* halves = nullptr);
 
 }  // namespace sdfc

@@ -309,4 +309,28 @@ RenderOutput Renderer::render(const CameraDesc& camera, const RenderSettings& se
   return out;
 }
 
+RenderOutput renderHalves(Renderer& renderer, const CameraDesc& camera,
+                          const RenderSettings& settings, SampleHalves* halves,
+                          const ProgressCallback& progress,
+                          const std::atomic<bool>* interrupt) {
+  *halves = SampleHalves();
+  if (settings.view != gpu::kViewBeauty || settings.spp < 2)
+    return renderer.render(camera, settings, progress, interrupt);
+  RenderSettings first = settings;
+  first.spp = settings.spp / 2;
+  RenderOutput a = renderer.render(camera, first, progress, interrupt);
+  if (a.interrupted) return a;
+  RenderSettings second = settings;
+  second.spp = settings.spp - first.spp;
+  second.first_sample = settings.first_sample + first.spp;
+  RenderOutput b = renderer.render(camera, second, progress, interrupt);
+  if (b.samples_done == 0) return a;
+  RenderOutput merged = mergeRenders(a, b);
+  halves->a = std::move(a.color);
+  halves->b = std::move(b.color);
+  halves->samples_a = a.samples_done;
+  halves->samples_b = b.samples_done;
+  return merged;
+}
+
 }  // namespace sdfc

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "camera.h"
+#include "denoise_svgf.h"
 #include "float_image.h"
 #include "progress.h"
 #include "render_pipeline.h"
@@ -162,5 +163,16 @@ class Renderer {
   RenderPipeline pipeline_;
   RenderTarget target_;
 };
+
+// Renders samples [first, first + n/2) and [first + n/2, first + n) of `settings`
+// as two independent halves and returns their merge (the same estimator as one
+// render of n samples), the halves themselves in `*halves`: the per-pixel noise
+// estimate of the variance-guided denoiser, for the cost of one more primary AOV
+// ray per pixel. With fewer than 2 samples, or when interrupted in the first
+// half, `halves->samples_b` is 0.
+RenderOutput renderHalves(Renderer& renderer, const CameraDesc& camera,
+                          const RenderSettings& settings, SampleHalves* halves,
+                          const ProgressCallback& progress = {},
+                          const std::atomic<bool>* interrupt = nullptr);
 
 }  // namespace sdfc

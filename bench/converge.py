@@ -1,0 +1,168 @@
+"""Seconds to a visually converged image (`bench/run.py --converge`).
+
+For each scene at a user's resolution, each configuration renders a doubling
+ladder of sample counts (one process per render, as a user runs it) until its
+image is within --flip-target mean LDR-FLIP and --relmse-target relMSE of the
+converged reference, or its time budget is spent. The time to each target is
+read off the log-log error-against-time curve (interpolated between ladder
+points; extrapolated, and marked so, past the last one). The time charged is
+the whole process's wall time: compile, pipeline creation, sampling, denoising
+and writing the file, i.e. what a user waits for. The paper-style baseline
+runs in the same run, so ratios are measured under the same machine load.
+
+Levers are configurations that add one thing at a time:
+  baseline     the paper-style tracer (run.py's "baseline")
+  derived      sdfc's defaults, no denoiser          (kernel lever)
+  svgf         + the variance-guided denoiser        (denoiser lever)
+  svgf-mesa25  + lavapipe of Mesa 25.0.7             (driver lever; tools/lavapipe25.sh)
+"""
+import csv
+import os
+import statistics
+import subprocess
+import sys
+
+import numpy as np
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(HERE)
+sys.path.insert(0, HERE)
+import sdfbench as sb  # noqa: E402
+
+CONVERGE_CONFIGS = {
+    "baseline": (["--paper-baseline", "--no-bounds", "--white-noise", "--denoise", "bilateral"], None),
+    "derived": ([], None),
+    "svgf": (["--denoise", "svgf"], None),
+    "svgf-mesa25": (["--denoise", "svgf"], "mesa25"),
+}
+SEED = 7
+
+
+def log(msg):
+    print(msg, file=sys.stderr, flush=True)
+
+
+def mesa25_env():
+    """Environment selecting Mesa 25's lavapipe (tools/lavapipe25.sh), or None."""
+    try:
+        out = subprocess.run([os.path.join(ROOT, "tools", "lavapipe25.sh"), "env"],
+                             capture_output=True, text=True, check=True).stdout
+    except (OSError, subprocess.CalledProcessError) as e:
+        log(f"  mesa25 unavailable: {e}")
+        return None
+    env = dict(os.environ)
+    for part in out.replace("export ", "").split("' "):
+        key, _, value = part.partition("=")
+        env[key.strip()] = value.strip().strip("'")
+    return env
+
+
+def ladder(args, scene, name, flags, env, ref, ref_var, errors, writer):
+    rows, spent, spp = [], 0.0, args.converge_min_spp
+    while spp <= args.converge_max_spp:
+        runs, err = [], None
+        for rep in range(args.reps):
+            out = os.path.join(args.work, f"conv_{name}_{spp}.pfm")
+            runs.append(sb.render(args.sdfc, scene, out,
+                                  ["--size", args.size, "--spp", str(spp), "--seed", str(SEED)]
+                                  + flags, env=env))
+            if rep == 0:
+                err = errors(sb.read_pfm(out), ref, ref_var)
+        med = lambda k: statistics.median(r[k] for r in runs)
+        row = {"scene": os.path.basename(scene), "config": name, "spp": spp, "size": args.size,
+               "wall_s": med("wall_s"), "render_s": med("render_s"),
+               "pipeline_ms": med("pipeline_ms"), "compile_ms": med("compile_ms"), **err}
+        rows.append(row)
+        writer.writerow(row)
+        spent += sum(r["wall_s"] for r in runs)
+        log(f"  {name:12s} {spp:5d} spp  {row['wall_s']:7.2f} s  relMSE {row['relmse']:.4g}  "
+            f"FLIP {row['flip']:.4f}")
+        done = row["flip"] <= args.flip_target and row["relmse"] <= args.relmse_target
+        if done or spent > args.converge_budget_s:
+            break
+        spp *= 2
+    return rows
+
+
+def time_to(rows, metric, target):
+    pts = [(r["wall_s"], r[metric]) for r in rows]
+    # A point already under the target at the first rung: that rung's time.
+    first = min(rows, key=lambda r: r["spp"])
+    if first[metric] <= target:
+        return first["wall_s"], "at first rung"
+    return sb.time_to_error(pts, target)
+
+
+def run(args, reference, errors):
+    """Returns the rows and a per-scene summary {scene: {config: {...}}}."""
+    path = os.path.join(args.results, f"converge_{args.size}.csv")
+    summary, all_rows = {}, []
+    fields = ["scene", "config", "spp", "size", "wall_s", "render_s", "pipeline_ms", "compile_ms",
+              "rmse", "relmse", "rmse_debiased", "relmse_debiased", "rmse_floor", "relmse_floor",
+              "flip"]
+    with open(path, "w", newline="") as f:
+        writer = csv.DictWriter(f, fieldnames=fields, extrasaction="ignore")
+        writer.writeheader()
+        for scene in args.scenes:
+            log(f"converge: {scene} at {args.size}")
+            ref, ref_var = reference(args, scene, args.size)
+            name = os.path.basename(scene)
+            summary[name] = {}
+            for config in args.converge_configs:
+                flags, driver = CONVERGE_CONFIGS[config]
+                env = mesa25_env() if driver == "mesa25" else None
+                if driver and env is None:
+                    continue
+                rows = ladder(args, scene, config, flags, env, ref, ref_var, errors, writer)
+                f.flush()
+                all_rows += rows
+                t_flip, how_flip = time_to(rows, "flip", args.flip_target)
+                t_rel, how_rel = time_to(rows, "relmse", args.relmse_target)
+                t = max(t_flip, t_rel) if t_flip and t_rel else None
+                summary[name][config] = {"flip_s": t_flip, "flip_how": how_flip,
+                                         "relmse_s": t_rel, "relmse_how": how_rel, "both_s": t}
+    return all_rows, summary, path
+
+
+def report_lines(args, summary, ref_spp):
+    lines = [f"## Seconds to a visually converged image ({args.size})", "",
+             f"Whole-process wall time (compile, pipeline, sampling, denoiser, file) until mean "
+             f"LDR-FLIP <= {args.flip_target} and relMSE <= {args.relmse_target} against a "
+             f"{ref_spp}-spp reference; one process per ladder rung (spp doubling), time read off "
+             f"the log-log error curve (x = extrapolated past the last rung). Same run, same load.",
+             "", "| scene | config | s to FLIP target | s to relMSE target | s to both | "
+             "speedup over baseline (FLIP) |", "|---|---|---|---|---|---|"]
+    for scene, configs in summary.items():
+        base = configs.get("baseline", {}).get("flip_s")
+        for config, s in configs.items():
+            mark = lambda t, how: "-" if t is None else f"{t:.1f}{' x' if how == 'extrapolated' else ''}"
+            speed = f"{base / s['flip_s']:.2f}x" if base and s["flip_s"] else "-"
+            both = "-" if s["both_s"] is None else f"{s['both_s']:.1f}"
+            lines.append(f"| {scene} | {config} | {mark(s['flip_s'], s['flip_how'])} | "
+                         f"{mark(s['relmse_s'], s['relmse_how'])} | {both} | {speed} |")
+    return lines
+
+
+def plot(rows, plots_dir, size):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    out = []
+    for scene in dict.fromkeys(r["scene"] for r in rows):
+        fig, axes = plt.subplots(1, 2, figsize=(10, 4))
+        for ax, metric in zip(axes, ("relmse", "flip")):
+            for config in dict.fromkeys(r["config"] for r in rows if r["scene"] == scene):
+                pts = sorted((r["wall_s"], r[metric]) for r in rows
+                             if r["scene"] == scene and r["config"] == config)
+                ax.loglog([p[0] for p in pts], [p[1] for p in pts], "o-", label=config)
+            ax.set_xlabel("process wall time [s]")
+            ax.set_ylabel(metric)
+            ax.grid(True, which="both", alpha=0.3)
+        axes[0].legend()
+        fig.suptitle(f"{scene} {size}")
+        path = os.path.join(plots_dir, f"converge_{scene.replace('.sdf', '')}_{size}.png")
+        fig.tight_layout()
+        fig.savefig(path, dpi=90)
+        plt.close(fig)
+        out.append(path)
+    return out

@@ -1,0 +1,270 @@
+#include "denoise_svgf.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace sdfc {
+namespace {
+
+constexpr float kLuminance[3] = {0.2126f, 0.7152f, 0.0722f};  // Rec. 709
+constexpr float kAlbedoFloor = 1e-3f;  // black albedo does not divide by zero
+// B3-spline taps (1, 4, 6, 4, 1) / 16 (Dammertz et al. 2010; SVGF uses the same).
+constexpr float kB3[5] = {1.0f / 16, 1.0f / 4, 3.0f / 8, 1.0f / 4, 1.0f / 16};
+// Luminance edge stop where the noise estimate is zero: differences this small
+// (in demodulated units, about irradiance) still mix.
+constexpr float kLuminanceEpsilon = 1e-4f;
+
+void requireSameSize(const FloatImage& a, const FloatImage& b, const char* what) {
+  if (a.width != b.width || a.height != b.height || a.rgba.size() != b.rgba.size())
+    throw std::invalid_argument(std::string("svgf: ") + what + " size differs from colour");
+}
+
+// Runs body(y) for every row on up to hardware_concurrency threads; rows are
+// independent, and each row's result is the same whatever thread runs it.
+template <typename Body>
+void forEachRow(int height, const Body& body) {
+  const int threads = std::clamp<int>(int(std::thread::hardware_concurrency()), 1, 8);
+  if (threads == 1 || height < 16) {
+    for (int y = 0; y < height; ++y) body(y);
+    return;
+  }
+  std::vector<std::thread> pool;
+  for (int t = 0; t < threads; ++t)
+    pool.emplace_back([&, t] {
+      for (int y = t; y < height; y += threads) body(y);
+    });
+  for (std::thread& thread : pool) thread.join();
+}
+
+// Everything the edge-stopping weights read, per pixel, in flat arrays.
+struct Features {
+  int width = 0, height = 0;
+  std::vector<uint8_t> hit;
+  std::vector<float> normal;  // 3 per pixel
+  std::vector<float> depth;
+  std::vector<float> depth_dx, depth_dy;  // one-sided difference of smaller magnitude
+  std::vector<float> albedo;  // 3 per pixel
+
+  Features(const FloatImage& normal_depth, const FloatImage& albedo_steps)
+      : width(int(normal_depth.width)), height(int(normal_depth.height)) {
+    const size_t n = normal_depth.pixelCount();
+    hit.resize(n);
+    normal.resize(n * 3);
+    depth.resize(n);
+    albedo.resize(n * 3);
+    depth_dx.assign(n, 0.0f);
+    depth_dy.assign(n, 0.0f);
+    for (size_t i = 0; i < n; ++i) {
+      hit[i] = normal_depth.rgba[i * 4 + 3] >= 0.0f;
+      depth[i] = normal_depth.rgba[i * 4 + 3];
+      for (int c = 0; c < 3; ++c) {
+        normal[i * 3 + c] = normal_depth.rgba[i * 4 + c];
+        albedo[i * 3 + c] = albedo_steps.rgba[i * 4 + c];
+      }
+    }
+    // Depth slope from the neighbour on the same surface: of the two one-sided
+    // differences, the smaller (a silhouette makes the other one large).
+    auto slope = [&](size_t i, long back, long ahead, bool has_back, bool has_ahead) {
+      float best = 0;
+      bool found = false;
+      for (int k = 0; k < 2; ++k) {
+        const bool ok = k == 0 ? has_back : has_ahead;
+        if (!ok) continue;
+        const size_t q = size_t(long(i) + (k == 0 ? back : ahead));
+        if (!hit[q]) continue;
+        const float d = k == 0 ? depth[i] - depth[q] : depth[q] - depth[i];
+        if (!found || std::fabs(d) < std::fabs(best)) best = d;
+        found = true;
+      }
+      return best;
+    };
+    for (int y = 0; y < height; ++y)
+      for (int x = 0; x < width; ++x) {
+        const size_t i = size_t(y) * width + x;
+        if (!hit[i]) continue;
+        depth_dx[i] = slope(i, -1, 1, x > 0, x + 1 < width);
+        depth_dy[i] = slope(i, -long(width), long(width), y > 0, y + 1 < height);
+      }
+  }
+
+  // Product of the normal, depth and albedo weights of q seen from p (both hits),
+  // q at pixel offset (dx, dy).
+  float weight(size_t p, size_t q, int dx, int dy, const SvgfParams& params) const {
+    const float* np = &normal[p * 3];
+    const float* nq = &normal[q * 3];
+    const float cosine = std::max(0.0f, np[0] * nq[0] + np[1] * nq[1] + np[2] * nq[2]);
+    const float w_normal = std::pow(cosine, params.sigma_normal);
+    const float expected = std::fabs(depth_dx[p] * float(dx) + depth_dy[p] * float(dy));
+    // A small tolerance relative to the depth (float32 hit jitter, curvature).
+    const float tolerance = 2e-4f * depth[p] * std::sqrt(float(dx * dx + dy * dy));
+    const float w_depth =
+        std::exp(-std::fabs(depth[p] - depth[q]) / (params.sigma_depth * expected + tolerance + 1e-12f));
+    // Relative albedo difference: demodulated colour is divided by the albedo, so
+    // a dark albedo's value must never be remodulated by a brighter one (a 0.001
+    // pixel mixed into a 0.04 one came back 40x too bright on the colonnade).
+    const float* ap = &albedo[p * 3];
+    const float* aq = &albedo[q * 3];
+    float da = 0;
+    for (int c = 0; c < 3; ++c) {
+      const float d = (ap[c] - aq[c]) / (ap[c] + aq[c] + 2 * kAlbedoFloor);
+      da += d * d;
+    }
+    const float w_albedo = std::exp(-da / (params.sigma_albedo * params.sigma_albedo));
+    return w_normal * w_depth * w_albedo;
+  }
+};
+
+float demodulator(const Features& f, size_t i, int c) {
+  return f.hit[i] ? std::max(f.albedo[i * 3 + c], kAlbedoFloor) : 1.0f;
+}
+
+}  // namespace
+
+FloatImage varianceFromHalves(const FloatImage& half_a, uint32_t samples_a,
+                              const FloatImage& half_b, uint32_t samples_b) {
+  requireSameSize(half_a, half_b, "second half");
+  FloatImage out(half_a.width, half_a.height);
+  const double n = double(samples_a) + double(samples_b);
+  const double scale = n > 0 ? double(samples_a) * double(samples_b) / (n * n) : 0.0;
+  for (size_t i = 0; i < out.pixelCount(); ++i) {
+    double luminance = 0;
+    for (int c = 0; c < 3; ++c) {
+      const double d = double(half_a.rgba[i * 4 + c]) - double(half_b.rgba[i * 4 + c]);
+      out.rgba[i * 4 + c] = float(d * d * scale);
+      luminance += kLuminance[c] * d;
+    }
+    out.rgba[i * 4 + 3] = float(luminance * luminance * scale);
+  }
+  return out;
+}
+
+FloatImage svgfFilter(const FloatImage& color, const FloatImage& variance,
+                      const FloatImage& normal_depth, const FloatImage& albedo_steps,
+                      const SvgfParams& params) {
+  requireSameSize(color, variance, "variance");
+  requireSameSize(color, normal_depth, "normal/depth");
+  requireSameSize(color, albedo_steps, "albedo");
+  const int w = int(color.width), h = int(color.height);
+  const size_t n = color.pixelCount();
+  const Features f(normal_depth, albedo_steps);
+
+  // Demodulated colour (irradiance-like: material colour is not noise) and the
+  // variance of its luminance. The channels of one path share its randomness, so
+  // their deviations add (perfect correlation) rather than their variances.
+  std::vector<float> current(n * 3), next(n * 3);
+  std::vector<float> var(n, 0.0f), var_next(n, 0.0f);
+  for (size_t i = 0; i < n; ++i) {
+    float sigma = 0;
+    for (int c = 0; c < 3; ++c) {
+      const float a = demodulator(f, i, c);
+      current[i * 3 + c] = color.rgba[i * 4 + c] / a;
+      sigma += kLuminance[c] * std::sqrt(std::max(variance.rgba[i * 4 + c], 0.0f)) / a;
+    }
+    var[i] = sigma * sigma;
+  }
+  auto luminance = [](const float* c) {
+    return kLuminance[0] * c[0] + kLuminance[1] * c[1] + kLuminance[2] * c[2];
+  };
+
+  // Two halves give one degree of freedom per pixel: average the variance over
+  // a window of the same surface (no luminance term) before it steers anything.
+  {
+    const int r = std::max(params.variance_radius, 0);
+    forEachRow(h, [&](int y) {
+      for (int x = 0; x < w; ++x) {
+        const size_t p = size_t(y) * w + x;
+        if (!f.hit[p]) continue;
+        double sum = 0, weight_sum = 0;
+        for (int dy = -r; dy <= r; ++dy)
+          for (int dx = -r; dx <= r; ++dx) {
+            const int qx = x + dx, qy = y + dy;
+            if (qx < 0 || qy < 0 || qx >= w || qy >= h) continue;
+            const size_t q = size_t(qy) * w + qx;
+            if (!f.hit[q]) continue;
+            const float weight = q == p ? 1.0f : f.weight(p, q, dx, dy, params);
+            sum += double(weight) * var[q];
+            weight_sum += weight;
+          }
+        var_next[p] = float(sum / weight_sum);
+      }
+    });
+    for (size_t p = 0; p < n; ++p)
+      if (f.hit[p]) var[p] = var_next[p];
+  }
+
+  for (int iteration = 0; iteration < params.iterations; ++iteration) {
+    const int step = 1 << iteration;
+    forEachRow(h, [&](int y) {
+      for (int x = 0; x < w; ++x) {
+        const size_t p = size_t(y) * w + x;
+        const float* cp = &current[p * 3];
+        if (!f.hit[p]) {  // the sky is not filtered, nor mixed with surfaces
+          std::copy(cp, cp + 3, &next[p * 3]);
+          var_next[p] = var[p];
+          continue;
+        }
+        // The centre's noise, from a 3x3 Gaussian of the variance (SVGF sec. 4.5).
+        double local = 0, local_weight = 0;
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dx = -1; dx <= 1; ++dx) {
+            const int qx = x + dx, qy = y + dy;
+            if (qx < 0 || qy < 0 || qx >= w || qy >= h) continue;
+            const size_t q = size_t(qy) * w + qx;
+            if (!f.hit[q]) continue;
+            const float g = (dx == 0 ? 0.5f : 0.25f) * (dy == 0 ? 0.5f : 0.25f);
+            local += g * var[q];
+            local_weight += g;
+          }
+        const float sigma_l =
+            params.sigma_luminance * std::sqrt(float(std::max(local / local_weight, 0.0))) +
+            kLuminanceEpsilon;
+        const float lp = luminance(cp);
+        double sum[3] = {0, 0, 0}, weight_sum = 0, var_sum = 0;
+        for (int j = -2; j <= 2; ++j)
+          for (int i = -2; i <= 2; ++i) {
+            const int dx = i * step, dy = j * step;
+            const int qx = x + dx, qy = y + dy;
+            if (qx < 0 || qy < 0 || qx >= w || qy >= h) continue;
+            const size_t q = size_t(qy) * w + qx;
+            if (!f.hit[q]) continue;
+            const float* cq = &current[q * 3];
+            float weight = kB3[i + 2] * kB3[j + 2];
+            if (q != p)
+              weight *= f.weight(p, q, dx, dy, params) *
+                        std::exp(-std::fabs(lp - luminance(cq)) / sigma_l);
+            for (int c = 0; c < 3; ++c) sum[c] += double(weight) * cq[c];
+            weight_sum += weight;
+            var_sum += double(weight) * weight * var[q];
+          }
+        for (int c = 0; c < 3; ++c) next[p * 3 + c] = float(sum[c] / weight_sum);
+        var_next[p] = float(var_sum / (weight_sum * weight_sum));  // centre tap always counts
+      }
+    });
+    std::swap(current, next);
+    std::swap(var, var_next);
+  }
+
+  FloatImage out = color;
+  for (size_t i = 0; i < n; ++i)
+    for (int c = 0; c < 3; ++c) out.rgba[i * 4 + c] = current[i * 3 + c] * demodulator(f, i, c);
+  return out;
+}
+
+FloatImage svgfDenoise(const SampleHalves& halves, const FloatImage& normal_depth,
+                       const FloatImage& albedo_steps, const SvgfParams& params) {
+  const double n_a = halves.samples_a, n_b = halves.samples_b, n = n_a + n_b;
+  FloatImage mean(halves.a.width, halves.a.height, 1.0f);
+  for (size_t i = 0; i < mean.pixelCount(); ++i)
+    for (int c = 0; c < 3; ++c)
+      mean.rgba[i * 4 + c] =
+          float((n_a * halves.a.rgba[i * 4 + c] + n_b * halves.b.rgba[i * 4 + c]) / n);
+  const FloatImage variance =
+      varianceFromHalves(halves.a, halves.samples_a, halves.b, halves.samples_b);
+  return svgfFilter(mean, variance, normal_depth, albedo_steps, params);
+}
+
+}  // namespace sdfc
