@@ -84,7 +84,8 @@ for cmd in "${commands[@]}"; do
       mount --make-rprivate /
       mount -t proc proc "$ROOT/proc"
       mount --rbind /dev "$ROOT/dev"
-      mount -t sysfs sysfs "$ROOT/sys"
+      # /sys with its cgroup mount, as a booted machine has it (slurmd needs it)
+      mount --rbind /sys "$ROOT/sys"
       mount -t tmpfs tmpfs "$ROOT/dev/shm"
       mount -t tmpfs tmpfs "$ROOT/run"
       exec chroot "$ROOT" bash -c "cd /root/sdfc && $CMD"
