@@ -17,18 +17,6 @@ double upper(const ir::Scalar& s) {
   return r.bounded() ? r.hi : kInf;
 }
 
-Aabb transformBox(const Aabb& b, const glm::dmat3& m, const dvec3& t) {
-  if (!b.finite()) return b.empty() ? b : Aabb::infinite();
-  Aabb out;
-  for (int i = 0; i < 8; ++i) {
-    const dvec3 corner((i & 1) ? b.hi.x : b.lo.x, (i & 2) ? b.hi.y : b.lo.y, (i & 4) ? b.hi.z : b.lo.z);
-    const dvec3 q = m * corner + t;
-    out.lo = glm::min(out.lo, q);
-    out.hi = glm::max(out.hi, q);
-  }
-  return out;
-}
-
 class Analyzer {
  public:
   explicit Analyzer(Diagnostics& diags) : diags_(diags) {}
@@ -225,6 +213,18 @@ class Analyzer {
 };
 
 }  // namespace
+
+Aabb transformBox(const Aabb& b, const glm::dmat3& m, const dvec3& t) {
+  if (!b.finite()) return b.empty() ? b : Aabb::infinite();
+  Aabb out;
+  for (int i = 0; i < 8; ++i) {
+    const dvec3 corner((i & 1) ? b.hi.x : b.lo.x, (i & 2) ? b.hi.y : b.lo.y, (i & 4) ? b.hi.z : b.lo.z);
+    const dvec3 q = m * corner + t;
+    out.lo = glm::min(out.lo, q);
+    out.hi = glm::max(out.hi, q);
+  }
+  return out;
+}
 
 double repeatReach(const ir::Node& repeat, int axis) {
   const Aabb& b = repeat.children[0]->bounds;

@@ -16,17 +16,6 @@ namespace {
 
 using glm::dvec3;
 
-Aabb transformBox(const Aabb& b, const glm::dmat3& m, const dvec3& t) {
-  Aabb out;
-  for (int i = 0; i < 8; ++i) {
-    const dvec3 corner((i & 1) ? b.hi.x : b.lo.x, (i & 2) ? b.hi.y : b.lo.y, (i & 4) ? b.hi.z : b.lo.z);
-    const dvec3 q = m * corner + t;
-    out.lo = glm::min(out.lo, q);
-    out.hi = glm::max(out.hi, q);
-  }
-  return out;
-}
-
 // A union child seen as "template placed by an affine map".
 struct Peeled {
   glm::dmat3 linear{1.0};

@@ -21,6 +21,8 @@ struct InstancingOptions {
 void formInstances(ir::Scene& scene, const InstancingOptions& options);
 // The hierarchy over an instance set (analyze builds it once bounds are known).
 void buildInstanceHierarchy(ir::InstanceSet& set, const ir::Node& templ);
+// The box holding b mapped by p -> m * p + t (infinite and empty boxes stay so).
+Aabb transformBox(const Aabb& b, const glm::dmat3& m, const glm::dvec3& t);
 Aabb instanceLocalBounds(const ir::InstanceSet& set, size_t i, const ir::Node& templ);
 Aabb instanceBounds(const ir::InstanceSet& set, size_t i, const ir::Node& templ);
 void analyze(ir::Scene& scene, Diagnostics& diags);
