@@ -1,5 +1,6 @@
 // `sdfc render`: compile, render progressively on the Vulkan device, denoise,
 // write the image (or a frame sequence over time).
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
@@ -131,11 +132,20 @@ int runRender(const CommandLine& cl) {
             ? renderHalves(renderer, cameraFor(compiled.scene), settings, &halves, progress, interrupt)
             : renderer.render(cameraFor(compiled.scene), settings, progress, interrupt);
     // Write out.color in place unless denoised: a copy is a full-size image (memory).
-    // Without two halves (1 spp, or interrupted early) svgf leaves the image as it is.
+    // Without two halves (1 spp, or interrupted early) svgf and nlm leave the image as it is.
     FloatImage denoised;
     if (o.view == gpu::kViewBeauty && denoiser && *denoiser != Denoiser::None &&
-        (!with_halves || halves.samples_b > 0))
+        (!with_halves || halves.samples_b > 0)) {
+      const auto start = std::chrono::steady_clock::now();
       denoised = denoise(*denoiser, out.color, out.normal_depth, out.albedo_steps, &halves);
+      // bench/denoise_study.py reads this line: the filter's own cost.
+      if (!quiet)
+        std::cerr << "sdfc: denoised (" << denoiserName(*denoiser) << ") in "
+                  << std::lround(std::chrono::duration<double, std::milli>(
+                                     std::chrono::steady_clock::now() - start)
+                                     .count())
+                  << " ms\n";
+    }
     const FloatImage& image = denoised.empty() ? out.color : denoised;
     const std::string path = times.size() > 1 ? farm::framePath(cl.output, static_cast<int>(f)) : cl.output;
     writeImage(path, image, tone);

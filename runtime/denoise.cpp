@@ -31,6 +31,7 @@ std::optional<Denoiser> parseDenoiser(std::string_view name) {
   if (name == "bilateral") return Denoiser::Bilateral;
   if (name == "atrous" || name == "a-trous" || name == "a_trous") return Denoiser::ATrous;
   if (name == "svgf") return Denoiser::Svgf;
+  if (name == "nlm") return Denoiser::Nlm;
   return std::nullopt;
 }
 
@@ -40,6 +41,7 @@ const char* denoiserName(Denoiser denoiser) {
     case Denoiser::Bilateral: return "bilateral";
     case Denoiser::ATrous: return "atrous";
     case Denoiser::Svgf: return "svgf";
+    case Denoiser::Nlm: return "nlm";
   }
   return "?";
 }
@@ -140,7 +142,9 @@ FloatImage atrousFilter(const FloatImage& color, const FloatImage& normal_depth,
   return current;
 }
 
-bool needsVariance(Denoiser denoiser) { return denoiser == Denoiser::Svgf; }
+bool needsVariance(Denoiser denoiser) {
+  return denoiser == Denoiser::Svgf || denoiser == Denoiser::Nlm;
+}
 
 FloatImage denoise(Denoiser denoiser, const FloatImage& color, const FloatImage& normal_depth,
                    const FloatImage& albedo_steps, const SampleHalves* halves) {
@@ -149,6 +153,10 @@ FloatImage denoise(Denoiser denoiser, const FloatImage& color, const FloatImage&
       if (!halves || halves->samples_a == 0 || halves->samples_b == 0)
         throw std::invalid_argument("denoise: svgf needs two half-sample renders");
       return svgfDenoise(*halves, normal_depth, albedo_steps);
+    case Denoiser::Nlm:
+      if (!halves || halves->samples_a == 0 || halves->samples_b == 0)
+        throw std::invalid_argument("denoise: nlm needs two half-sample renders");
+      return nlmDenoise(*halves, normal_depth, albedo_steps);
     case Denoiser::Bilateral: return bilateralFilter(color);
     case Denoiser::ATrous: return atrousFilter(color, normal_depth, albedo_steps);
     case Denoiser::None: break;

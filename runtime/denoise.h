@@ -8,19 +8,22 @@
 //    (demodulation) and multiplied back afterwards.
 //  - Svgf: variance-guided A-Trous with per-pixel strength selection
 //    (denoise_svgf.h); needs two half-sample renders (renderHalves in renderer.h).
+//  - Nlm: dual-buffer joint NL-means, two passes (denoise_nlm.h); also needs
+//    the two halves. The best of these at equal samples (docs/denoise.md).
 #pragma once
 #include <optional>
 #include <string>
 #include <string_view>
 
+#include "denoise_nlm.h"
 #include "denoise_svgf.h"
 #include "float_image.h"
 
 namespace sdfc {
 
-enum class Denoiser { None, Bilateral, ATrous, Svgf };
+enum class Denoiser { None, Bilateral, ATrous, Svgf, Nlm };
 
-// "none", "bilateral", "atrous" (also "a-trous"), "svgf"; nullopt otherwise.
+// "none", "bilateral", "atrous" (also "a-trous"), "svgf", "nlm"; nullopt otherwise.
 std::optional<Denoiser> parseDenoiser(std::string_view name);
 const char* denoiserName(Denoiser denoiser);
 
@@ -51,8 +54,8 @@ FloatImage atrousFilter(const FloatImage& color, const FloatImage& normal_depth,
 // Whether `denoiser` needs two half-sample renders (SampleHalves).
 bool needsVariance(Denoiser denoiser);
 
-// Dispatch with default parameters; None returns `color` unchanged. Svgf needs
-// `halves` (with samples in both) and throws std::invalid_argument without them.
+// Dispatch with default parameters; None returns `color` unchanged. Svgf and Nlm
+// need `halves` (with samples in both) and throw std::invalid_argument without them.
 FloatImage denoise(Denoiser denoiser, const FloatImage& color, const FloatImage& normal_depth,
                    const FloatImage& albedo_steps, const SampleHalves* halves = nullptr);
 

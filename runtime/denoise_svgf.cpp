@@ -1,5 +1,7 @@
 #include "denoise_svgf.h"
 
+#include "denoise_features.h"
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -11,7 +13,7 @@ namespace sdfc {
 namespace {
 
 constexpr float kLuminance[3] = {0.2126f, 0.7152f, 0.0722f};  // Rec. 709
-constexpr float kAlbedoFloor = 1e-3f;  // black albedo does not divide by zero
+constexpr float kAlbedoFloor = Features::kAlbedoFloor;
 // B3-spline taps (1, 4, 6, 4, 1) / 16 (Dammertz et al. 2010; SVGF uses the same).
 constexpr float kB3[5] = {1.0f / 16, 1.0f / 4, 3.0f / 8, 1.0f / 4, 1.0f / 16};
 // Luminance edge stop where the noise estimate is zero: differences this small
@@ -22,101 +24,6 @@ void requireSameSize(const FloatImage& a, const FloatImage& b, const char* what)
   if (a.width != b.width || a.height != b.height || a.rgba.size() != b.rgba.size())
     throw std::invalid_argument(std::string("svgf: ") + what + " size differs from colour");
 }
-
-// Runs body(y) for every row on up to hardware_concurrency threads; rows are
-// independent, and each row's result is the same whatever thread runs it.
-template <typename Body>
-void forEachRow(int height, const Body& body) {
-  const int threads = std::clamp<int>(int(std::thread::hardware_concurrency()), 1, 8);
-  if (threads == 1 || height < 16) {
-    for (int y = 0; y < height; ++y) body(y);
-    return;
-  }
-  std::vector<std::thread> pool;
-  for (int t = 0; t < threads; ++t)
-    pool.emplace_back([&, t] {
-      for (int y = t; y < height; y += threads) body(y);
-    });
-  for (std::thread& thread : pool) thread.join();
-}
-
-// Everything the edge-stopping weights read, per pixel, in flat arrays.
-struct Features {
-  int width = 0, height = 0;
-  std::vector<uint8_t> hit;
-  std::vector<float> normal;  // 3 per pixel
-  std::vector<float> depth;
-  std::vector<float> depth_dx, depth_dy;  // one-sided difference of smaller magnitude
-  std::vector<float> albedo;  // 3 per pixel
-
-  Features(const FloatImage& normal_depth, const FloatImage& albedo_steps)
-      : width(int(normal_depth.width)), height(int(normal_depth.height)) {
-    const size_t n = normal_depth.pixelCount();
-    hit.resize(n);
-    normal.resize(n * 3);
-    depth.resize(n);
-    albedo.resize(n * 3);
-    depth_dx.assign(n, 0.0f);
-    depth_dy.assign(n, 0.0f);
-    for (size_t i = 0; i < n; ++i) {
-      hit[i] = normal_depth.rgba[i * 4 + 3] >= 0.0f;
-      depth[i] = normal_depth.rgba[i * 4 + 3];
-      for (int c = 0; c < 3; ++c) {
-        normal[i * 3 + c] = normal_depth.rgba[i * 4 + c];
-        albedo[i * 3 + c] = albedo_steps.rgba[i * 4 + c];
-      }
-    }
-    // Depth slope from the neighbour on the same surface: of the two one-sided
-    // differences, the smaller (a silhouette makes the other one large).
-    auto slope = [&](size_t i, long back, long ahead, bool has_back, bool has_ahead) {
-      float best = 0;
-      bool found = false;
-      for (int k = 0; k < 2; ++k) {
-        const bool ok = k == 0 ? has_back : has_ahead;
-        if (!ok) continue;
-        const size_t q = size_t(long(i) + (k == 0 ? back : ahead));
-        if (!hit[q]) continue;
-        const float d = k == 0 ? depth[i] - depth[q] : depth[q] - depth[i];
-        if (!found || std::fabs(d) < std::fabs(best)) best = d;
-        found = true;
-      }
-      return best;
-    };
-    for (int y = 0; y < height; ++y)
-      for (int x = 0; x < width; ++x) {
-        const size_t i = size_t(y) * width + x;
-        if (!hit[i]) continue;
-        depth_dx[i] = slope(i, -1, 1, x > 0, x + 1 < width);
-        depth_dy[i] = slope(i, -long(width), long(width), y > 0, y + 1 < height);
-      }
-  }
-
-  // Product of the normal, depth and albedo weights of q seen from p (both hits),
-  // q at pixel offset (dx, dy).
-  float weight(size_t p, size_t q, int dx, int dy, const SvgfParams& params) const {
-    const float* np = &normal[p * 3];
-    const float* nq = &normal[q * 3];
-    const float cosine = std::max(0.0f, np[0] * nq[0] + np[1] * nq[1] + np[2] * nq[2]);
-    const float w_normal = std::pow(cosine, params.sigma_normal);
-    const float expected = std::fabs(depth_dx[p] * float(dx) + depth_dy[p] * float(dy));
-    // A small tolerance relative to the depth (float32 hit jitter, curvature).
-    const float tolerance = 2e-4f * depth[p] * std::sqrt(float(dx * dx + dy * dy));
-    const float w_depth =
-        std::exp(-std::fabs(depth[p] - depth[q]) / (params.sigma_depth * expected + tolerance + 1e-12f));
-    // Relative albedo difference: demodulated colour is divided by the albedo, so
-    // a dark albedo's value must never be remodulated by a brighter one (a 0.001
-    // pixel mixed into a 0.04 one came back 40x too bright on the colonnade).
-    const float* ap = &albedo[p * 3];
-    const float* aq = &albedo[q * 3];
-    float da = 0;
-    for (int c = 0; c < 3; ++c) {
-      const float d = (ap[c] - aq[c]) / (ap[c] + aq[c] + 2 * kAlbedoFloor);
-      da += d * d;
-    }
-    const float w_albedo = std::exp(-da / (params.sigma_albedo * params.sigma_albedo));
-    return w_normal * w_depth * w_albedo;
-  }
-};
 
 float demodulator(const Features& f, size_t i, int c) {
   return f.hit[i] ? std::max(f.albedo[i * 3 + c], kAlbedoFloor) : 1.0f;
@@ -185,7 +92,7 @@ FloatImage svgfFilter(const FloatImage& color, const FloatImage& variance,
             if (qx < 0 || qy < 0 || qx >= w || qy >= h) continue;
             const size_t q = size_t(qy) * w + qx;
             if (!f.hit[q]) continue;
-            const float weight = q == p ? 1.0f : f.weight(p, q, dx, dy, params);
+            const float weight = q == p ? 1.0f : f.weight(p, q, dx, dy, params.sigma_normal, params.sigma_depth, params.sigma_albedo);
             sum += double(weight) * var[q];
             weight_sum += weight;
           }
@@ -234,7 +141,7 @@ FloatImage svgfFilter(const FloatImage& color, const FloatImage& variance,
             const float* cq = &current[q * 3];
             float weight = kB3[i + 2] * kB3[j + 2];
             if (q != p)
-              weight *= f.weight(p, q, dx, dy, params) *
+              weight *= f.weight(p, q, dx, dy, params.sigma_normal, params.sigma_depth, params.sigma_albedo) *
                         std::exp(-std::fabs(lp - luminance(cq)) / sigma_l);
             for (int c = 0; c < 3; ++c) sum[c] += double(weight) * cq[c];
             weight_sum += weight;

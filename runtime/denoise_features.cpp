@@ -1,0 +1,47 @@
+#include "denoise_features.h"
+
+namespace sdfc {
+
+Features::Features(const FloatImage& normal_depth, const FloatImage& albedo_steps)
+  : width(int(normal_depth.width)), height(int(normal_depth.height)) {
+  const size_t n = normal_depth.pixelCount();
+  hit.resize(n);
+  normal.resize(n * 3);
+  depth.resize(n);
+  albedo.resize(n * 3);
+  depth_dx.assign(n, 0.0f);
+  depth_dy.assign(n, 0.0f);
+  for (size_t i = 0; i < n; ++i) {
+    hit[i] = normal_depth.rgba[i * 4 + 3] >= 0.0f;
+    depth[i] = normal_depth.rgba[i * 4 + 3];
+    for (int c = 0; c < 3; ++c) {
+      normal[i * 3 + c] = normal_depth.rgba[i * 4 + c];
+      albedo[i * 3 + c] = albedo_steps.rgba[i * 4 + c];
+    }
+  }
+  // Depth slope from the neighbour on the same surface: of the two one-sided
+  // differences, the smaller (a silhouette makes the other one large).
+  auto slope = [&](size_t i, long back, long ahead, bool has_back, bool has_ahead) {
+    float best = 0;
+    bool found = false;
+    for (int k = 0; k < 2; ++k) {
+      const bool ok = k == 0 ? has_back : has_ahead;
+      if (!ok) continue;
+      const size_t q = size_t(long(i) + (k == 0 ? back : ahead));
+      if (!hit[q]) continue;
+      const float d = k == 0 ? depth[i] - depth[q] : depth[q] - depth[i];
+      if (!found || std::fabs(d) < std::fabs(best)) best = d;
+      found = true;
+    }
+    return best;
+  };
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) {
+      const size_t i = size_t(y) * width + x;
+      if (!hit[i]) continue;
+      depth_dx[i] = slope(i, -1, 1, x > 0, x + 1 < width);
+      depth_dy[i] = slope(i, -long(width), long(width), y > 0, y + 1 < height);
+    }
+}
+
+}  // namespace sdfc

@@ -1,0 +1,221 @@
+#include "denoise_nlm.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "denoise_features.h"
+
+namespace sdfc {
+namespace {
+
+constexpr float kEpsilon = 1e-10f;  // Rousselle et al. 2012's epsilon: zero variance, zero reach
+constexpr int kTileRows = 16;
+
+// rgb of every pixel, flat.
+using Plane = std::vector<float>;
+
+Plane rgbOf(const FloatImage& image) {
+  Plane out(image.pixelCount() * 3);
+  for (size_t i = 0; i < image.pixelCount(); ++i)
+    for (int c = 0; c < 3; ++c) out[i * 3 + c] = image.rgba[i * 4 + c];
+  return out;
+}
+
+// Per-channel variance of each guide from their difference, smoothed over a box:
+// E[(g_a - g_b)^2] = Var a + Var b, and Var a : Var b = n_b : n_a (the halves'
+// sample counts n_a, n_b).
+void guideVariances(const Plane& ga, const Plane& gb, int w, int h, int radius, double n_a,
+                    double n_b, Plane& var_a, Plane& var_b) {
+  const size_t n = size_t(w) * h;
+  Plane d2(n * 3), row(n * 3);
+  for (size_t i = 0; i < n * 3; ++i) d2[i] = (ga[i] - gb[i]) * (ga[i] - gb[i]);
+  // Separable box (mean over the pixels inside the image).
+  forEachRow(h, [&](int y) {
+    for (int x = 0; x < w; ++x)
+      for (int c = 0; c < 3; ++c) {
+        float sum = 0;
+        int count = 0;
+        for (int qx = std::max(0, x - radius); qx <= std::min(w - 1, x + radius); ++qx, ++count)
+          sum += d2[(size_t(y) * w + qx) * 3 + c];
+        row[(size_t(y) * w + x) * 3 + c] = sum / float(count);
+      }
+  });
+  const float share_a = float(n_b / (n_a + n_b)), share_b = float(n_a / (n_a + n_b));
+  var_a.resize(n * 3);
+  var_b.resize(n * 3);
+  forEachRow(h, [&](int y) {
+    for (int x = 0; x < w; ++x)
+      for (int c = 0; c < 3; ++c) {
+        float sum = 0;
+        int count = 0;
+        for (int qy = std::max(0, y - radius); qy <= std::min(h - 1, y + radius); ++qy, ++count)
+          sum += row[(size_t(qy) * w + x) * 3 + c];
+        const size_t i = (size_t(y) * w + x) * 3 + c;
+        var_a[i] = share_a * sum / float(count);
+        var_b[i] = share_b * sum / float(count);
+      }
+  });
+}
+
+// Per-pixel, per-offset colour distance before the patch average (Rousselle et
+// al. 2012, eq. 5, alpha = 1), mean over the channels.
+inline float pixelDistance(const float* gp, const float* gq, const float* vp, const float* vq,
+                           float k2) {
+  float sum = 0;
+  for (int c = 0; c < 3; ++c) {
+    const float d = gp[c] - gq[c];
+    sum += (d * d - (vp[c] + std::min(vp[c], vq[c]))) / (kEpsilon + k2 * (vp[c] + vq[c]));
+  }
+  return sum * (1.0f / 3.0f);
+}
+
+// One pass: out_a = ua filtered with weights from guide gb, out_b = ub with
+// weights from guide ga.
+void crossFilter(const Plane& ua, const Plane& ub, const Plane& ga, const Plane& gb,
+                 const Plane& var_a, const Plane& var_b, const Features& f, float k,
+                 const NlmParams& params, Plane& out_a, Plane& out_b) {
+  const int w = f.width, h = f.height, r = params.radius, pr = std::max(params.patch_radius, 0);
+  const float k2 = k * k;
+  const float patch_norm = 1.0f / float((2 * pr + 1) * (2 * pr + 1));
+  out_a.assign(ua.size(), 0.0f);
+  out_b.assign(ub.size(), 0.0f);
+  const int tiles = (h + kTileRows - 1) / kTileRows;
+  std::atomic<int> next_tile{0};
+  auto worker = [&] {
+    const int rows = kTileRows + 2 * pr;
+    // Distances of the rows a tile's patches read, for guide b (filters a) and a.
+    std::vector<float> dist_b(size_t(rows) * w), dist_a(size_t(rows) * w);
+    std::vector<float> hsum_b(size_t(rows) * w), hsum_a(size_t(rows) * w);
+    std::vector<float> sum_a(size_t(kTileRows) * w * 3), sum_b(size_t(kTileRows) * w * 3);
+    std::vector<float> wsum_a(size_t(kTileRows) * w), wsum_b(size_t(kTileRows) * w);
+    for (int tile = next_tile++; tile < tiles; tile = next_tile++) {
+      const int y0 = tile * kTileRows, y1 = std::min(h, y0 + kTileRows);
+      std::fill(sum_a.begin(), sum_a.end(), 0.0f);
+      std::fill(sum_b.begin(), sum_b.end(), 0.0f);
+      std::fill(wsum_a.begin(), wsum_a.end(), 0.0f);
+      std::fill(wsum_b.begin(), wsum_b.end(), 0.0f);
+      for (int oy = -r; oy <= r; ++oy)
+        for (int ox = -r; ox <= r; ++ox) {
+          // Pixel distances on rows y0 - pr .. y1 + pr (0 where p or q is outside).
+          for (int yy = y0 - pr; yy < y1 + pr; ++yy) {
+            float* db = &dist_b[size_t(yy - y0 + pr) * w];
+            float* da = &dist_a[size_t(yy - y0 + pr) * w];
+            const int qy = yy + oy;
+            if (yy < 0 || yy >= h || qy < 0 || qy >= h) {
+              std::fill(db, db + w, 0.0f);
+              std::fill(da, da + w, 0.0f);
+              continue;
+            }
+            for (int x = 0; x < w; ++x) {
+              const int qx = x + ox;
+              if (qx < 0 || qx >= w) {
+                db[x] = da[x] = 0.0f;
+                continue;
+              }
+              const size_t p = (size_t(yy) * w + x) * 3, q = (size_t(qy) * w + qx) * 3;
+              db[x] = pixelDistance(&gb[p], &gb[q], &var_b[p], &var_b[q], k2);
+              da[x] = pixelDistance(&ga[p], &ga[q], &var_a[p], &var_a[q], k2);
+            }
+          }
+          // Horizontal patch sums.
+          for (int row = 0; row < (y1 - y0) + 2 * pr; ++row)
+            for (int x = 0; x < w; ++x) {
+              float sb = 0, sa = 0;
+              for (int i = std::max(0, x - pr); i <= std::min(w - 1, x + pr); ++i) {
+                sb += dist_b[size_t(row) * w + i];
+                sa += dist_a[size_t(row) * w + i];
+              }
+              hsum_b[size_t(row) * w + x] = sb;
+              hsum_a[size_t(row) * w + x] = sa;
+            }
+          // Vertical patch sums, weights, accumulation.
+          for (int y = y0; y < y1; ++y) {
+            const int qy = y + oy;
+            if (qy < 0 || qy >= h) continue;
+            for (int x = 0; x < w; ++x) {
+              const int qx = x + ox;
+              if (qx < 0 || qx >= w) continue;
+              const size_t p = size_t(y) * w + x, q = size_t(qy) * w + qx;
+              if (f.hit[p] != f.hit[q]) continue;  // sky and surfaces never mix
+              float feature = 1.0f;
+              if (f.hit[p] && q != p)
+                feature = f.weight(p, q, ox, oy, params.sigma_normal, params.sigma_depth,
+                                   params.sigma_albedo);
+              if (feature < Features::kNegligible) continue;
+              float db = 0, da = 0;
+              for (int j = 0; j <= 2 * pr; ++j) {
+                db += hsum_b[size_t(y - y0 + j) * w + x];
+                da += hsum_a[size_t(y - y0 + j) * w + x];
+              }
+              const float weight_a =
+                  std::min(feature, Features::expNegative(std::max(0.0f, db * patch_norm)));
+              const float weight_b =
+                  std::min(feature, Features::expNegative(std::max(0.0f, da * patch_norm)));
+              const size_t t = size_t(y - y0) * w + x;
+              for (int c = 0; c < 3; ++c) {
+                sum_a[t * 3 + c] += weight_a * ua[q * 3 + c];
+                sum_b[t * 3 + c] += weight_b * ub[q * 3 + c];
+              }
+              wsum_a[t] += weight_a;
+              wsum_b[t] += weight_b;
+            }
+          }
+        }
+      for (int y = y0; y < y1; ++y)
+        for (int x = 0; x < w; ++x) {
+          const size_t t = size_t(y - y0) * w + x, p = size_t(y) * w + x;
+          for (int c = 0; c < 3; ++c) {  // the centre's weight is 1: never zero
+            out_a[p * 3 + c] = sum_a[t * 3 + c] / wsum_a[t];
+            out_b[p * 3 + c] = sum_b[t * 3 + c] / wsum_b[t];
+          }
+        }
+    }
+  };
+  const int threads = std::clamp<int>(int(std::thread::hardware_concurrency()), 1, 8);
+  std::vector<std::thread> pool;
+  for (int t = 1; t < std::min(threads, tiles); ++t) pool.emplace_back(worker);
+  worker();
+  for (std::thread& thread : pool) thread.join();
+}
+
+void requireSameSize(const FloatImage& a, const FloatImage& b, const char* what) {
+  if (a.width != b.width || a.height != b.height || a.rgba.size() != b.rgba.size())
+    throw std::invalid_argument(std::string("nlm: ") + what + " size differs from the first half");
+}
+
+}  // namespace
+
+FloatImage nlmDenoise(const SampleHalves& halves, const FloatImage& normal_depth,
+                      const FloatImage& albedo_steps, const NlmParams& params) {
+  requireSameSize(halves.a, halves.b, "second half");
+  requireSameSize(halves.a, normal_depth, "normal/depth");
+  requireSameSize(halves.a, albedo_steps, "albedo");
+  const double n_a = halves.samples_a, n_b = halves.samples_b;
+  if (!(n_a > 0 && n_b > 0)) throw std::invalid_argument("nlm: needs samples in both halves");
+  const int w = int(halves.a.width), h = int(halves.a.height);
+  const Features f(normal_depth, albedo_steps);
+  const Plane a = rgbOf(halves.a), b = rgbOf(halves.b);
+
+  Plane var_a, var_b, out_a, out_b;
+  guideVariances(a, b, w, h, params.variance_radius, n_a, n_b, var_a, var_b);
+  crossFilter(a, b, a, b, var_a, var_b, f, params.k_first, params, out_a, out_b);
+  for (int pass = 1; pass < params.passes; ++pass) {
+    // The previous pass's halves guide the next: less noise, better weights.
+    const Plane guide_a = std::move(out_a), guide_b = std::move(out_b);
+    guideVariances(guide_a, guide_b, w, h, params.variance_radius, n_a, n_b, var_a, var_b);
+    crossFilter(a, b, guide_a, guide_b, var_a, var_b, f, params.k_second, params, out_a, out_b);
+  }
+
+  FloatImage out(halves.a.width, halves.a.height, 1.0f);
+  for (size_t i = 0; i < out.pixelCount(); ++i)
+    for (int c = 0; c < 3; ++c)
+      out.rgba[i * 4 + c] = float((n_a * out_a[i * 3 + c] + n_b * out_b[i * 3 + c]) / (n_a + n_b));
+  return out;
+}
+
+}  // namespace sdfc

@@ -1,0 +1,41 @@
+// Dual-buffer joint non-local-means denoiser (`--denoise nlm`).
+//
+// The samples arrive as two independent halves (SampleHalves). Each half is
+// filtered with weights computed on the *other* half (cross-filtering, as in
+// Rousselle et al. 2012, "Adaptive rendering with non-local means filtering",
+// and NFOR, Bitterli et al. 2016), so a pixel's weights are independent of the
+// noise they average. A weight is the smaller of
+//  - the colour weight of NL-means with variance-normalised patch distances
+//    (Rousselle et al. 2012, eq. 5: squared difference minus the expected noise,
+//    over the summed variances), and
+//  - the first-hit feature weight (normal, depth, albedo; denoise_features.h),
+// the joint filter of Rousselle et al. 2013. A second pass filters the original
+// halves again with weights computed on the first pass's output, whose lower
+// noise gives better weights. The two filtered halves are averaged.
+//
+// No bias at convergence: the colour distance is measured in units of the
+// estimated variance, so as the variance falls to zero a neighbour is only
+// accepted if its value is equal to the pixel's; with zero variance the filter
+// is the identity.
+#pragma once
+#include "denoise_svgf.h"  // SampleHalves
+#include "float_image.h"
+
+namespace sdfc {
+
+struct NlmParams {
+  int radius = 5;           // search window (2r+1)^2
+  int patch_radius = 1;     // patches (2f+1)^2
+  float k_first = 0.45f;    // colour strength, pass 1 (guides: the noisy halves)
+  float k_second = 1.0f;    // colour strength of later passes (guides: the previous pass's output)
+  int passes = 2;
+  int variance_radius = 1;  // box over (guide_a - guide_b)^2, (2r+1)^2
+  float sigma_normal = 128.0f, sigma_depth = 1.0f, sigma_albedo = 0.05f;  // feature weight
+};
+
+// The denoised sample-weighted mean of the halves. `normal_depth`, `albedo_steps`:
+// the renderer's attachments 1 and 2. Throws std::invalid_argument on size mismatch.
+FloatImage nlmDenoise(const SampleHalves& halves, const FloatImage& normal_depth,
+                      const FloatImage& albedo_steps, const NlmParams& params = {});
+
+}  // namespace sdfc
