@@ -13,8 +13,9 @@ runs in the same run, so ratios are measured under the same machine load.
 Levers are configurations that add one thing at a time:
   baseline     the paper-style tracer (run.py's "baseline")
   derived      sdfc's defaults, no denoiser          (kernel lever)
-  svgf         + the variance-guided denoiser        (denoiser lever)
-  svgf-mesa25  + lavapipe of Mesa 25.0.7             (driver lever; tools/lavapipe25.sh)
+  svgf         + the variance-guided denoiser        (denoiser lever, round 1)
+  nlm          + the dual-buffer NL-means denoiser   (denoiser lever; docs/denoise.md)
+  nlm-mesa25   + lavapipe of Mesa 25.0.7             (driver lever; tools/lavapipe25.sh)
 """
 import csv
 import os
@@ -33,7 +34,8 @@ CONVERGE_CONFIGS = {
     "baseline": (["--paper-baseline", "--no-bounds", "--white-noise", "--denoise", "bilateral"], None),
     "derived": ([], None),
     "svgf": (["--denoise", "svgf"], None),
-    "svgf-mesa25": (["--denoise", "svgf"], "mesa25"),
+    "nlm": (["--denoise", "nlm"], None),
+    "nlm-mesa25": (["--denoise", "nlm"], "mesa25"),
 }
 SEED = 7
 

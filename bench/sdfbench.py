@@ -22,6 +22,7 @@ STDERR_PATTERNS = {
     "step_budget": r"\(budget (\d+)\)",
     "spp_done": r"wrote .* \((\d+) spp in",
     "spp_per_s": r"spp in [^,]*, ([0-9.eE+-]+) spp/s",
+    "denoise_ms": r"denoised \(\w+\) in (\d+) ms",
 }
 
 
