@@ -63,6 +63,7 @@ struct Features {
     // pixel mixed into a 0.04 one came back 40x too bright on the colonnade).
     const float* ap = &albedo[p * 3];
     const float* aq = &albedo[q * 3];
+    if (ap[0] == aq[0] && ap[1] == aq[1] && ap[2] == aq[2]) return w_normal * w_depth;  // one material
     float da = 0;
     for (int c = 0; c < 3; ++c) {
       const float d = (ap[c] - aq[c]) / (ap[c] + aq[c] + 2 * kAlbedoFloor);
