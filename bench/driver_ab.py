@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Castle spp/s on the two lavapipes, interleaved in one run (issue 13 part 2).
 
     bench/driver_ab.py [--sdfc build/cli/sdfc] [--reps 5] [--size 640x360] [--spp 16]

@@ -84,7 +84,8 @@ TEST(DriverSelect, CommandLineReportsAndOverrides) {
     EXPECT_EQ(status, 0);
     EXPECT_NE(bundled.find("Mesa 25."), std::string::npos) << bundled;
     const std::string user = runCommand(
-        "env VK_DRIVER_FILES=/usr/share/vulkan/icd.d/lvp_icd.x86_64.json " + kSdfc + " devices",
+        "env -u SDFC_DRIVER VK_DRIVER_FILES=/usr/share/vulkan/icd.d/lvp_icd.x86_64.json " + kSdfc +
+            " devices",
         status);
     EXPECT_EQ(status, 0);
     EXPECT_NE(user.find("set by the user"), std::string::npos) << user;
