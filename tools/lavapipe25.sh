@@ -22,8 +22,10 @@ libdir="$dir/root/usr/lib/x86_64-linux-gnu"
 
 # The Debian mirror this machine's apt already uses for bookworm (a local
 # mirror or proxy stays in use; a bare mmdebstrap root has the host's), else
-# deb.debian.org. Backports lives on every full Debian mirror.
+# deb.debian.org; SDFC_DEBIAN_MIRROR overrides. Backports lives on every full
+# Debian mirror.
 mirror() {
+  [ -n "${SDFC_DEBIAN_MIRROR:-}" ] && { echo "$SDFC_DEBIAN_MIRROR"; return; }
   local uri
   uri=$(cat /etc/apt/sources.list.d/*.sources 2>/dev/null |
         awk '/^URIs:/ { u = $2 } /^Suites:/ && / bookworm( |$)/ && u !~ /security/ { print u; exit }')
