@@ -274,6 +274,7 @@ class SceneWriter {
     int param_vec4 = 0;  // vec4 of primitive parameters after the placement
     bool grid = false;   // a grid: header (2 vec4), cells (1 vec4 each), lists (4 per vec4)
     size_t grid_header = 0, grid_cells = 0, grid_entries = 0;
+    bool grid_records = false;  // lists hold copies of one-vec4 records, not indices
   };
   std::map<const ir::Node*, InstanceLayout> instance_layouts_;
   std::vector<float> data_;
@@ -410,8 +411,18 @@ class SceneWriter {
       for (size_t c = 0; c < grid.cells(); ++c)
         pushVec4(float(grid.first[c]), float(grid.count[c]), float(grid.reach[c]), 0);
       l.grid_entries = data_.size() / 4;
-      for (std::uint32_t e : grid.entries) data_.push_back(float(e));
-      while (data_.size() % 4 != 0) data_.push_back(0);
+      // One-vec4 records (no rotation, no parameters: point clouds) are copied
+      // into the lists, which saves a dependent load per listed instance.
+      l.grid_records = l.stride == 1;
+      if (l.grid_records) {
+        for (std::uint32_t e : grid.entries) {
+          const size_t r = (l.records + e) * 4;
+          pushVec4(data_[r], data_[r + 1], data_[r + 2], data_[r + 3]);
+        }
+      } else {
+        for (std::uint32_t e : grid.entries) data_.push_back(float(e));
+        while (data_.size() % 4 != 0) data_.push_back(0);
+      }
     }
     return instance_layouts_.emplace(&n, l).first->second;
   }
@@ -454,7 +465,10 @@ class SceneWriter {
       g.code << "  for (int it = 0; it < count; it++) {\n";
     }
     g.code << "    int e = first + it;\n";
-    g.code << "    int rec = " << ib << " + int(sd_data[" << ge << " + (e >> 2)][e & 3]) * " << l.stride << ";\n";
+    if (l.grid_records)
+      g.code << "    int rec = " << ge << " + e;\n";
+    else
+      g.code << "    int rec = " << ib << " + int(sd_data[" << ge << " + (e >> 2)][e & 3]) * " << l.stride << ";\n";
     if (mat) {
       g.code << "    vec2 r = " << one << "(p, rec, inherited);\n    if (r.x < best.x) best = r;\n";
     } else {

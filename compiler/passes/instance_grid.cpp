@@ -26,9 +26,6 @@ using glm::dvec3;
 // lists.
 constexpr double kCellsPerInstance = 1.0;
 constexpr double kReachInCells = 0.5;
-// A cell whose reach shrinks below this fraction of the target (too many
-// instances crowd it) is left to the hierarchy: its steps would be tiny.
-constexpr double kMinReachFraction = 0.25;
 // Floats index the lists on the GPU: exact below 2^24.
 constexpr size_t kMaxIndex = (size_t(1) << 24) - 1;
 
@@ -133,7 +130,11 @@ void buildInstanceGrid(ir::InstanceSet& set, const ir::Node& templ) {
         }
         g.first[c] = static_cast<std::uint32_t>(g.entries.size());
         g.reach[c] = r;
-        if (r < kMinReachFraction * reach) {
+        // More than kGridListMax boxes touch the cell: its reach is 0 and the
+        // steps in it would never leave it. The hierarchy answers there. (A
+        // small reach only makes small steps: still right, unlike a hierarchy
+        // that runs out of visits and returns a box distance.)
+        if (!(r > 0)) {
           g.count[c] = -1;
           continue;
         }
