@@ -35,6 +35,10 @@ constexpr double kFarBoxFactor = 1.0;
 // Stack entries a visit may drop after its work when they cannot hold
 // anything nearer than the best so far.
 constexpr int kPrunesPerVisit = 3;
+// Grid lists copy one-vec4 records up to this size (16 bytes per listed
+// instance); beyond it they hold 4-byte indices, which keeps a million
+// instances' data (76 MB) within lavapipe's 128 MiB storage buffer range.
+constexpr size_t kMaxCopiedRecordBytes = size_t(32) << 20;
 
 std::string vec3Literal(dvec3 v) {
   if (v.x == v.y && v.y == v.z) return "vec3(" + glslFloat(v.x) + ")";
@@ -413,7 +417,7 @@ class SceneWriter {
       l.grid_entries = data_.size() / 4;
       // One-vec4 records (no rotation, no parameters: point clouds) are copied
       // into the lists, which saves a dependent load per listed instance.
-      l.grid_records = l.stride == 1;
+      l.grid_records = l.stride == 1 && grid.entries.size() * 16 <= kMaxCopiedRecordBytes;
       if (l.grid_records) {
         for (std::uint32_t e : grid.entries) {
           const size_t r = (l.records + e) * 4;
