@@ -124,6 +124,30 @@ def iterations(sdfc, scene, dir_):
     return field(r"loop iterations per pixel: mean ([0-9.eE+-]+)", err), field(r"primary ray steps: mean ([0-9.eE+-]+)", err)
 
 
+def read_pfm_first_channel(path):
+    import struct
+    with open(path, "rb") as f:
+        kind = f.readline().strip()
+        w, h = map(int, f.readline().split())
+        scale = float(f.readline())
+        ch = 3 if kind == b"PF" else 1
+        data = struct.unpack(("<" if scale < 0 else ">") + "%df" % (w * h * ch), f.read(4 * w * h * ch))
+    return data[::ch]
+
+
+def depth_disagreement(before, after, scene, dir_, flags_before=(), any_side=False):
+    """Share of 640x360 pixels whose primary depth from `before` is over 1% nearer than from
+    `after` (any_side: differs by over 1% either way)."""
+    maps = []
+    for i, (sdfc, flags) in enumerate(((before, flags_before), (after, ()))):
+        path = os.path.join(dir_, "depth%d.pfm" % i)
+        timed([sdfc, "render", scene, "-o", path, "--size", "640x360", "--spp", "1", "--view", "depth"] + list(flags))
+        maps.append(read_pfm_first_channel(path))
+    if any_side:
+        return sum(1 for a, b in zip(*maps) if abs(a - b) > 0.01 * abs(a)) / float(len(maps[0]))
+    return sum(1 for a, b in zip(*maps) if a < 0.99 * b) / float(len(maps[0]))
+
+
 def grid_summary(sdfc, scene):
     proc = subprocess.run([sdfc, "compile", scene, "--emit", "ir"], capture_output=True, text=True)
     m = re.search(r"grid (\S+) cells of [^,]*, lists of ([0-9.]+) on average, (\d+) crowded", proc.stdout)
@@ -189,6 +213,20 @@ def main():
         emit("")
         emit("Speed of %d instances relative to 100: %.2f (target >= 0.33)." % (big, med[100] / med[big]))
         emit("")
+        # The grid's bound against exact distances: the same 1,000 spheres as inline code.
+        it_g, st_g = iterations(args.sdfc, scenes[1000] if 1000 in scenes else write_instanced(dir_, 1000), dir_)
+        png = os.path.join(dir_, "it.png")
+        _, _, err = timed([args.sdfc, "render", write_instanced(dir_, 1000), "-o", png, "--size", "640x360",
+                           "--spp", "1", "--view", "iterations", "--instance-threshold", "0"])
+        emit("Primary steps per pixel for 1000 spheres: %.2f through the grid, %.2f with exact distances"
+             " (inline code; its loop iterations per pixel: %.0f vs %.0f through the grid)."
+             % (st_g, field(r"primary ray steps: mean ([0-9.eE+-]+)", err),
+                field(r"loop iterations per pixel: mean ([0-9.eE+-]+)", err), it_g))
+        emit("")
+        emit("Pixels whose primary depth differs by over 1%% between the grid and the inline code (1000"
+             " spheres, 640x360): %.2f%%." % (100 * depth_disagreement(
+                 args.sdfc, args.sdfc, write_instanced(dir_, 1000), dir_, ["--instance-threshold", "0"], True)))
+        emit("")
         if args.before:
             emit("## Before/after, same run (%s vs %s), %d spp, median of %d interleaved"
                  % (args.before, args.sdfc, args.spp, args.repeats))
@@ -208,6 +246,10 @@ def main():
             emit("Ratio %d vs 100: before %.2f, after %.2f." % (big,
                 statistics.median(ab[("before", 100)]) / statistics.median(ab[("before", big)]),
                 statistics.median(ab[("after", 100)]) / statistics.median(ab[("after", big)])))
+            emit("")
+            emit("Primary rays of %d instances that the before binary stops more than 1%% nearer than this one"
+                 " (`--view depth`, 640x360): %.1f%% of pixels." % (big, 100 * depth_disagreement(
+                     args.before, args.sdfc, scenes[big], dir_)))
             emit("")
 
         n_rss = max(counts)
