@@ -15,7 +15,10 @@ Levers are configurations that add one thing at a time:
   derived      sdfc's defaults, no denoiser          (kernel lever)
   svgf         + the variance-guided denoiser        (denoiser lever, round 1)
   nlm          + the dual-buffer NL-means denoiser   (denoiser lever; docs/denoise.md)
-  nlm-mesa25   + lavapipe of Mesa 25.0.7             (driver lever; tools/lavapipe25.sh)
+  nlm-mesa25   + lavapipe of Mesa 25.0.7             (driver lever; sdfc's default
+               when tools/setup.sh fetched it into build/lavapipe-25)
+All but the last are pinned to the system's Mesa 22.3.6 (--driver system) so
+the driver's share stays separate.
 """
 import csv
 import os
@@ -31,11 +34,11 @@ sys.path.insert(0, HERE)
 import sdfbench as sb  # noqa: E402
 
 CONVERGE_CONFIGS = {
-    "baseline": (["--paper-baseline", "--no-bounds", "--white-noise", "--denoise", "bilateral"], None),
-    "derived": ([], None),
-    "svgf": (["--denoise", "svgf"], None),
-    "nlm": (["--denoise", "nlm"], None),
-    "nlm-mesa25": (["--denoise", "nlm"], "mesa25"),
+    "baseline": (["--paper-baseline", "--no-bounds", "--white-noise", "--denoise", "bilateral"], "system"),
+    "derived": ([], "system"),
+    "svgf": (["--denoise", "svgf"], "system"),
+    "nlm": (["--denoise", "nlm"], "system"),
+    "nlm-mesa25": (["--denoise", "nlm"], "bundled"),
 }
 SEED = 7
 
@@ -44,18 +47,17 @@ def log(msg):
     print(msg, file=sys.stderr, flush=True)
 
 
-def mesa25_env():
-    """Environment selecting Mesa 25's lavapipe (tools/lavapipe25.sh), or None."""
-    try:
-        out = subprocess.run([os.path.join(ROOT, "tools", "lavapipe25.sh"), "env"],
-                             capture_output=True, text=True, check=True).stdout
-    except (OSError, subprocess.CalledProcessError) as e:
-        log(f"  mesa25 unavailable: {e}")
+def driver_env(driver, sdfc):
+    """Environment pinning sdfc's Vulkan driver (SDFC_DRIVER = --driver,
+    runtime/driver_select.h), or None when `bundled` is asked for and the build
+    tree next to `sdfc` has no build/lavapipe-25 (tools/lavapipe25.sh fetch)."""
+    manifest = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(sdfc))),
+                            "lavapipe-25", "lvp_icd.x86_64.json")
+    if driver == "bundled" and not os.path.exists(manifest):
+        log(f"  bundled lavapipe unavailable: no {manifest}")
         return None
     env = dict(os.environ)
-    for part in out.replace("export ", "").split("' "):
-        key, _, value = part.partition("=")
-        env[key.strip()] = value.strip().strip("'")
+    env["SDFC_DRIVER"] = driver
     return env
 
 
@@ -112,8 +114,8 @@ def run(args, reference, errors):
             summary[name] = {}
             for config in args.converge_configs:
                 flags, driver = CONVERGE_CONFIGS[config]
-                env = mesa25_env() if driver == "mesa25" else None
-                if driver and env is None:
+                env = driver_env(driver, args.sdfc)
+                if env is None:
                     continue
                 rows = ladder(args, scene, config, flags, env, ref, ref_var, errors, writer)
                 f.flush()

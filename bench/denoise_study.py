@@ -87,14 +87,15 @@ def main():
     p.add_argument("--denoisers", nargs="+", default=["svgf", "nlm"])
     p.add_argument("--timing-sizes", nargs="*", default=["640x360", "1280x720"])
     p.add_argument("--reps", type=int, default=3)
-    p.add_argument("--mesa25", action="store_true", help="Mesa 25 lavapipe (tools/lavapipe25.sh)")
+    p.add_argument("--mesa25", action="store_true",
+                   help="the bundled Mesa 25 lavapipe (default: the system's 22.3.6)")
     p.add_argument("--cache", default=os.path.join(HERE, "cache"))
     p.add_argument("--reuse-refs", action="store_true",
                    help="use a cached reference of the scene made by an earlier kernel")
     p.add_argument("--out", default=HERE)
     args = p.parse_args()
     start = time.time()
-    env = converge.mesa25_env() if args.mesa25 else None
+    env = converge.driver_env("bundled" if args.mesa25 else "system", args.sdfc)
     os.makedirs(os.path.join(args.out, "results"), exist_ok=True)
     work = tempfile.mkdtemp(prefix="denoise_study_")
     rows = []

@@ -64,7 +64,9 @@ def main():
     machine = machine_info()
     if machine["device"] == "?":  # no vulkaninfo: sdfc's own list
         devices = subprocess.run([args.sdfc, "devices"], capture_output=True, text=True).stdout
-        machine["device"] = devices.splitlines()[0].partition(": ")[2] if devices else "?"
+        # The first device line ("0: name (CPU, Mesa 25.0.7)"), after the "driver:" line.
+        lines_ = [l for l in devices.splitlines() if l[:1].isdigit()]
+        machine["device"] = lines_[0].partition(": ")[2] if lines_ else "?"
     lines = []
 
     def say(text=""):

@@ -91,7 +91,7 @@ def reference(args, scene, size):
         log(f"  reference {os.path.basename(scene)}: {args.ref_spp // 2} spp, seed {seed}")
         # The reference's driver does not change its expectation: --converge renders
         # it with the faster Mesa 25 lavapipe when tools/lavapipe25.sh has it.
-        env = converge.mesa25_env() if getattr(args, "converge", False) else None
+        env = converge.driver_env("bundled", args.sdfc) if getattr(args, "converge", False) else None
         sb.render(args.sdfc, scene, out, ["--size", size, "--spp", str(args.ref_spp // 2),
                                           "--seed", str(seed), "-q"] + REFERENCE_FLAGS, env=env)
         halves.append(sb.read_pfm(out))

@@ -13,6 +13,7 @@
 #include "progress.h"
 #include "scene_render.h"
 #include "shard_plan.h"
+#include "driver_select.h"
 #include "farm_support.h"
 #include "cli_support.h"
 
@@ -113,6 +114,9 @@ int runRender(const CommandLine& cl) {
   tone.exposure_stops = static_cast<float>(cl.exposure);
   tone.curve = cl.aces ? ToneCurve::AcesFit : ToneCurve::Clamp;
   const bool quiet = cl.quiet;
+  if (!quiet)
+    std::cerr << "sdfc: device " << context.deviceName() << ", " << driverText(context.physical_device)
+              << (selectedDriver().bundled ? " (bundled lavapipe)" : "") << "\n";
   if (!quiet)
     std::cerr << "sdfc: compiled in " << std::lround(compiled.times.total() * 1000) << " ms (parse+check "
               << std::lround((compiled.times.parse + compiled.times.check + compiled.times.passes) * 1000)

@@ -10,6 +10,7 @@
 #include "cli_support.h"
 #include "eval/evaluator.h"
 #include "spirv/glsl_to_spirv.h"
+#include "driver_select.h"
 #include "vulkan_context.h"
 
 namespace sdfc {
@@ -323,17 +324,17 @@ int runEval(const CommandLine& cl) {
 
 int runDevices(const CommandLine&) {
   const std::vector<DeviceInfo> devices = listDevices();
+  const DriverSelection& driver = selectedDriver();
+  std::cout << "driver: " << driver.reason;
+  if (driver.bundled) std::cout << " (" << driver.icd << ")";
+  std::cout << "\n";
   if (devices.empty()) {
     std::cerr << "sdfc: error: no Vulkan device (install mesa-vulkan-drivers for lavapipe)\n";
     return kExitDevice;
   }
-  for (const DeviceInfo& d : devices) {
-    const char* type = d.type == VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU     ? "discrete GPU"
-                       : d.type == VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU ? "integrated GPU"
-                       : d.type == VK_PHYSICAL_DEVICE_TYPE_CPU            ? "CPU"
-                                                                          : "other";
-    std::cout << d.index << ": " << d.name << " (" << type << ")\n";
-  }
+  for (const DeviceInfo& d : devices)
+    std::cout << d.index << ": " << d.name << " (" << deviceTypeName(d.type) << ", " << d.driver
+              << ")\n";
   return kExitOk;
 }
 

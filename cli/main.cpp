@@ -7,17 +7,30 @@
 //   sdfc mesh scene.sdf -o x.glb    triangle mesh export
 //   sdfc devices                    list Vulkan devices
 #include <CLI/CLI.hpp>
+#include <cstdlib>
 #include <iostream>
 
 #include "commands.h"
+#include "driver_select.h"
 #include "view_loop.h"
 #include "vk_check.h"
 
 int main(int argc, char** argv) {
   using namespace sdfc;
   CLI::App app{"sdfc: a compiler and path tracer for signed-distance scenes"};
-  app.set_version_flag("--version", std::string("sdfc ") + kSdfcVersion);
+  // The version line also names the Vulkan driver a render would use by default
+  // (SDFC_DRIVER or auto; --driver on the same command line is not seen here).
+  app.set_version_flag("--version", [] {
+    return std::string("sdfc ") + kSdfcVersion + "\ndriver: " + selectedDriver().reason;
+  });
   app.require_subcommand(1);
+  // Accepted before or after the subcommand (fallthrough hands it up to here).
+  std::string driver = "auto";
+  app.add_option("--driver", driver,
+                 "Vulkan driver: auto (the bundled Mesa 25 lavapipe when present), system, bundled")
+      ->check(CLI::IsMember({"auto", "system", "bundled"}))
+      ->envname("SDFC_DRIVER");
+  app.fallthrough();
   CommandLine cl;
   registerCommands(app, cl);
   try {
@@ -33,6 +46,15 @@ int main(int argc, char** argv) {
     return kExitUsage;
   }
   try {
+    DriverChoice choice = DriverChoice::Auto;
+    parseDriverChoice(driver, choice);
+    // An explicit choice is applied now (and an absent bundled driver reported
+    // before any work); child processes such as farm shards inherit it. Auto is
+    // applied lazily by the first Vulkan call, so `sdfc check` loads nothing.
+    if (choice != DriverChoice::Auto) {
+      setenv("SDFC_DRIVER", driverChoiceName(choice), 1);
+      selectDriver(choice);
+    }
     if (cl.command == "view") return view::runView(cl);
     return runCommand(cl);
   } catch (const RuntimeError& e) {

@@ -1,10 +1,12 @@
 #include "vulkan_context.h"
 
+#include <algorithm>
 #include <atomic>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 
+#include "driver_select.h"
 #include "vk_check.h"
 
 namespace sdfc {
@@ -60,6 +62,7 @@ bool hasInstanceExtension(const char* name) {
 // Creates the instance; `validation` is updated to whether it was really enabled.
 VkInstance createInstance(bool& validation,
                           const std::vector<const char*>& extra_extensions = {}) {
+  selectedDriver();  // before the loader reads VK_DRIVER_FILES
   VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
   app.pApplicationName = "sdfc";
   app.pEngineName = "sdfc";
@@ -120,6 +123,7 @@ DeviceInfo describe(VkPhysicalDevice device, uint32_t index) {
   info.type = props.deviceType;
   info.api_version = props.apiVersion;
   info.usable = graphicsQueueFamily(device) >= 0 && props.apiVersion >= kMinApiVersion;
+  info.driver = driverText(device);
   return info;
 }
 
@@ -149,6 +153,33 @@ const char* deviceTypeName(VkPhysicalDeviceType type) {
     case VK_PHYSICAL_DEVICE_TYPE_CPU: return "CPU";
     default: return "other";
   }
+}
+
+std::string driverText(VkPhysicalDevice device) {
+  // driverInfo ("Mesa 25.0.7-2~bpo12+1 (LLVM 15.0.6)") when the device has
+  // VK_KHR_driver_properties (core in 1.2; both lavapipes have it): lavapipe's
+  // driverVersion is a constant 1, so it cannot tell two Mesa releases apart.
+  uint32_t count = 0;
+  vkEnumerateDeviceExtensionProperties(device, nullptr, &count, nullptr);
+  std::vector<VkExtensionProperties> extensions(count);
+  vkEnumerateDeviceExtensionProperties(device, nullptr, &count, extensions.data());
+  for (const auto& e : extensions) {
+    if (std::strcmp(e.extensionName, VK_KHR_DRIVER_PROPERTIES_EXTENSION_NAME) != 0) continue;
+    VkPhysicalDeviceDriverProperties driver{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES};
+    VkPhysicalDeviceProperties2 props{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
+    props.pNext = &driver;
+    vkGetPhysicalDeviceProperties2(device, &props);
+    std::string info = driver.driverInfo;
+    const size_t tilde = info.find('~');  // Debian's backport suffix: keep "Mesa 25.0.7"
+    const size_t dash = info.find('-');
+    if (info.rfind("Mesa ", 0) == 0) info = info.substr(0, std::min({tilde, dash, info.find(' ', 5)}));
+    return info.empty() ? std::string(driver.driverName) : info;
+  }
+  VkPhysicalDeviceProperties props;
+  vkGetPhysicalDeviceProperties(device, &props);
+  char text[64];
+  std::snprintf(text, sizeof(text), "driver version 0x%x", props.driverVersion);
+  return text;
 }
 
 int validationMessageCount() { return g_validation_messages.load(); }

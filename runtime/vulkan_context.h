@@ -15,9 +15,13 @@ struct DeviceInfo {
   VkPhysicalDeviceType type = VK_PHYSICAL_DEVICE_TYPE_OTHER;
   uint32_t api_version = 0;
   bool usable = false;  // has a graphics queue and Vulkan >= 1.1
+  std::string driver;   // e.g. "Mesa 25.0.7" (driverText)
 };
 
 const char* deviceTypeName(VkPhysicalDeviceType type);
+// The driver's release, e.g. "Mesa 25.0.7" (from VkPhysicalDeviceDriverProperties),
+// else the raw driverVersion in hex.
+std::string driverText(VkPhysicalDevice device);
 
 // All physical devices (creates and destroys a temporary instance).
 std::vector<DeviceInfo> listDevices();

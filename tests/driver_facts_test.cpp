@@ -1,6 +1,6 @@
 // Facts about the Vulkan driver that the renderer's design rests on, measured
-// rather than assumed, so a driver upgrade (tools/lavapipe25.sh runs this test
-// binary under Mesa 25.0.7) shows at once whether they still hold.
+// rather than assumed, so a driver upgrade shows at once whether they still hold:
+// CI runs this binary on the default (bundled Mesa 25.0.7) and SDFC_DRIVER=system.
 #include <gtest/gtest.h>
 
 #include <cstdio>

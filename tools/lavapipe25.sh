@@ -20,10 +20,24 @@ packages=("mesa-vulkan-drivers=$version" "libdrm2=2.4.123-1~bpo12+1" "libdrm-amd
 icd="$dir/lvp_icd.x86_64.json"
 libdir="$dir/root/usr/lib/x86_64-linux-gnu"
 
+# The Debian mirror this machine's apt already uses for bookworm (a local
+# mirror or proxy stays in use; a bare mmdebstrap root has the host's), else
+# deb.debian.org; SDFC_DEBIAN_MIRROR overrides. Backports lives on every full
+# Debian mirror.
+mirror() {
+  [ -n "${SDFC_DEBIAN_MIRROR:-}" ] && { echo "$SDFC_DEBIAN_MIRROR"; return; }
+  local uri
+  uri=$(cat /etc/apt/sources.list.d/*.sources 2>/dev/null |
+        awk '/^URIs:/ { u = $2 } /^Suites:/ && / bookworm( |$)/ && u !~ /security/ { print u; exit }')
+  [ -n "$uri" ] || uri=$(cat /etc/apt/sources.list /etc/apt/sources.list.d/*.list 2>/dev/null |
+        awk '$1 == "deb" && $3 == "bookworm" { for (i = 2; i <= NF; i++) if ($i ~ /^(https?|file):/) { print $i; exit } }')
+  echo "${uri:-http://deb.debian.org/debian}"
+}
+
 fetch() {
   [ -f "$icd" ] && return 0
   mkdir -p "$dir/apt/lists/partial" "$dir/apt/cache/archives/partial" "$dir/debs"
-  echo "deb [signed-by=/usr/share/keyrings/debian-archive-keyring.gpg] http://deb.debian.org/debian bookworm-backports main" \
+  echo "deb [signed-by=/usr/share/keyrings/debian-archive-keyring.gpg] $(mirror) bookworm-backports main" \
     > "$dir/apt/sources.list"
   # A private list and cache; the sandbox user would not be able to write here.
   local apt=(-o "Dir::Etc::SourceList=$dir/apt/sources.list" -o "Dir::Etc::SourceParts=/dev/null"

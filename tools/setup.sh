@@ -69,6 +69,14 @@ then run this command again"
   say "packages installed"
 fi
 
+# Mesa 25.0.7's lavapipe from bookworm-backports, unpacked into build/lavapipe-25
+# (no system package changes); sdfc uses it by default when it is there
+# (docs/lavapipe.md). Without network or on failure: the system's 22.3.6.
+if [ "${SDFC_BUNDLED_DRIVER:-1}" != 0 ]; then
+  tools/lavapipe25.sh fetch ||
+    say "warning: could not fetch Mesa 25's lavapipe; sdfc will use the system driver"
+fi
+
 say "configuring and building into build/"
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo > /dev/null
 cmake --build build

@@ -1,0 +1,43 @@
+// Which Vulkan driver the process uses: the system's, or Mesa 25's lavapipe that
+// tools/setup.sh unpacks into build/lavapipe-25 (tools/lavapipe25.sh). The
+// choice is made once, before the first Vulkan call, by pointing the Vulkan
+// loader's VK_DRIVER_FILES at the bundled manifest (docs/lavapipe.md).
+#pragma once
+#include <string>
+
+namespace sdfc {
+
+enum class DriverChoice {
+  Auto,     // bundled lavapipe when present and the user set no loader variables
+  System,   // the loader's own search (the system's drivers)
+  Bundled,  // the bundled lavapipe, or an error when it is missing
+};
+
+struct DriverSelection {
+  DriverChoice requested = DriverChoice::Auto;
+  bool bundled = false;     // the bundled lavapipe is the process's CPU driver
+  std::string icd;          // its manifest, when bundled
+  std::string reason;       // one line for `sdfc devices` / --version
+};
+
+// "auto" | "system" | "bundled"; false for anything else.
+bool parseDriverChoice(const std::string& text, DriverChoice& choice);
+const char* driverChoiceName(DriverChoice choice);
+
+// The choice from env SDFC_DRIVER (auto when unset or unknown).
+DriverChoice driverChoiceFromEnv();
+
+// The bundled manifest next to this executable's build tree ("" when absent):
+// <exe dir>/../lavapipe-25/lvp_icd.x86_64.json, then the configured build dir.
+std::string bundledDriverManifest();
+
+// Applies `choice` once per process (later calls return the first result):
+// sets or clears VK_DRIVER_FILES / VK_ICD_FILENAMES and preloads the bundled
+// libdrm. Throws RuntimeError when Bundled is asked for and absent. Must run
+// before the first Vulkan call; createContext() and listDevices() call
+// selectedDriver() themselves.
+const DriverSelection& selectDriver(DriverChoice choice);
+// selectDriver(driverChoiceFromEnv()) unless a choice was already made.
+const DriverSelection& selectedDriver();
+
+}  // namespace sdfc

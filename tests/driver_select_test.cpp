@@ -1,0 +1,99 @@
+// The Vulkan driver choice (runtime/driver_select.h): the bundled Mesa 25
+// lavapipe by default when tools/setup.sh fetched it, the system's on request,
+// and `sdfc devices` saying which one a command gets.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <string>
+
+#include "driver_select.h"
+#include "vulkan_context.h"
+
+namespace sdfc {
+namespace {
+
+// stdout and exit status of a shell command.
+std::string runCommand(const std::string& command, int& status) {
+  std::string out;
+  FILE* pipe = popen(command.c_str(), "r");
+  if (!pipe) return out;
+  char buffer[512];
+  while (size_t n = std::fread(buffer, 1, sizeof(buffer), pipe)) out.append(buffer, n);
+  status = pclose(pipe);
+  return out;
+}
+
+const std::string kSdfc = std::string(SDFC_BINARY_DIR) + "/cli/sdfc";
+
+TEST(DriverSelect, ParsesTheThreeChoices) {
+  DriverChoice choice = DriverChoice::Bundled;
+  ASSERT_TRUE(parseDriverChoice("auto", choice));
+  EXPECT_EQ(choice, DriverChoice::Auto);
+  ASSERT_TRUE(parseDriverChoice("system", choice));
+  EXPECT_EQ(choice, DriverChoice::System);
+  ASSERT_TRUE(parseDriverChoice("bundled", choice));
+  EXPECT_EQ(choice, DriverChoice::Bundled);
+  EXPECT_FALSE(parseDriverChoice("mesa25", choice));
+  EXPECT_EQ(choice, DriverChoice::Bundled);  // unchanged on failure
+  EXPECT_STREQ(driverChoiceName(DriverChoice::System), "system");
+}
+
+// This process's device runs on the driver the selection reports: Mesa 25's
+// lavapipe when bundled, the system's otherwise (CI runs this binary both ways
+// through SDFC_DRIVER).
+TEST(DriverSelect, ContextUsesTheSelectedDriver) {
+  VulkanContext context;
+  createContext(context);
+  const DriverSelection& s = selectedDriver();
+  const std::string driver = driverText(context.physical_device);
+  std::printf("[ driver   ] %s: %s, %s\n", s.reason.c_str(), context.deviceName().c_str(),
+              driver.c_str());
+  if (s.bundled) {
+    EXPECT_EQ(driver.rfind("Mesa 25.", 0), 0u) << driver;
+    EXPECT_FALSE(s.icd.empty());
+  } else if (context.properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU) {
+    EXPECT_NE(driver.rfind("Mesa 25.", 0), 0u) << driver;
+  }
+  destroyContext(context);
+}
+
+// The command line: `--driver system` and `--driver bundled` reach two different
+// lavapipes when the bundled one is there; a bad value is a usage error.
+TEST(DriverSelect, CommandLineReportsAndOverrides) {
+  int status = 0;
+  const std::string env = "env -u VK_DRIVER_FILES -u VK_ICD_FILENAMES -u SDFC_DRIVER ";
+  const std::string system = runCommand(env + kSdfc + " --driver system devices", status);
+  EXPECT_EQ(status, 0);
+  EXPECT_NE(system.find("driver: system drivers (--driver system)"), std::string::npos) << system;
+  const std::string by_default = runCommand(env + kSdfc + " devices", status);
+  EXPECT_EQ(status, 0);
+  const std::string version = runCommand(env + kSdfc + " --version", status);
+  EXPECT_EQ(status, 0);
+  EXPECT_NE(version.find("driver: "), std::string::npos) << version;
+  if (bundledDriverManifest().empty()) {
+    EXPECT_NE(by_default.find("no bundled lavapipe"), std::string::npos) << by_default;
+    runCommand(env + kSdfc + " devices --driver bundled 2>/dev/null", status);
+    EXPECT_NE(status, 0);
+  } else {
+    EXPECT_NE(by_default.find("bundled lavapipe (default when present)"), std::string::npos)
+        << by_default;
+    EXPECT_NE(by_default.find("Mesa 25."), std::string::npos) << by_default;
+    EXPECT_EQ(system.find("Mesa 25."), std::string::npos) << system;
+    // After the subcommand too, and the user's loader variables win over auto.
+    const std::string bundled = runCommand(env + kSdfc + " devices --driver bundled", status);
+    EXPECT_EQ(status, 0);
+    EXPECT_NE(bundled.find("Mesa 25."), std::string::npos) << bundled;
+    const std::string user = runCommand(
+        "env -u SDFC_DRIVER VK_DRIVER_FILES=/usr/share/vulkan/icd.d/lvp_icd.x86_64.json " + kSdfc +
+            " devices",
+        status);
+    EXPECT_EQ(status, 0);
+    EXPECT_NE(user.find("set by the user"), std::string::npos) << user;
+    EXPECT_EQ(user.find("Mesa 25."), std::string::npos) << user;
+  }
+  runCommand(env + kSdfc + " --driver mesa25 devices 2>/dev/null", status);
+  EXPECT_NE(status, 0);
+}
+
+}  // namespace
+}  // namespace sdfc
