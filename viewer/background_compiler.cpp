@@ -35,6 +35,14 @@ void BackgroundCompiler::request(uint32_t view) {
   wake_.notify_all();
 }
 
+void BackgroundCompiler::watch(const std::string& path) {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    watcher_ = std::make_unique<FileWatcher>(path);
+  }
+  wake_.notify_all();
+}
+
 void BackgroundCompiler::requestVariant(std::shared_ptr<const CompiledScene> scene, uint32_t view) {
   {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -132,7 +140,19 @@ void BackgroundCompiler::run() {
     VariantRequest variant;
     {
       std::unique_lock<std::mutex> lock(mutex_);
-      wake_.wait(lock, [this] { return pending_ || !variants_.empty() || stopping_; });
+      const auto ready = [this] { return pending_ || !variants_.empty() || stopping_; };
+      while (!ready()) {
+        if (!watcher_) {
+          wake_.wait(lock, ready);
+          break;
+        }
+        if (wake_.wait_for(lock, kWatchInterval, ready)) break;
+        if (watcher_->changed()) {  // a stat: cheap enough to do under the lock
+          pending_ = true;
+          pending_since_ = Clock::now();
+          pending_view_ = view_;
+        }
+      }
       if (stopping_) return;
       reload = pending_;
       if (reload) {

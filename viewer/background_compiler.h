@@ -5,6 +5,7 @@
 // built for the same scene on its first use (requestVariant). Diagnostics print
 // exactly as `sdfc check` prints them (cli's loadScene).
 #pragma once
+#include <atomic>
 #include <chrono>
 #include <condition_variable>
 #include <deque>
@@ -15,6 +16,7 @@
 #include <vector>
 
 #include "commands.h"
+#include "file_watcher.h"
 #include "driver/compile.h"
 #include "renderer.h"
 
@@ -48,6 +50,11 @@ class BackgroundCompiler {
   // Builds the kernel for `view` of an already compiled scene (emission,
   // glslang and pipeline; no parsing): a view not used before.
   void requestVariant(std::shared_ptr<const CompiledScene> scene, uint32_t view);
+  // Watches `path` from the worker thread (every kWatchInterval while idle) and
+  // reloads on a save with the view last given to setView: a save is seen and
+  // compiled while the frame loop is still inside a long pass.
+  void watch(const std::string& path);
+  void setView(uint32_t view) { view_ = view; }
   // The newest finished reload and every finished variant, oldest first. Call
   // from the thread that uses the queue.
   std::vector<std::unique_ptr<BuiltScene>> take();
@@ -75,7 +82,11 @@ class BackgroundCompiler {
   // Finished builds in order; take() keeps the newest reload and drops the
   // older ones on the caller's (the frame loop's) thread, where Vulkan objects may be destroyed.
   std::deque<std::unique_ptr<BuiltScene>> ready_;
+  std::unique_ptr<FileWatcher> watcher_;  // used by the worker thread only
+  std::atomic<uint32_t> view_{0};
   std::thread thread_;
 };
+
+constexpr std::chrono::milliseconds kWatchInterval{5};
 
 }  // namespace sdfc::view

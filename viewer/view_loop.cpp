@@ -38,6 +38,11 @@ constexpr int kSettleFrames = 2;
 constexpr uint32_t kMinPreviewScale = 2, kMaxPreviewScale = 8;
 // Preview frames aim between these times (the scale adapts one step a frame).
 constexpr double kPreviewSlowMs = 60, kPreviewFastMs = 20;
+// The window is drawn as one band up to this many pixels (a 2048 x 1024 window):
+// a band is a submission and a wait, and the 640 x 360 castle took two at the
+// renderer's default.
+constexpr uint64_t kViewBandPixels = 1u << 21;
+constexpr uint32_t kReloadPreviewScale = 4;
 constexpr double kTimeStep = 1.0 / 30.0;  // the step key, and play speed is real time
 constexpr double kScriptWaitSeconds = 600;  // a wait-* command longer than this fails
 
@@ -126,7 +131,6 @@ class Viewer : public InputHandler {
   VkSurfaceKHR surface_ = VK_NULL_HANDLE;
   std::unique_ptr<Swapchain> swapchain_;
   std::unique_ptr<BackgroundCompiler> compiler_;
-  std::unique_ptr<FileWatcher> watcher_;
 
   std::unique_ptr<BuiltScene> active_;  // the last good reload (its scene, timings)
   // The scene's kernels by view, built on first use (BackgroundCompiler::requestVariant).
@@ -230,8 +234,9 @@ void Viewer::open() {
   if (context_.properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU && !cl_.force_bounds)
     compile.emit.bounding_volumes = false;
   compiler_ = std::make_unique<BackgroundCompiler>(context_, cl_, compile);
-  watcher_ = std::make_unique<FileWatcher>(cl_.input);
   view_ = viewFromName(cl_.view);
+  compiler_->setView(view_);
+  compiler_->watch(cl_.input);  // saves are seen by the worker, within kWatchInterval
   reload_since_ = Clock::now();
   reload_unpresented_ = true;
   compiler_->request(view_);
@@ -291,7 +296,12 @@ void Viewer::swapIn(std::unique_ptr<BuiltScene> built) {
   reload_full_unpresented_ = true;
   // Like a camera motion: the new scene's first frames are drawn at the preview
   // resolution, so it shows up one small pass after its pipeline is ready.
-  if (!first) frames_still_ = 0;
+  if (!first) {
+    frames_still_ = 0;
+    // Its first frame also pays the driver's shader compile (lavapipe JITs at the
+    // first draw): draw it small, so the new scene shows as soon as possible.
+    preview_scale_ = std::max(preview_scale_, kReloadPreviewScale);
+  }
   if (!script_write_) reload_since_ = active_->requested;
 }
 
@@ -328,7 +338,8 @@ bool Viewer::drawFrame() {
     o.view = view_;
     o.seed = cl_.seed;
     o.time = time_;
-    const RenderSettings settings = renderSettingsFor(compiled, o);
+    RenderSettings settings = renderSettingsFor(compiled, o);
+    settings.band_pixels = kViewBandPixels;
     acc_ = renderer.startAccumulation(controller_.camera(), settings, need_aovs);
     acc_key_ = key;
     rate_.reset();
@@ -344,10 +355,9 @@ bool Viewer::drawFrame() {
   }
   if (acc_->samples_done < target) renderer.addPass(*acc_, 1);
   const auto rendered = Clock::now();
-  FloatImage image = acc_->mean();
+  acc_->meanInto(displayed_);  // reuses last frame's storage
   if (denoise_ && view_ == gpu::kViewBeauty && !moving)
-    image = sdfc::denoise(Denoiser::ATrous, image, acc_->normal_depth, acc_->albedo_steps);
-  displayed_ = std::move(image);
+    displayed_ = sdfc::denoise(Denoiser::ATrous, displayed_, acc_->normal_depth, acc_->albedo_steps);
   rgb_ = toSrgb8(displayed_, tone_);
   const std::vector<uint8_t>* shown = &rgb_;
   if (key.scale > 1) {
@@ -594,10 +604,7 @@ int Viewer::run() {
     while (!quit_ && script_at_ < script_.size() && stepScript()) {
     }
     if (quit_) break;
-    if (watcher_->changed()) {
-      if (!script_write_) reload_since_ = Clock::now();
-      compiler_->request(view_);
-    }
+    compiler_->setView(view_);  // what the next reload builds
     for (std::unique_ptr<BuiltScene>& built : compiler_->take()) swapIn(std::move(built));
     const bool drew = active_ ? drawFrame() : false;
     ++iterations_;

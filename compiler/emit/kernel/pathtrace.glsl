@@ -632,7 +632,7 @@ vec3 heatMap(float x) {
 
 #ifdef SDFC_TRACE
 // The path tracer's main: beauty, iterations, or (SDFC_ALL_VIEWS) every view
-// chosen at run time by frame.view.
+// chosen at run time by the push constants' view field.
 void main() {
   // Absolute image pixel: the target may hold one band of the image (FrameParams).
   uvec2 pixel = uvec2(gl_FragCoord.xy) + uvec2(frame.tile_x, frame.tile_y);
