@@ -189,6 +189,8 @@ void Renderer::drawBand(Accumulation& acc, uint32_t b, uint32_t count, RenderOut
   params.sample_count = count;
   params.traversal_visits = traversalVisitsFor(acc.settings, count);
   const bool read_aovs = final_out || (acc.keep_aovs && acc.passes == 0);
+  // Beauty passes whose AOVs are not read skip the AOV ray (the image is the same).
+  params.skip_aov_ray = !read_aovs && count > 0 && acc.settings.view == gpu::kViewBeauty;
   runPass(context_, pipeline_, target_, &params, acc.settings.pass_timeout_seconds, rows,
           read_aovs ? kAttachmentCount : 1);
   const size_t band_floats = size_t(width) * rows * 4;

@@ -643,9 +643,10 @@ void main() {
   int count = int(frame.sample_count);
 #endif
   vec3 sum = vec3(0.0);
-  // s = -1 is the unjittered primary ray for the AOVs (pass-split independent);
-  // sharing the loop keeps one inlined copy of the tracer.
-  for (int s = loopZero() - 1; s < count; s++) {
+  // s = -1 is the unjittered primary ray for the AOVs (pass-split independent;
+  // skipped on request when they are not read); sharing the loop keeps one
+  // inlined copy of the tracer.
+  for (int s = loopZero() - (frame.skip_aov_ray != 0u ? 0 : 1); s < count; s++) {
     g_loop_iterations++;
     bool aov = s < 0;
     beginSample(pixel, frame.sample_base + uint(max(s, 0)));
