@@ -52,7 +52,10 @@ struct FrameParams {
   // Instance-hierarchy visits allowed per scene evaluation this pass (the
   // renderer derives it from the loop cap; see runtime/loop_budget.h).
   uint traversal_visits;
-  uint tile_pad1;
+  // Non-zero: the path tracer skips its unjittered AOV ray (attachments 1 and 2
+  // are then zero). The renderer sets it on beauty passes whose AOVs it does
+  // not read: they are the same every pass, and the ray costs a primary march.
+  uint skip_aov_ray;
 };
 
 // Fragment outputs (all RGBA32F attachments, one pixel per invocation):
@@ -780,9 +783,10 @@ void main() {
   bool trace = frame.view == kViewBeauty || frame.view == kViewIterations;
   int count = trace ? int(frame.sample_count) : 0;
   vec3 sum = vec3(0.0);
-  // s = -1 is the unjittered primary ray for the AOVs (pass-split independent);
-  // sharing the loop keeps one inlined copy of the tracer.
-  for (int s = loopZero() - 1; s < count; s++) {
+  // s = -1 is the unjittered primary ray for the AOVs (pass-split independent;
+  // skipped on request when they are not read); sharing the loop keeps one
+  // inlined copy of the tracer.
+  for (int s = loopZero() - (frame.skip_aov_ray != 0u ? 0 : 1); s < count; s++) {
     g_loop_iterations++;
     bool aov = s < 0;
     beginSample(pixel, frame.sample_base + uint(max(s, 0)));
