@@ -170,9 +170,12 @@ void BackgroundCompiler::run() {
         reload ? buildReload(view) : buildVariant(std::move(variant.scene), variant.view);
     built->requested = requested;
     built->finished = Clock::now();
-    std::lock_guard<std::mutex> lock(mutex_);
-    working_ = false;
-    ready_.push_back(std::move(built));
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      working_ = false;
+      ready_.push_back(std::move(built));
+    }
+    if (on_ready_) on_ready_();
   }
 }
 

@@ -9,6 +9,7 @@
 #include <chrono>
 #include <condition_variable>
 #include <deque>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -55,6 +56,9 @@ class BackgroundCompiler {
   // compiled while the frame loop is still inside a long pass.
   void watch(const std::string& path);
   void setView(uint32_t view) { view_ = view; }
+  // Called on the worker thread when a build is ready (before the first
+  // request): the frame loop, asleep while idle, wakes at once to take it.
+  void setOnReady(std::function<void()> on_ready) { on_ready_ = std::move(on_ready); }
   // The newest finished reload and every finished variant, oldest first. Call
   // from the thread that uses the queue.
   std::vector<std::unique_ptr<BuiltScene>> take();
@@ -82,6 +86,7 @@ class BackgroundCompiler {
   // Finished builds in order; take() keeps the newest reload and drops the
   // older ones on the caller's (the frame loop's) thread, where Vulkan objects may be destroyed.
   std::deque<std::unique_ptr<BuiltScene>> ready_;
+  std::function<void()> on_ready_;
   std::unique_ptr<FileWatcher> watcher_;  // used by the worker thread only
   std::atomic<uint32_t> view_{0};
   std::thread thread_;

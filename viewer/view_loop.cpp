@@ -236,6 +236,7 @@ void Viewer::open() {
   compiler_ = std::make_unique<BackgroundCompiler>(context_, cl_, compile);
   view_ = viewFromName(cl_.view);
   compiler_->setView(view_);
+  compiler_->setOnReady([] { glfwPostEmptyEvent(); });  // thread-safe in GLFW
   compiler_->watch(cl_.input);  // saves are seen by the worker, within kWatchInterval
   reload_since_ = Clock::now();
   reload_unpresented_ = true;
