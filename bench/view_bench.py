@@ -11,12 +11,21 @@ printed as a table:
     scene presented, median of 3 edits                     [<= 250 ms]
   - input to presented frame, in frames                    [<= 2]
 The machine is shared (load average recorded): compare within one run.
-Usage: bench/view_bench.py [--sdfc build/cli/sdfc] [--out bench/results/view.json]
+
+Each figure is measured for every (binary, driver) pair in one run, the pairs
+interleaved figure by figure, so before/after ratios share the machine's load:
+--baseline names an older sdfc binary (e.g. one built from the commit before a
+change) and --drivers picks the system lavapipe (22) and/or Mesa 25's
+(tools/lavapipe25.sh, fetched first). Mesa's on-disk shader cache is disabled,
+so every run compiles its shaders as a person's fresh edit would.
+Usage: bench/view_bench.py [--sdfc build/cli/sdfc] [--baseline OLD_SDFC]
+                           [--drivers 22,25] [--out bench/results/view.json]
 """
 import argparse
 import json
 import os
 import re
+import shlex
 import statistics
 import subprocess
 import sys
@@ -27,15 +36,23 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 
 
-def run_view(sdfc, scene, script_text, flags, workdir):
+DRIVER_ENV = {}  # driver name -> extra environment (filled in main)
+
+
+def driver_env(driver):
+    env = dict(os.environ, LP_NUM_THREADS="2", MESA_SHADER_CACHE_DISABLE="true")
+    env.pop("SDFC_VALIDATION", None)
+    env.update(DRIVER_ENV.get(driver, {}))
+    return env
+
+
+def run_view(sdfc, scene, script_text, flags, workdir, driver="22"):
     script = os.path.join(workdir, "events.txt")
     log = os.path.join(workdir, "frames.log")
     open(script, "w").write(script_text)
     cmd = ["xvfb-run", "-a", "-s", "-screen 0 1024x768x24 -nolisten tcp",
            sdfc, "view", scene, "--script", script, "--frame-log", log] + flags
-    env = dict(os.environ, LP_NUM_THREADS="2")
-    env.pop("SDFC_VALIDATION", None)
-    r = subprocess.run(cmd, capture_output=True, text=True, env=env, timeout=1800)
+    r = subprocess.run(cmd, capture_output=True, text=True, env=driver_env(driver), timeout=1800)
     if r.returncode != 0:
         sys.stderr.write(r.stderr)
         raise SystemExit(f"sdfc view exited {r.returncode}")
@@ -53,109 +70,139 @@ def interval_ms(frames):
     return [b - a for a, b in zip(t, t[1:])]
 
 
+def measure(sdfc, driver, scene, text, d, n):
+    """The four figures (and their parts) for one binary under one driver."""
+    result = {}
+    run = lambda script, flags: run_view(sdfc, scene, script, flags, d, driver)
+
+    # 1. Normal view, full resolution each frame while orbiting.
+    _, frames, _ = run(f"wait-idle\nlog orbit\ndrag left {4 * n} 0 {n}\nwait 2\nquit\n",
+                       ["--view", "normal", "--no-dynamic-resolution", "--size", "640x360"])
+    orbit = [f for f in frames if f["res"] == "640x360"][1:]  # the first frame pays LLVM's compile
+    result["normal_640x360_ms_per_frame"] = statistics.median(float(f["ms"]) for f in orbit)
+    result["normal_640x360_frame_interval_ms"] = statistics.median(interval_ms(orbit))
+    result["normal_640x360_render_ms"] = statistics.median(float(f["render_ms"]) for f in orbit)
+    result["normal_640x360_outside_pass_ms"] = statistics.median(
+        float(f["ms"]) - float(f["render_ms"]) for f in orbit)
+
+    # 2. Path traced, 1 spp a frame, still camera; then orbiting with dynamic resolution.
+    _, frames, _ = run(f"wait-spp {n + 1}\nlog orbit\ndrag left {4 * n} 0 {n}\nwait-spp 2\nquit\n",
+                       ["--spp", "100000", "--size", "640x360"])
+    still = [f for f in frames if f["res"] == "640x360" and f["moving"] == "0"]
+    still = still[1:n + 1]
+    result["beauty_640x360_1spp_ms_per_frame"] = statistics.median(float(f["ms"]) for f in still)
+    result["beauty_640x360_1spp_fps"] = 1000.0 / statistics.median(interval_ms(still))
+    result["beauty_640x360_1spp_render_ms"] = statistics.median(float(f["render_ms"]) for f in still)
+    moving = [f for f in frames if f["moving"] == "1"]
+    if len(moving) > 2:
+        result["beauty_orbit_preview_fps"] = 1000.0 / statistics.median(interval_ms(moving))
+        result["beauty_orbit_preview_resolutions"] = sorted({f["res"] for f in moving})
+
+    # 3. Save-to-new-image latency: three edits of a `let` number, each new to
+    # the driver (no shader cache), timed from the write to the new scene's
+    # first presented frame.
+    edits = []
+    for i, h in enumerate((3.2, 2.6, 3.0)):
+        path = os.path.join(d, f"edit{i}.sdf")
+        open(path, "w").write(re.sub(r"let wall_height = [0-9.]+", f"let wall_height = {h}", text))
+        edits.append(path)
+    script = "wait-idle\n" + "".join(f"write-file {p}\nwait-reload\nwait-idle\n" for p in edits) + "quit\n"
+    lines, frames, stderr = run(script, ["--spp", "1", "--size", "640x360"])
+    reloads = [l for l in lines if "reload ok" in l][1:]  # the first is the initial load
+    parse = lambda key, l: float(re.search(key + r" (\d+) ms", l).group(1))
+    result["save_to_image_ms"] = [parse("save-to-image", l) for l in reloads]
+    result["save_to_image_ms_median"] = statistics.median(result["save_to_image_ms"])
+    result["reload_compile_ms_median"] = statistics.median(parse(r"\(compile", l) for l in reloads)
+    result["reload_pipeline_ms_median"] = statistics.median(parse("pipeline", l) for l in reloads)
+    result["reload_first_frame_ms_median"] = statistics.median(parse("first frame", l) for l in reloads)
+    result["reload_first_frame_resolution"] = [re.search(r"at (\d+x\d+)", l).group(1) for l in reloads]
+    full = [parse("save-to-full-resolution", l) for l in lines if "reload full" in l][1:]
+    result["save_to_full_resolution_ms"] = full
+    result["save_to_full_resolution_ms_median"] = statistics.median(full)
+
+    # 4. Input to presented frame (frames).
+    lines, frames, _ = run("wait-idle\ndrag left 40 0 10\nwait 3\nquit\n", ["--spp", "1", "--size", "640x360"])
+    by_index = {int(f["frame"]): f for f in frames}
+    waits = []
+    for l in lines:
+        if l.startswith("event ") and "input drag" in l:
+            k = int(l.split()[1])
+            before = by_index.get(k, {}).get("camera")
+            later = [i for i in sorted(by_index) if i > k and by_index[i]["camera"] != before]
+            if later:
+                waits.append(later[0] - k)
+    result["input_to_frame_frames_max"] = max(waits)
+    result["input_to_frame_frames"] = waits
+    return result
+
+
+ROWS = [
+    ("castle normal view 640x360, ms/frame (<= 31)", "normal_640x360_ms_per_frame"),
+    ("  of which the render pass, ms", "normal_640x360_render_ms"),
+    ("  outside the pass, ms", "normal_640x360_outside_pass_ms"),
+    ("  frame interval incl. event loop, ms", "normal_640x360_frame_interval_ms"),
+    ("castle path traced 1 spp/frame 640x360, fps (>= 5)", "beauty_640x360_1spp_fps"),
+    ("  ms/frame", "beauty_640x360_1spp_ms_per_frame"),
+    ("  of which the render pass, ms", "beauty_640x360_1spp_render_ms"),
+    ("castle orbiting, dynamic resolution, fps", "beauty_orbit_preview_fps"),
+    ("save-to-new-image latency, ms, median (<= 250)", "save_to_image_ms_median"),
+    ("  compile, ms", "reload_compile_ms_median"),
+    ("  pipeline, ms", "reload_pipeline_ms_median"),
+    ("  first frame, ms", "reload_first_frame_ms_median"),
+    ("  to the first full-resolution frame, ms", "save_to_full_resolution_ms_median"),
+    ("input to presented frame, frames, max (<= 2)", "input_to_frame_frames_max"),
+]
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--sdfc", default=os.path.join(ROOT, "build", "cli", "sdfc"))
+    ap.add_argument("--baseline", help="an older sdfc binary to compare with (before/after ratios)")
+    ap.add_argument("--drivers", default="22,25", help="22 (system lavapipe), 25 (tools/lavapipe25.sh)")
     ap.add_argument("--out", default=os.path.join(HERE, "results", "view.json"))
     ap.add_argument("--frames", type=int, default=30)
     args = ap.parse_args()
     castle = os.path.join(ROOT, "examples", "castle.sdf")
-    n = args.frames
-    result = {"machine": {"cpus": os.cpu_count(), "load_average_start": os.getloadavg()}}
-
+    drivers = [x for x in args.drivers.split(",") if x]
+    if "25" in drivers:
+        tool = os.path.join(ROOT, "tools", "lavapipe25.sh")
+        subprocess.run([tool, "fetch"], check=True)
+        env = subprocess.run([tool, "env"], capture_output=True, text=True, check=True).stdout
+        words = shlex.split(env.strip().removeprefix("export "))
+        DRIVER_ENV["25"] = dict(w.split("=", 1) for w in words)
+    binaries = [("after", args.sdfc)] + ([("before", args.baseline)] if args.baseline else [])
+    result = {"machine": {"cpus": os.cpu_count(), "load_average_start": os.getloadavg()},
+              "binaries": dict(binaries), "drivers": drivers, "runs": {}}
     with tempfile.TemporaryDirectory() as d:
         scene = os.path.join(d, "castle.sdf")
         text = open(castle).read()
         open(scene, "w").write(text)
-
-        # 1. Normal view, full resolution each frame while orbiting.
-        _, frames, _ = run_view(args.sdfc, scene, f"wait-idle\nlog orbit\ndrag left {4 * n} 0 {n}\nwait 2\nquit\n",
-                                ["--view", "normal", "--no-dynamic-resolution", "--size", "640x360"], d)
-        orbit = [f for f in frames if f["res"] == "640x360"][1:]  # the first frame pays LLVM's compile
-        result["normal_640x360_ms_per_frame"] = statistics.median(float(f["ms"]) for f in orbit)
-        result["normal_640x360_frame_interval_ms"] = statistics.median(interval_ms(orbit))
-        result["normal_640x360_render_ms"] = statistics.median(float(f["render_ms"]) for f in orbit)
-
-        # 2. Path traced, 1 spp a frame, still camera; then orbiting with dynamic resolution.
-        _, frames, _ = run_view(args.sdfc, scene,
-                                f"wait-spp {n + 1}\nlog orbit\ndrag left {4 * n} 0 {n}\nwait-spp 2\nquit\n",
-                                ["--spp", "100000", "--size", "640x360"], d)
-        still = [f for f in frames if f["res"] == "640x360" and f["moving"] == "0"]
-        still = still[1:n + 1]
-        result["beauty_640x360_1spp_ms_per_frame"] = statistics.median(float(f["ms"]) for f in still)
-        result["beauty_640x360_1spp_fps"] = 1000.0 / statistics.median(interval_ms(still))
-        result["beauty_640x360_1spp_render_ms"] = statistics.median(float(f["render_ms"]) for f in still)
-        moving = [f for f in frames if f["moving"] == "1"]
-        if len(moving) > 2:
-            result["beauty_orbit_preview_fps"] = 1000.0 / statistics.median(interval_ms(moving))
-            result["beauty_orbit_preview_resolutions"] = sorted({f["res"] for f in moving})
-
-        # 3. Save-to-new-image latency: three edits of a `let` number.
-        edits = []
-        for i, h in enumerate((3.2, 2.6, 3.0)):
-            path = os.path.join(d, f"edit{i}.sdf")
-            open(path, "w").write(re.sub(r"let wall_height = [0-9.]+", f"let wall_height = {h}", text))
-            edits.append(path)
-        script = "wait-idle\n" + "".join(f"write-file {p}\nwait-reload\nwait-idle\n" for p in edits) + "quit\n"
-        lines, frames, stderr = run_view(args.sdfc, scene, script, ["--spp", "1", "--size", "640x360"], d)
-        reloads = [l for l in lines if "reload ok" in l][1:]  # the first is the initial load
-        parse = lambda key, l: float(re.search(key + r" (\d+) ms", l).group(1))
-        result["save_to_image_ms"] = [parse("save-to-image", l) for l in reloads]
-        result["save_to_image_ms_median"] = statistics.median(result["save_to_image_ms"])
-        result["reload_compile_ms_median"] = statistics.median(parse(r"\(compile", l) for l in reloads)
-        result["reload_pipeline_ms_median"] = statistics.median(parse("pipeline", l) for l in reloads)
-        result["reload_first_frame_ms_median"] = statistics.median(parse("first frame", l) for l in reloads)
-        full = [parse("save-to-full-resolution", l) for l in lines if "reload full" in l][1:]
-        result["save_to_full_resolution_ms"] = full
-        result["save_to_full_resolution_ms_median"] = statistics.median(full)
-
-        # 4. Input to presented frame (frames), from the orbit of run 1's log format.
-        lines, frames, _ = run_view(args.sdfc, scene, "wait-idle\ndrag left 40 0 10\nwait 3\nquit\n",
-                                    ["--spp", "1", "--size", "640x360"], d)
-        by_index = {int(f["frame"]): f for f in frames}
-        waits = []
-        for l in lines:
-            if l.startswith("event ") and "input drag" in l:
-                k = int(l.split()[1])
-                before = by_index.get(k, {}).get("camera")
-                later = [i for i in sorted(by_index) if i > k and by_index[i]["camera"] != before]
-                if later:
-                    waits.append(later[0] - k)
-        result["input_to_frame_frames_max"] = max(waits)
-        result["input_to_frame_frames"] = waits
-        # Reference in the same conditions: `sdfc render` (no window) of a 4-frame sequence
-        # with one renderer; frames 2-4 are past LLVM's first-draw compile.
-        for view, key in (("normal", "render_normal_640x360_ms"), ("beauty", "render_beauty_1spp_640x360_ms")):
-            r = subprocess.run([args.sdfc, "render", scene, "-o", os.path.join(d, "ref.png"), "--size", "640x360",
-                                "--spp", "1", "--view", view, "--frames", "0-0.3:0.1"], capture_output=True,
-                               text=True, env=dict(os.environ, LP_NUM_THREADS="2"), timeout=600)
-            times = [float(v) for v in re.findall(r"1 spp in ([0-9.]+)s", r.stderr)]
-            if len(times) > 1:
-                result[key] = statistics.median(times[1:]) * 1000
+        for driver in drivers:
+            for name, sdfc in binaries:  # interleaved: before and after share the load
+                key = f"{name}_mesa{driver}"
+                print("measuring", key, file=sys.stderr, flush=True)
+                result["runs"][key] = measure(sdfc, driver, scene, text, d, args.frames)
     result["machine"]["load_average_end"] = os.getloadavg()
-
+    # The headline figures: the new binary on the system driver.
+    result.update(result["runs"].get("after_mesa22", next(iter(result["runs"].values()))))
     os.makedirs(os.path.dirname(args.out), exist_ok=True)
     with open(args.out, "w") as f:
         json.dump(result, f, indent=1)
-    rows = [
-        ("castle normal view 640x360, ms/frame (<= 31)", result["normal_640x360_ms_per_frame"]),
-        ("  of which the render pass, ms", result["normal_640x360_render_ms"]),
-        ("  frame interval incl. event loop, ms", result["normal_640x360_frame_interval_ms"]),
-        ("castle path traced 1 spp/frame 640x360, fps (>= 5)", result["beauty_640x360_1spp_fps"]),
-        ("  ms/frame", result["beauty_640x360_1spp_ms_per_frame"]),
-        ("  of which the render pass, ms", result["beauty_640x360_1spp_render_ms"]),
-        ("castle orbiting, dynamic resolution, fps", result.get("beauty_orbit_preview_fps", 0)),
-        ("save-to-new-image latency, ms, median (<= 250)", result["save_to_image_ms_median"]),
-        ("  to the first full-resolution frame, ms, median", result["save_to_full_resolution_ms_median"]),
-        ("  compile / pipeline / first frame, ms", "%.0f / %.0f / %.0f" % (
-            result["reload_compile_ms_median"], result["reload_pipeline_ms_median"],
-            result["reload_first_frame_ms_median"])),
-        ("input to presented frame, frames, max (<= 2)", result["input_to_frame_frames_max"]),
-        ("reference: sdfc render --view normal, 1 pass, ms", result.get("render_normal_640x360_ms", 0)),
-        ("reference: sdfc render beauty 1 spp, ms", result.get("render_beauty_1spp_640x360_ms", 0)),
-    ]
-    for name, value in rows:
-        print(f"{name:52s} {value if isinstance(value, str) else round(value, 1)}")
+
+    keys = list(result["runs"])
+    print(f"{'figure':52s} " + " ".join(f"{k:>18s}" for k in keys))
+    for label, k in ROWS:
+        cells = []
+        for run in keys:
+            v = result["runs"][run].get(k, 0)
+            cells.append(f"{v:18.1f}")
+        print(f"{label:52s} " + " ".join(cells))
+    for driver in drivers:
+        a, b = result["runs"].get(f"after_mesa{driver}"), result["runs"].get(f"before_mesa{driver}")
+        if a and b:
+            print(f"after / before, Mesa {driver}: " + ", ".join(
+                f"{k} {a[k] / b[k]:.2f}" for k in ("normal_640x360_ms_per_frame", "normal_640x360_render_ms",
+                                                 "beauty_640x360_1spp_fps", "save_to_image_ms_median") if b.get(k)))
     print("load average:", result["machine"]["load_average_start"], "->", result["machine"]["load_average_end"])
     print("wrote", args.out)
 

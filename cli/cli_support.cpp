@@ -25,6 +25,8 @@ CompileOptions compileOptionsFrom(const CommandLine& cl) {
   o.fuse_transforms = !cl.no_fuse;
   o.instancing.threshold = cl.instance_threshold;
   o.optimize_spirv = cl.optimize;
+  // The kernel holds only the code of the view it draws (docs/kernel_contract.md).
+  o.emit.view = kernelViewFromName(cl.view).value_or(KernelView::Beauty);
   return o;
 }
 

@@ -47,6 +47,10 @@ void registerCommands(CLI::App& app, CommandLine& cl) {
   compile->add_option("-o,--output", cl.output, "output file (default: stdout for text)");
   compile->add_option("--emit", cl.emit, "glsl | spv | spvasm | ir")
       ->check(CLI::IsMember({"glsl", "spv", "spvasm", "ir"}));
+  compile->add_option("--view", cl.view,
+                      "the view the kernel is specialised for: beauty | normal | steps | depth | "
+                      "albedo | iterations | all (every view, chosen at run time); default beauty")
+      ->check(CLI::IsMember({"beauty", "normal", "steps", "depth", "albedo", "iterations", "all"}));
   compile->add_flag("--line-directives", cl.line_directives,
                     "emit #line so shader errors point at the .sdf");
   compile->add_option("--timings", cl.timings,

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 
 #include "loop_budget.h"
@@ -112,16 +113,43 @@ void Renderer::renderPass(const gpu::FrameParams& params, double timeout_seconds
   copyImage(target_.mapped + 2 * n, params.width, params.height, albedo_steps);
 }
 
+// sampleMean(sampleTerm(v, count), count) without the fixed point where that is v
+// itself: for 2^-41 <= |v| and |v| count < 2^62 (count <= 2^29), v count is exact
+// in double and v count 2^64 an integer, so nothing is dropped and the division
+// gives v back. Zeros (-0 becomes +0), tiny values, NaN and inf take the long way.
+namespace {
+float onePassMean(float v, uint32_t count) {
+  const float a = std::fabs(v);
+  if (a >= 0x1p-41f && count <= (1u << 29) && double(a) * count < kSampleSumLimit) return v;
+  return sampleMean(sampleTerm(v, count), count);
+}
+}  // namespace
+
 FloatImage Accumulation::mean() const {
-  FloatImage out(width, height);
-  if (samples_done == 0) return out;
+  FloatImage out;
+  meanInto(out);
+  return out;
+}
+
+void Accumulation::meanInto(FloatImage& out) const {
+  out.width = width;
+  out.height = height;
+  out.rgba.resize(size_t(width) * height * 4);
+  if (samples_done == 0) {
+    std::fill(out.rgba.begin(), out.rgba.end(), 0.0f);
+    return;
+  }
   for (uint32_t b = 0; b < band_count; ++b) {
-    const std::vector<SampleSum>& sum = sums[b];
     float* color = out.rgba.data() + size_t(b) * band_rows * width * 4;
+    if (b < first_pass.size() && !first_pass[b].empty()) {
+      const std::vector<float>& pass = first_pass[b];
+      for (size_t i = 0; i < pass.size(); ++i) color[i] = onePassMean(pass[i], first_pass_samples);
+      continue;
+    }
+    const std::vector<SampleSum>& sum = sums[b];
     // sampleMean: the same floats as render()'s final pass for the same samples.
     for (size_t i = 0; i < sum.size(); ++i) color[i] = sampleMean(sum[i], samples_done);
   }
-  return out;
 }
 
 Accumulation Renderer::startAccumulation(const CameraDesc& camera, const RenderSettings& settings,
@@ -131,7 +159,8 @@ Accumulation Renderer::startAccumulation(const CameraDesc& camera, const RenderS
   // target, so device images and staging stay small whatever the output size.
   acc.width = settings.width;
   acc.height = settings.height;
-  acc.band_rows = std::clamp<uint32_t>(uint32_t(kBandPixels / std::max<uint32_t>(acc.width, 1)), 1,
+  const uint64_t band_pixels = settings.band_pixels > 0 ? settings.band_pixels : kBandPixels;
+  acc.band_rows = std::clamp<uint32_t>(uint32_t(band_pixels / std::max<uint32_t>(acc.width, 1)), 1,
                                        std::max<uint32_t>(acc.height, 1));
   acc.band_count = (acc.height + acc.band_rows - 1) / std::max<uint32_t>(acc.band_rows, 1);
   acc.settings = settings;
@@ -141,6 +170,7 @@ Accumulation Renderer::startAccumulation(const CameraDesc& camera, const RenderS
   acc.params.max_bounces = settings.max_bounces;
   acc.params.light_samples = settings.light_samples;
   acc.sums.resize(acc.band_count);
+  acc.first_pass.resize(acc.band_count);
   acc.keep_aovs = keep_aovs;
   if (keep_aovs) {
     acc.normal_depth = FloatImage(acc.width, acc.height);
@@ -159,6 +189,8 @@ void Renderer::drawBand(Accumulation& acc, uint32_t b, uint32_t count, RenderOut
   params.sample_count = count;
   params.traversal_visits = traversalVisitsFor(acc.settings, count);
   const bool read_aovs = final_out || (acc.keep_aovs && acc.passes == 0);
+  // Beauty passes whose AOVs are not read skip the AOV ray (the image is the same).
+  params.skip_aov_ray = !read_aovs && count > 0 && acc.settings.view == gpu::kViewBeauty;
   runPass(context_, pipeline_, target_, &params, acc.settings.pass_timeout_seconds, rows,
           read_aovs ? kAttachmentCount : 1);
   const size_t band_floats = size_t(width) * rows * 4;
@@ -166,9 +198,19 @@ void Renderer::drawBand(Accumulation& acc, uint32_t b, uint32_t count, RenderOut
   const float* normal_depth = target_.mapped + target_.floatsPerImage();
   const float* albedo_steps = normal_depth + target_.floatsPerImage();
   std::vector<SampleSum>& sum = acc.sums[b];
-  if (sum.empty() && (!final_out || keep_sums)) sum.assign(band_floats, 0);
-  if (count > 0 && !sum.empty())
-    for (size_t i = 0; i < band_floats; ++i) sum[i] += sampleTerm(pass[i], count);
+  std::vector<float>& first = acc.first_pass[b];
+  if (!final_out && acc.samples_done == 0 && count > 0 && !keep_sums) {
+    // The only pass so far: keep its floats (see Accumulation::first_pass).
+    first.assign(pass, pass + band_floats);
+  } else {
+    if (sum.empty() && (!final_out || keep_sums || !first.empty())) {
+      sum.assign(band_floats, 0);
+      for (size_t i = 0; i < first.size(); ++i) sum[i] = sampleTerm(first[i], acc.first_pass_samples);
+      std::vector<float>().swap(first);
+    }
+    if (count > 0 && !sum.empty())
+      for (size_t i = 0; i < band_floats; ++i) sum[i] += sampleTerm(pass[i], count);
+  }
   if (!final_out) {
     if (read_aovs) {
       const size_t base = size_t(y0) * width * 4;
@@ -209,6 +251,7 @@ void Renderer::addPass(Accumulation& acc, uint32_t count) {
   ensureTarget(acc.width, acc.band_rows);
   acc.params.sample_base = acc.settings.first_sample + acc.samples_done;
   for (uint32_t b = 0; b < acc.band_count; ++b) drawBand(acc, b, count, nullptr);
+  if (acc.samples_done == 0) acc.first_pass_samples = count;
   acc.samples_done += count;
   ++acc.passes;
 }

@@ -58,6 +58,9 @@ struct RenderSettings {
   // Also return the exact color sums (RenderOutput::color_sums): what a shard stores.
   bool keep_sums = false;
   double pass_timeout_seconds = 60;
+  // Pixels per band (0 = kBandPixels). An interactive view draws its whole
+  // window as one band: one submission and one wait a frame instead of several.
+  uint64_t band_pixels = 0;
 };
 
 constexpr uint64_t kAutoPixelSamplesPerPass = 1u << 20;
@@ -103,6 +106,12 @@ struct Accumulation {
   // Per band: exact sums of pass mean * pass samples (sample_sum.h), so any pass split
   // of the same samples gives the same bits.
   std::vector<std::vector<SampleSum>> sums;
+  // Per band: the first pass's means as they came, while it is the only pass;
+  // the sums are formed when a second pass arrives. A one-pass image (every
+  // debug view, the first frame after each change in `sdfc view`) then costs
+  // no fixed-point arithmetic, and mean() returns the same floats.
+  std::vector<std::vector<float>> first_pass;
+  uint32_t first_pass_samples = 0;
   // Attachments 1 and 2 (the unjittered primary ray: the same in every pass). With
   // keep_aovs the first pass reads them back; render() reads them in its final pass.
   bool keep_aovs = false;
@@ -111,6 +120,8 @@ struct Accumulation {
   // Mean colour of the samples so far (zeros before the first pass). Exactly what
   // render() returns for the same samples and pass split.
   FloatImage mean() const;
+  // The same into `out`, reusing its storage (a frame loop's per-frame image).
+  void meanInto(FloatImage& out) const;
 };
 
 // Sample-weighted mean of two renders of the same size (e.g. samples [0,n) and

@@ -51,7 +51,10 @@ struct FrameParams {
   // Instance-hierarchy visits allowed per scene evaluation this pass (the
   // renderer derives it from the loop cap; see runtime/loop_budget.h).
   uint traversal_visits;
-  uint tile_pad1;
+  // Non-zero: the path tracer skips its unjittered AOV ray (attachments 1 and 2
+  // are then zero). The renderer sets it on beauty passes whose AOVs it does
+  // not read: they are the same every pass, and the ray costs a primary march.
+  uint skip_aov_ray;
 };
 
 // Fragment outputs (all RGBA32F attachments, one pixel per invocation):

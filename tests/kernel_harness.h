@@ -1,6 +1,7 @@
 // Assembles a kernel shader the way the emitter does (docs/kernel_contract.md):
 // #version 450, shader_interface.h, prelude.glsl, scene code, pathtrace.glsl,
-// with the SDFC_* feature macros as real #defines. Header-only because the test
+// with the SDFC_* feature macros as real #defines (SDFC_TRACE and SDFC_ALL_VIEWS
+// unless a view macro is given). Header-only because the test
 // CMakeLists globs *_test.cpp only.
 #pragma once
 #include <fstream>
@@ -30,6 +31,12 @@ inline std::string kernelScene(const std::string& name) {
 inline std::string assembleKernel(const std::string& scene_code,
                                   const std::vector<std::string>& defines) {
   std::string source = "#version 450\n";
+  // Without a view macro: the all-in-one kernel (every view at run time), as
+  // these tests draw several views from one pipeline.
+  bool view_given = false;
+  for (const std::string& d : defines)
+    view_given = view_given || d.rfind("SDFC_TRACE", 0) == 0 || d.rfind("SDFC_VIEW_", 0) == 0;
+  if (!view_given) source += "#define SDFC_TRACE\n#define SDFC_ALL_VIEWS\n";
   for (const std::string& d : defines) source += "#define " + d + "\n";
   source += readSourceFile("runtime/shader_interface.h");
   source += "\n" + readSourceFile("compiler/emit/kernel/prelude.glsl");

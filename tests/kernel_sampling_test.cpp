@@ -51,7 +51,7 @@ class KernelSampling : public ::testing::Test {
   static void SetUpTestSuite() {
     createContext(context_);
     std::string source = "#version 450\n";
-    for (const char* d : {"SDFC_HAS_DIFFUSE", "SDFC_HAS_METAL", "SDFC_HAS_SUN", "SDFC_HAS_APERTURE",
+    for (const char* d : {"SDFC_TRACE", "SDFC_HAS_DIFFUSE", "SDFC_HAS_METAL", "SDFC_HAS_SUN", "SDFC_HAS_APERTURE",
                           "SDFC_SAMPLER_SOBOL"})
       source += std::string("#define ") + d + "\n";
     source += test::readSourceFile("runtime/shader_interface.h");

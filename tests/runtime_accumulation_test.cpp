@@ -52,6 +52,19 @@ TEST(RuntimeAccumulation, PassByPassMeanEqualsRender) {
       }
     EXPECT_EQ(differing, 0u);
     EXPECT_GT(changed, mean.rgba.size() / 40);  // more samples really refine the image
+    // One pass (kept as floats, Accumulation::first_pass) gives render()'s 1-spp image.
+    {
+      RenderSettings one = settings;
+      one.spp = 1;
+      const RenderOutput single = renderer.render(cameraFor(c.scene), one);
+      EXPECT_EQ(one_sample.rgba, single.color.rgba);
+      Accumulation whole = renderer.startAccumulation(cameraFor(c.scene), one, false);
+      whole.settings.band_pixels = 0;
+      renderer.addPass(whole, 1);
+      FloatImage reused(3, 3);  // meanInto resizes and overwrites
+      whole.meanInto(reused);
+      EXPECT_EQ(reused.rgba, single.color.rgba);
+    }
     EXPECT_EQ(acc.normal_depth.rgba, rendered.normal_depth.rgba);
     EXPECT_EQ(acc.albedo_steps.rgba, rendered.albedo_steps.rgba);
   }

@@ -1,6 +1,9 @@
 #include "background_compiler.h"
 
+#include <algorithm>
 #include <cstdio>
+
+#include "spirv/glsl_to_spirv.h"
 
 #include "cli_support.h"
 #include "vk_check.h"
@@ -22,64 +25,157 @@ BackgroundCompiler::~BackgroundCompiler() {
   thread_.join();
 }
 
-void BackgroundCompiler::request() {
+void BackgroundCompiler::request(uint32_t view) {
   {
     std::lock_guard<std::mutex> lock(mutex_);
     if (!pending_) pending_since_ = Clock::now();
     pending_ = true;
+    pending_view_ = view;
   }
   wake_.notify_all();
 }
 
-std::unique_ptr<BuiltScene> BackgroundCompiler::take() {
+void BackgroundCompiler::watch(const std::string& path) {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    watcher_ = std::make_unique<FileWatcher>(path);
+  }
+  wake_.notify_all();
+}
+
+void BackgroundCompiler::requestVariant(std::shared_ptr<const CompiledScene> scene, uint32_t view) {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    variants_.push_back({std::move(scene), view, Clock::now()});
+  }
+  wake_.notify_all();
+}
+
+std::vector<std::unique_ptr<BuiltScene>> BackgroundCompiler::take() {
   std::deque<std::unique_ptr<BuiltScene>> ready;
   {
     std::lock_guard<std::mutex> lock(mutex_);
     ready.swap(ready_);
   }
-  if (ready.empty()) return nullptr;
-  return std::move(ready.back());  // older ones are destroyed here, on this thread
+  // Only the newest reload matters; older ones are destroyed here, on this thread.
+  std::vector<std::unique_ptr<BuiltScene>> out;
+  for (auto it = ready.rbegin(); it != ready.rend(); ++it) {
+    if (!(*it)->variant) {
+      bool newer = false;
+      for (const auto& kept : out) newer = newer || !kept->variant;
+      if (newer) continue;
+    }
+    out.push_back(std::move(*it));
+  }
+  std::reverse(out.begin(), out.end());
+  return out;
 }
 
 bool BackgroundCompiler::busy() const {
   std::lock_guard<std::mutex> lock(mutex_);
-  return pending_ || working_ || !ready_.empty();
+  return pending_ || working_ || !variants_.empty() || !ready_.empty();
+}
+
+std::unique_ptr<BuiltScene> BackgroundCompiler::buildReload(uint32_t view) {
+  auto built = std::make_unique<BuiltScene>();
+  built->view = view;
+  const auto start = Clock::now();
+  Diagnostics diags;
+  CompileOptions options = options_;
+  options.emit.view = static_cast<KernelView>(view);
+  LoadedScene loaded = loadScene(command_line_, diags, true, true, options, true);
+  built->compile_seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  if (loaded.exit_code != kExitOk) {
+    built->error = loaded.exit_code == kExitIo ? "cannot read the file" : "the scene has errors";
+    return built;
+  }
+  auto compiled = std::make_shared<CompiledScene>(std::move(loaded.compiled));
+  built->compiled = compiled;
+  try {
+    built->renderer = std::make_unique<Renderer>(context_, compiled->spirv, compiled->emitted.scene_data);
+    built->pipeline_seconds = built->renderer->pipelineSeconds();
+    built->ok = true;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "sdfc: error: pipeline creation: %s\n", e.what());
+    built->error = "pipeline creation failed";
+  }
+  return built;
+}
+
+std::unique_ptr<BuiltScene> BackgroundCompiler::buildVariant(std::shared_ptr<const CompiledScene> scene,
+                                                            uint32_t view) {
+  auto built = std::make_unique<BuiltScene>();
+  built->variant = true;
+  built->view = view;
+  built->compiled = scene;
+  const auto start = Clock::now();
+  EmitOptions emit = options_.emit;
+  emit.view = static_cast<KernelView>(view);
+  const EmitResult emitted = emitGlsl(scene->scene, emit);
+  SpirvResult spv = glslToSpirv(emitted.glsl, ShaderStage::Fragment, scene->source->path + ".glsl",
+                                options_.optimize_spirv);
+  built->compile_seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  if (!spv.ok()) {
+    std::fprintf(stderr, "sdfc: error: internal error: the %s kernel does not compile:\n%s\n",
+                 kernelViewName(emit.view), spv.log.c_str());
+    built->error = "kernel compile failed";
+    return built;
+  }
+  try {
+    built->renderer = std::make_unique<Renderer>(context_, spv.words, emitted.scene_data);
+    built->pipeline_seconds = built->renderer->pipelineSeconds();
+    built->ok = true;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "sdfc: error: pipeline creation: %s\n", e.what());
+    built->error = "pipeline creation failed";
+  }
+  return built;
 }
 
 void BackgroundCompiler::run() {
   for (;;) {
     Clock::time_point requested;
+    bool reload = false;
+    uint32_t view = 0;
+    VariantRequest variant;
     {
       std::unique_lock<std::mutex> lock(mutex_);
-      wake_.wait(lock, [this] { return pending_ || stopping_; });
-      if (stopping_) return;
-      pending_ = false;
-      working_ = true;
-      requested = pending_since_;
-    }
-    auto built = std::make_unique<BuiltScene>();
-    built->requested = requested;
-    const auto start = Clock::now();
-    Diagnostics diags;
-    LoadedScene loaded = loadScene(command_line_, diags, true, true, options_, true);
-    built->compile_seconds = std::chrono::duration<double>(Clock::now() - start).count();
-    if (loaded.exit_code != kExitOk) {
-      built->error = loaded.exit_code == kExitIo ? "cannot read the file" : "the scene has errors";
-    } else {
-      built->compiled = std::make_unique<CompiledScene>(std::move(loaded.compiled));
-      try {
-        built->renderer = std::make_unique<Renderer>(context_, built->compiled->spirv);
-        built->pipeline_seconds = built->renderer->pipelineSeconds();
-        built->ok = true;
-      } catch (const std::exception& e) {
-        std::fprintf(stderr, "sdfc: error: pipeline creation: %s\n", e.what());
-        built->error = "pipeline creation failed";
+      const auto ready = [this] { return pending_ || !variants_.empty() || stopping_; };
+      while (!ready()) {
+        if (!watcher_) {
+          wake_.wait(lock, ready);
+          break;
+        }
+        if (wake_.wait_for(lock, kWatchInterval, ready)) break;
+        if (watcher_->changed()) {  // a stat: cheap enough to do under the lock
+          pending_ = true;
+          pending_since_ = Clock::now();
+          pending_view_ = view_;
+        }
       }
+      if (stopping_) return;
+      reload = pending_;
+      if (reload) {
+        pending_ = false;
+        view = pending_view_;
+        requested = pending_since_;
+      } else {
+        variant = std::move(variants_.front());
+        variants_.pop_front();
+        requested = variant.since;
+      }
+      working_ = true;
     }
+    std::unique_ptr<BuiltScene> built =
+        reload ? buildReload(view) : buildVariant(std::move(variant.scene), variant.view);
+    built->requested = requested;
     built->finished = Clock::now();
-    std::lock_guard<std::mutex> lock(mutex_);
-    working_ = false;
-    ready_.push_back(std::move(built));
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      working_ = false;
+      ready_.push_back(std::move(built));
+    }
+    if (on_ready_) on_ready_();
   }
 }
 

@@ -1,17 +1,23 @@
 // Recompiles the scene off the frame loop: a worker thread runs parse, check,
 // emit, glslang and pipeline creation (the slow part on lavapipe) and hands back
-// a ready Renderer; the loop swaps it in between frames. Diagnostics print
+// a ready Renderer; the loop swaps it in between frames. Kernels are specialised
+// per view: a reload builds the view on screen, and another view's kernel is
+// built for the same scene on its first use (requestVariant). Diagnostics print
 // exactly as `sdfc check` prints them (cli's loadScene).
 #pragma once
+#include <atomic>
 #include <chrono>
 #include <condition_variable>
 #include <deque>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "commands.h"
+#include "file_watcher.h"
 #include "driver/compile.h"
 #include "renderer.h"
 
@@ -21,7 +27,11 @@ using Clock = std::chrono::steady_clock;
 
 struct BuiltScene {
   bool ok = false;  // false: the file has errors (already printed) or pipeline creation failed
-  std::unique_ptr<CompiledScene> compiled;
+  // True: another view's kernel for the already loaded scene `compiled` (a view
+  // switch), not a reload.
+  bool variant = false;
+  uint32_t view = 0;  // the view `renderer`'s kernel draws (gpu::kView*)
+  std::shared_ptr<const CompiledScene> compiled;
   std::unique_ptr<Renderer> renderer;
   std::string error;  // a short reason for the title bar
   Clock::time_point requested, finished;
@@ -34,15 +44,30 @@ class BackgroundCompiler {
                      CompileOptions options);
   ~BackgroundCompiler();  // finishes the compile under way, drops its result
 
-  // Compiles the file again; a request during a compile is served after it
-  // (requests in between collapse into one).
-  void request();
-  // The newest finished build, or null. Call from the thread that uses the queue.
-  std::unique_ptr<BuiltScene> take();
+  // Compiles the file again, with the kernel for `view`; a request during a
+  // compile is served after it (requests in between collapse into one, the
+  // last view wins). Reloads go before variants.
+  void request(uint32_t view);
+  // Builds the kernel for `view` of an already compiled scene (emission,
+  // glslang and pipeline; no parsing): a view not used before.
+  void requestVariant(std::shared_ptr<const CompiledScene> scene, uint32_t view);
+  // Watches `path` from the worker thread (every kWatchInterval while idle) and
+  // reloads on a save with the view last given to setView: a save is seen and
+  // compiled while the frame loop is still inside a long pass.
+  void watch(const std::string& path);
+  void setView(uint32_t view) { view_ = view; }
+  // Called on the worker thread when a build is ready (before the first
+  // request): the frame loop, asleep while idle, wakes at once to take it.
+  void setOnReady(std::function<void()> on_ready) { on_ready_ = std::move(on_ready); }
+  // The newest finished reload and every finished variant, oldest first. Call
+  // from the thread that uses the queue.
+  std::vector<std::unique_ptr<BuiltScene>> take();
   bool busy() const;
 
  private:
   void run();
+  std::unique_ptr<BuiltScene> buildReload(uint32_t view);
+  std::unique_ptr<BuiltScene> buildVariant(std::shared_ptr<const CompiledScene> scene, uint32_t view);
 
   const VulkanContext& context_;
   const CommandLine command_line_;
@@ -50,11 +75,23 @@ class BackgroundCompiler {
   mutable std::mutex mutex_;
   std::condition_variable wake_;
   bool pending_ = false, working_ = false, stopping_ = false;
+  uint32_t pending_view_ = 0;
   Clock::time_point pending_since_;
-  // Finished builds in order; take() keeps the newest and drops the rest on the
-  // caller's (the frame loop's) thread, where Vulkan objects may be destroyed.
+  struct VariantRequest {
+    std::shared_ptr<const CompiledScene> scene;
+    uint32_t view;
+    Clock::time_point since;
+  };
+  std::deque<VariantRequest> variants_;
+  // Finished builds in order; take() keeps the newest reload and drops the
+  // older ones on the caller's (the frame loop's) thread, where Vulkan objects may be destroyed.
   std::deque<std::unique_ptr<BuiltScene>> ready_;
+  std::function<void()> on_ready_;
+  std::unique_ptr<FileWatcher> watcher_;  // used by the worker thread only
+  std::atomic<uint32_t> view_{0};
   std::thread thread_;
 };
+
+constexpr std::chrono::milliseconds kWatchInterval{5};
 
 }  // namespace sdfc::view

@@ -9,7 +9,9 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <map>
 #include <memory>
+#include <set>
 #include <optional>
 #include <regex>
 #include <thread>
@@ -36,6 +38,11 @@ constexpr int kSettleFrames = 2;
 constexpr uint32_t kMinPreviewScale = 2, kMaxPreviewScale = 8;
 // Preview frames aim between these times (the scale adapts one step a frame).
 constexpr double kPreviewSlowMs = 60, kPreviewFastMs = 20;
+// The window is drawn as one band up to this many pixels (a 2048 x 1024 window):
+// a band is a submission and a wait, and the 640 x 360 castle took two at the
+// renderer's default.
+constexpr uint64_t kViewBandPixels = 1u << 21;
+constexpr uint32_t kReloadPreviewScale = 4;
 constexpr double kTimeStep = 1.0 / 30.0;  // the step key, and play speed is real time
 constexpr double kScriptWaitSeconds = 600;  // a wait-* command longer than this fails
 
@@ -124,9 +131,11 @@ class Viewer : public InputHandler {
   VkSurfaceKHR surface_ = VK_NULL_HANDLE;
   std::unique_ptr<Swapchain> swapchain_;
   std::unique_ptr<BackgroundCompiler> compiler_;
-  std::unique_ptr<FileWatcher> watcher_;
 
-  std::unique_ptr<BuiltScene> active_;
+  std::unique_ptr<BuiltScene> active_;  // the last good reload (its scene, timings)
+  // The scene's kernels by view, built on first use (BackgroundCompiler::requestVariant).
+  std::map<uint32_t, std::unique_ptr<Renderer>> renderers_;
+  std::set<uint32_t> variants_requested_;
   uint64_t scene_generation_ = 0;
   CameraController controller_;
   CameraDesc file_camera_;
@@ -179,6 +188,7 @@ class Viewer : public InputHandler {
 
 Viewer::~Viewer() {
   compiler_.reset();  // joins the worker before its renderer's device goes
+  renderers_.clear();
   active_.reset();
   swapchain_.reset();
   if (surface_) vkDestroySurfaceKHR(context_.instance, surface_, nullptr);
@@ -224,12 +234,14 @@ void Viewer::open() {
   if (context_.properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU && !cl_.force_bounds)
     compile.emit.bounding_volumes = false;
   compiler_ = std::make_unique<BackgroundCompiler>(context_, cl_, compile);
-  watcher_ = std::make_unique<FileWatcher>(cl_.input);
+  view_ = viewFromName(cl_.view);
+  compiler_->setView(view_);
+  compiler_->setOnReady([] { glfwPostEmptyEvent(); });  // thread-safe in GLFW
+  compiler_->watch(cl_.input);  // saves are seen by the worker, within kWatchInterval
   reload_since_ = Clock::now();
   reload_unpresented_ = true;
-  compiler_->request();
+  compiler_->request(view_);
 
-  view_ = viewFromName(cl_.view);
   denoise_ = cl_.denoiser != "none";
   dynamic_resolution_ = !cl_.no_dynamic_resolution;
   if (cl_.spp > 0) spp_override_ = uint32_t(cl_.spp);
@@ -246,6 +258,17 @@ void Viewer::logEvent(const std::string& text) {
 }
 
 void Viewer::swapIn(std::unique_ptr<BuiltScene> built) {
+  if (built->variant) {  // another view's kernel for the scene on screen
+    if (built->ok && active_ && built->compiled == active_->compiled) {
+      renderers_[built->view] = std::move(built->renderer);
+      logEvent(std::string("variant ") + kViewNames[built->view] + " ready in " +
+               std::to_string(int(msBetween(built->requested, built->finished))) + " ms");
+    } else if (!built->ok) {
+      error_ = built->error;
+      updateTitle(true);
+    }
+    return;
+  }
   ++reloads_seen_;
   if (!built->ok) {
     error_ = built->error;
@@ -256,7 +279,11 @@ void Viewer::swapIn(std::unique_ptr<BuiltScene> built) {
     return;
   }
   const bool first = !active_;
-  active_ = std::move(built);  // the old renderer is destroyed here, on the queue's thread
+  // The old scene's kernels are destroyed here, on the queue's thread.
+  renderers_.clear();
+  variants_requested_.clear();
+  renderers_[built->view] = std::move(built->renderer);
+  active_ = std::move(built);
   ++scene_generation_;
   error_.clear();
   file_camera_ = cameraFor(active_->compiled->scene);
@@ -270,12 +297,25 @@ void Viewer::swapIn(std::unique_ptr<BuiltScene> built) {
   reload_full_unpresented_ = true;
   // Like a camera motion: the new scene's first frames are drawn at the preview
   // resolution, so it shows up one small pass after its pipeline is ready.
-  if (!first) frames_still_ = 0;
+  if (!first) {
+    frames_still_ = 0;
+    // Its first frame also pays the driver's shader compile (lavapipe JITs at the
+    // first draw): draw it small, so the new scene shows as soon as possible.
+    preview_scale_ = std::max(preview_scale_, kReloadPreviewScale);
+  }
   if (!script_write_) reload_since_ = active_->requested;
 }
 
 bool Viewer::drawFrame() {
   const CompiledScene& compiled = *active_->compiled;
+  const auto kernel = renderers_.find(view_);
+  if (kernel == renderers_.end()) {
+    // This view's kernel is not built yet: ask once, keep the last image meanwhile.
+    if (variants_requested_.insert(view_).second) compiler_->requestVariant(active_->compiled, view_);
+    last_frame_end_ = Clock::now();
+    return false;
+  }
+  Renderer& renderer = *kernel->second;
   const uint64_t camera_generation = controller_.generation();
   if (camera_generation != last_camera_generation_) {
     last_camera_generation_ = camera_generation;
@@ -288,7 +328,9 @@ bool Viewer::drawFrame() {
 
   AccumulationKey key{scene_generation_, camera_generation, view_, moving ? preview_scale_ : 1,
                       compiled.scene.uses_time ? time_ : 0.0};
-  if (!acc_ || !(key == acc_key_)) {
+  // The primary-ray attachments are read back only for the denoiser.
+  const bool need_aovs = denoise_ && view_ == gpu::kViewBeauty;
+  if (!acc_ || !(key == acc_key_) || (need_aovs && !acc_->keep_aovs)) {
     RenderOverrides o;
     o.width = int(std::max<uint32_t>(1, (width_ + key.scale - 1) / key.scale));
     o.height = int(std::max<uint32_t>(1, (height_ + key.scale - 1) / key.scale));
@@ -297,8 +339,9 @@ bool Viewer::drawFrame() {
     o.view = view_;
     o.seed = cl_.seed;
     o.time = time_;
-    const RenderSettings settings = renderSettingsFor(compiled, o);
-    acc_ = active_->renderer->startAccumulation(controller_.camera(), settings, true);
+    RenderSettings settings = renderSettingsFor(compiled, o);
+    settings.band_pixels = kViewBandPixels;
+    acc_ = renderer.startAccumulation(controller_.camera(), settings, need_aovs);
     acc_key_ = key;
     rate_.reset();
   }
@@ -311,12 +354,11 @@ bool Viewer::drawFrame() {
     last_frame_end_ = Clock::now();
     return false;  // converged: nothing new to show
   }
-  if (acc_->samples_done < target) active_->renderer->addPass(*acc_, 1);
+  if (acc_->samples_done < target) renderer.addPass(*acc_, 1);
   const auto rendered = Clock::now();
-  FloatImage image = acc_->mean();
+  acc_->meanInto(displayed_);  // reuses last frame's storage
   if (denoise_ && view_ == gpu::kViewBeauty && !moving)
-    image = sdfc::denoise(Denoiser::ATrous, image, acc_->normal_depth, acc_->albedo_steps);
-  displayed_ = std::move(image);
+    displayed_ = sdfc::denoise(Denoiser::ATrous, displayed_, acc_->normal_depth, acc_->albedo_steps);
   rgb_ = toSrgb8(displayed_, tone_);
   const std::vector<uint8_t>* shown = &rgb_;
   if (key.scale > 1) {
@@ -563,11 +605,8 @@ int Viewer::run() {
     while (!quit_ && script_at_ < script_.size() && stepScript()) {
     }
     if (quit_) break;
-    if (watcher_->changed()) {
-      if (!script_write_) reload_since_ = Clock::now();
-      compiler_->request();
-    }
-    if (auto built = compiler_->take()) swapIn(std::move(built));
+    compiler_->setView(view_);  // what the next reload builds
+    for (std::unique_ptr<BuiltScene>& built : compiler_->take()) swapIn(std::move(built));
     const bool drew = active_ ? drawFrame() : false;
     ++iterations_;
     updateTitle(false);

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <functional>
 #include <map>
+#include <optional>
 #include <sstream>
 
 #include "emit/embedded_sources.h"
@@ -1018,10 +1019,39 @@ std::set<std::string> sceneFeatures(const ir::Scene& scene, const EmitOptions& o
 
 }  // namespace
 
+namespace {
+const char* const kKernelViewNames[] = {"beauty", "normal",     "steps", "depth",
+                                        "albedo", "iterations", "all"};
+
+// The kernel's view macros: SDFC_TRACE keeps the path tracer (and its random
+// numbers and BSDFs); SDFC_ALL_VIEWS keeps the run-time view choice; a debug
+// view's SDFC_VIEW_* keeps only that view's primary-ray code.
+void addViewFeatures(KernelView view, std::set<std::string>& f) {
+  switch (view) {
+    case KernelView::All: f.insert({"SDFC_TRACE", "SDFC_ALL_VIEWS"}); break;
+    case KernelView::Beauty: f.insert("SDFC_TRACE"); break;
+    case KernelView::Iterations: f.insert({"SDFC_TRACE", "SDFC_VIEW_ITERATIONS"}); break;
+    case KernelView::Normal: f.insert("SDFC_VIEW_NORMAL"); break;
+    case KernelView::Steps: f.insert("SDFC_VIEW_STEPS"); break;
+    case KernelView::Depth: f.insert("SDFC_VIEW_DEPTH"); break;
+    case KernelView::Albedo: f.insert("SDFC_VIEW_ALBEDO"); break;
+  }
+}
+}  // namespace
+
+std::optional<KernelView> kernelViewFromName(const std::string& name) {
+  for (int i = 0; i <= static_cast<int>(KernelView::All); ++i)
+    if (name == kKernelViewNames[i]) return static_cast<KernelView>(i);
+  return std::nullopt;
+}
+
+const char* kernelViewName(KernelView view) { return kKernelViewNames[static_cast<int>(view)]; }
+
 EmitResult emitGlsl(const ir::Scene& scene, const EmitOptions& options) {
   EmitResult result;
   result.limits = deriveMarchLimits(scene, options.march);
   result.stats.features = sceneFeatures(scene, options);
+  addViewFeatures(options.view, result.stats.features);
   SceneWriter writer(scene, options);
   const std::string scene_code = writer.write(result.limits, result.stats);
   if (writer.hasAnalyticPlanes()) result.stats.features.insert("SDFC_HAS_PLANES");

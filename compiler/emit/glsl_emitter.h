@@ -4,6 +4,7 @@
 // that occur, named functions for definitions, and bounding-volume checks that
 // skip costly subtrees while the point is far from them.
 #pragma once
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
@@ -13,7 +14,20 @@
 
 namespace sdfc {
 
+// Which view the kernel is specialised for (docs/kernel_contract.md, "Kernel
+// variants"). All: one kernel for every view, chosen at run time by
+// frame.view (the library default, for tests that draw several views from one
+// pipeline). Beauty and Iterations hold the path tracer; the debug views
+// (Normal, Steps, Depth, Albedo) trace only the primary ray: no sampling, no
+// shading, no bounces. The numbering follows shader_interface.h's kView*.
+enum class KernelView { Beauty = 0, Normal, Steps, Depth, Albedo, Iterations, All };
+
+// "beauty", ..., "iterations", "all" -> the view; nullopt for anything else.
+std::optional<KernelView> kernelViewFromName(const std::string& name);
+const char* kernelViewName(KernelView view);
+
 struct EmitOptions {
+  KernelView view = KernelView::All;
   bool bounding_volumes = true;   // skip subtrees by their bounds
   bool line_directives = false;   // #line so glslang errors point at the .sdf
   bool sobol = true;              // low-discrepancy sampler (else PCG hash)

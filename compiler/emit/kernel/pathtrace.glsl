@@ -232,17 +232,7 @@ vec3 sceneNormal(vec3 p, float h, out float field_mean) {
 }
 
 // ---- lights ----
-#ifdef SDFC_HAS_SUN
-const int kSunLights = 1;
-#else
-const int kSunLights = 0;
-#endif
 #ifdef SDFC_HAS_SPHERE_LIGHTS
-const int kSphereLightCount = kNumSphereLights;
-// runtime/loop_budget.h bounds the per-ray light loop by kMaxSphereLights = 16;
-// more lights must fail to compile rather than silently break that bound.
-float g_sphere_light_limit[kNumSphereLights <= 16 ? 1 : -1];
-
 // Nearest t > 0 where the ray meets sphere s (xyz centre, w radius), or -1.
 float raySphere(vec3 ro, vec3 rd, vec4 s) {
   vec3 oc = ro - s.xyz;
@@ -254,6 +244,20 @@ float raySphere(vec3 ro, vec3 rd, vec4 s) {
   if (t <= 0.0) t = -b + h;
   return t > 0.0 ? t : -1.0;
 }
+#endif
+
+// Light sampling, BSDFs and the path tracer: the beauty (and iterations) kernel only.
+#ifdef SDFC_TRACE
+#ifdef SDFC_HAS_SUN
+const int kSunLights = 1;
+#else
+const int kSunLights = 0;
+#endif
+#ifdef SDFC_HAS_SPHERE_LIGHTS
+const int kSphereLightCount = kNumSphereLights;
+// runtime/loop_budget.h bounds the per-ray light loop by kMaxSphereLights = 16;
+// more lights must fail to compile rather than silently break that bound.
+float g_sphere_light_limit[kNumSphereLights <= 16 ? 1 : -1];
 
 // 1 - cos of the half-angle of the cone sphere s subtends from p (0 if p is inside).
 float sphereConeOneMinusCos(vec3 p, vec4 s) {
@@ -367,6 +371,8 @@ float fresnelDielectric(float cos_i, float cos_t, float eta) {
 }
 #endif
 
+#endif
+
 // ---- camera ----
 // Pinhole through film position `film` (pixels, top-left origin); with
 // SDFC_HAS_APERTURE and `lens` set, a thin lens focused at frame.cam_up.w.
@@ -378,6 +384,7 @@ void cameraRay(vec2 film, bool lens, out vec3 ro, out vec3 rd) {
                  (ndc.y * tan_half) * frame.cam_up.xyz);
   ro = frame.cam_origin.xyz;
 #ifdef SDFC_HAS_APERTURE
+#ifdef SDFC_TRACE
   if (lens) {
     vec3 focus = ro + rd * (frame.cam_up.w / dot(rd, frame.cam_forward.xyz));
     vec2 d = frame.cam_right.w * concentricDisk(rand2());
@@ -385,8 +392,31 @@ void cameraRay(vec2 film, bool lens, out vec3 ro, out vec3 rd) {
     rd = normalize(focus - ro);
   }
 #endif
+#endif
 }
 
+// The surface a marched ray hit at p = ro + t rd (not an analytic plane): its
+// outward normal, and in `material_point` where its material is read.
+// The surface is that of the solid the ray enters, or of the one it leaves
+// when it enters none: the normal is the field's gradient just past p along
+// the ray (inside the solid entered, outside the one left), and the
+// material is read there or just before p. Taps centred on p mix both
+// faces at an edge (a dark line along a mirror's rim) and both solids
+// where two touch (a glass box on the ground: a zero gradient).
+// h: 16x float resolution at p, or 1/400 of a pixel at t if wider (the
+// width of the strip along an edge whose normal mixes the two faces);
+// the point ahead lies past p's offset from the surface.
+vec3 surfaceNormal(vec3 p, vec3 rd, float t, out vec3 material_point) {
+  float h = max(16.0 * fpEps(maxComponent(abs(p)), 0.0), 0.01 * t * kScenePixelCone);
+  float ahead = 2.0 * h + 2.0 * g_hit_offness;
+  float field;
+  vec3 n = sceneNormal(p + rd * ahead, h, field);  // outward: the gradient of sdScene
+  bool ahead_solid = field < 0.0;
+  material_point = ahead_solid ? p + rd * ahead : p - rd * ahead;
+  return n;
+}
+
+#ifdef SDFC_TRACE
 // ---- path tracer ----
 // Primary-hit data of the path traced with record_aov set.
 vec3 g_aov_normal = vec3(0.0);
@@ -457,21 +487,9 @@ vec3 tracePath(vec3 ro, vec3 rd, int max_bounces, bool record_aov) {
     } else
 #endif
     {
-      // The surface is that of the solid the ray enters, or of the one it leaves
-      // when it enters none: the normal is the field's gradient just past p along
-      // the ray (inside the solid entered, outside the one left), and the
-      // material is read there or just before p. Taps centred on p mix both
-      // faces at an edge (a dark line along a mirror's rim) and both solids
-      // where two touch (a glass box on the ground: a zero gradient).
-      // h: 16x float resolution at p, or 1/400 of a pixel at t if wider (the
-      // width of the strip along an edge whose normal mixes the two faces);
-      // the point ahead lies past p's offset from the surface.
-      float h = max(16.0 * fpEps(maxComponent(abs(p)), 0.0), 0.01 * t * kScenePixelCone);
-      float ahead = 2.0 * h + 2.0 * g_hit_offness;
-      float field;
-      n = sceneNormal(p + rd * ahead, h, field);  // outward: the gradient of sdScene
-      bool ahead_solid = field < 0.0;
-      m = sdMaterial(sdMaterialId(ahead_solid ? p + rd * ahead : p - rd * ahead));
+      vec3 material_point;
+      n = surfaceNormal(p, rd, t, material_point);
+      m = sdMaterial(sdMaterialId(material_point));
     }
     if (record_aov && depth == 0) {
       g_aov_normal = n;
@@ -602,21 +620,33 @@ vec3 tracePath(vec3 ro, vec3 rd, int max_bounces, bool record_aov) {
   return radiance;
 }
 
+#endif
+
+#if defined(SDFC_ALL_VIEWS) || defined(SDFC_VIEW_STEPS)
 // Blue -> cyan -> green -> yellow -> red for x in [0, 1].
 vec3 heatMap(float x) {
   x = clamp(x, 0.0, 1.0);
   return clamp(vec3(4.0 * x - 2.0, min(4.0 * x, 4.0 - 4.0 * x), 2.0 - 4.0 * x), 0.0, 1.0);
 }
+#endif
 
+#ifdef SDFC_TRACE
+// The path tracer's main: beauty, iterations, or (SDFC_ALL_VIEWS) every view
+// chosen at run time by the push constants' view field.
 void main() {
   // Absolute image pixel: the target may hold one band of the image (FrameParams).
   uvec2 pixel = uvec2(gl_FragCoord.xy) + uvec2(frame.tile_x, frame.tile_y);
+#ifdef SDFC_ALL_VIEWS
   bool trace = frame.view == kViewBeauty || frame.view == kViewIterations;
   int count = trace ? int(frame.sample_count) : 0;
+#else
+  int count = int(frame.sample_count);
+#endif
   vec3 sum = vec3(0.0);
-  // s = -1 is the unjittered primary ray for the AOVs (pass-split independent);
-  // sharing the loop keeps one inlined copy of the tracer.
-  for (int s = loopZero() - 1; s < count; s++) {
+  // s = -1 is the unjittered primary ray for the AOVs (pass-split independent;
+  // skipped on request when they are not read); sharing the loop keeps one
+  // inlined copy of the tracer.
+  for (int s = loopZero() - (frame.skip_aov_ray != 0u ? 0 : 1); s < count; s++) {
     g_loop_iterations++;
     bool aov = s < 0;
     beginSample(pixel, frame.sample_base + uint(max(s, 0)));
@@ -630,10 +660,87 @@ void main() {
   out_normal_depth = vec4(g_aov_normal, g_aov_dist);
   out_albedo_steps = vec4(g_aov_albedo, float(g_aov_steps));
   vec3 color = sum / float(max(count, 1));
+#ifdef SDFC_ALL_VIEWS
   if (frame.view == kViewNormal) color = g_aov_normal * 0.5 + 0.5;
   if (frame.view == kViewSteps) color = heatMap(float(g_aov_steps) / float(kSceneMaxSteps));
   if (frame.view == kViewDepth) color = vec3(g_aov_dist);
   if (frame.view == kViewAlbedo) color = g_aov_albedo;
   if (frame.view == kViewIterations) color = vec3(float(g_loop_iterations), 0.0, 0.0);
+#endif
+#ifdef SDFC_VIEW_ITERATIONS
+  color = vec3(float(g_loop_iterations), 0.0, 0.0);
+#endif
   out_color = vec4(color, 1.0);
 }
+#else
+// A debug view's main (normal, steps, depth or albedo): the primary ray alone,
+// the same unjittered ray as the path tracer's AOV ray and the same values,
+// with no sampling, shading or bounces. Attachments 1 and 2 hold what this
+// view computes (zero for the rest; the march steps always).
+void main() {
+  uvec2 pixel = uvec2(gl_FragCoord.xy) + uvec2(frame.tile_x, frame.tile_y);
+  vec3 ro, rd;
+  cameraRay(vec2(pixel) + vec2(0.5), false, ro, rd);
+  // A camera inside a solid sees its inside (as the path tracer).
+  float side = sdScene(ro) < -fpEps(maxComponent(abs(ro)), 0.0) ? -1.0 : 1.0;
+  int steps;
+  float t = march(ro, rd, 3.0e38, side, steps);
+  vec3 normal = vec3(0.0);
+  float dist = -1.0;
+  vec3 albedo = vec3(0.0);
+#ifdef SDFC_HAS_SPHERE_LIGHTS
+  int light_hit = -1;
+  float t_light = t < 0.0 ? 3.0e38 : t;
+  for (int j = loopZero(); j < kNumSphereLights; j++) {
+    g_loop_iterations++;
+    float tj = raySphere(ro, rd, kSphereLights[j]);
+    if (tj > 0.0 && tj < t_light) {
+      t_light = tj;
+      light_hit = j;
+    }
+  }
+  if (light_hit >= 0) {
+    normal = normalize(ro + rd * t_light - kSphereLights[light_hit].xyz);
+    dist = t_light;
+  } else
+#endif
+  if (t >= 0.0) {
+    dist = t;
+#if defined(SDFC_VIEW_NORMAL) || defined(SDFC_VIEW_ALBEDO)
+    int material = 0;
+#ifdef SDFC_HAS_PLANES
+    if (g_plane_hit >= 0) {
+      normal = kPlanes[g_plane_hit].xyz;
+      material = kPlaneMaterial[g_plane_hit];
+    } else
+#endif
+    {
+      vec3 material_point;
+      normal = surfaceNormal(ro + rd * t, rd, t, material_point);
+#ifdef SDFC_VIEW_ALBEDO
+      material = sdMaterialId(material_point);
+#endif
+    }
+#ifdef SDFC_VIEW_ALBEDO
+    albedo = sdMaterial(material).albedo;
+#endif
+#endif
+  }
+  out_normal_depth = vec4(normal, dist);
+  out_albedo_steps = vec4(albedo, float(steps));
+  vec3 color = vec3(0.0);
+#ifdef SDFC_VIEW_NORMAL
+  color = normal * 0.5 + 0.5;
+#endif
+#ifdef SDFC_VIEW_STEPS
+  color = heatMap(float(steps) / float(kSceneMaxSteps));
+#endif
+#ifdef SDFC_VIEW_DEPTH
+  color = vec3(dist);
+#endif
+#ifdef SDFC_VIEW_ALBEDO
+  color = albedo;
+#endif
+  out_color = vec4(color, 1.0);
+}
+#endif

@@ -24,7 +24,8 @@ uint g_loop_iterations = 0u;
 // are kept as loops instead of being unrolled with sdScene copied into each copy.
 int loopZero() { return int(min(frame.seed, 0u)); }
 
-// ---- random numbers ----
+#ifdef SDFC_TRACE
+// ---- random numbers (path tracing only: the debug views trace one fixed ray) ----
 // A sample's numbers depend only on (pixel, sample index, dimension, frame.seed),
 // never on the pass split, so accumulating passes is exact.
 uvec2 g_rng_pixel;
@@ -201,4 +202,5 @@ vec2 concentricDisk(vec2 u) {
   }
   return r * vec2(cos(phi), sin(phi));
 }
+#endif
 #endif
