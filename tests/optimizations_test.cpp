@@ -247,7 +247,8 @@ scene {
 
 // Spheres directly in the scene (bare or under a rigid transform and uniform
 // scale) are intersected in closed form like planes: sdScene leaves them out,
-// glass and emissive spheres stay marched, the loop work falls, and the image
+// emissive spheres and any sphere in a scene with glass stay marched, the loop
+// work falls, and the image
 // and its depth/normal AOVs match the marched ones (tests/accuracy_test.cpp
 // checks them against an exact ray caster).
 TEST(Optimizations, SpheresAreIntersectedAnalyticallyNotMarched) {
@@ -271,6 +272,7 @@ scene {
   for (const char* kept : {"scene { sphere(radius: 1, material: glass(ior: 1.5)) }",
                            "scene { sphere(radius: 1, material: emissive(color: [1, 1, 1], strength: 2)) }",
                            "scene { scale([1, 2, 1]) { sphere(radius: 1) } }",
+                           "scene { sphere(radius: 1) translate([0, 1.5, 0]) { box(size: 1, material: glass(ior: 1.5)) } }",
                            "scene { union { sphere(radius: 1) box(size: 1) } }"})
     EXPECT_NE(functionBody(compileText(kept).emitted.glsl, "float sdScene(vec3 p)").find("sdSphere("),
               std::string::npos)

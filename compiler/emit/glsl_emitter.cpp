@@ -246,8 +246,8 @@ class SceneWriter {
   bool has_scene_box_ = false;
 
   // A top-level sphere with constant radius, bare or under one Affine that is
-  // a similarity (scale * linear orthonormal), of an opaque non-emissive
-  // material: recorded in spheres_ (true) or left to the march (false).
+  // a similarity (scale * linear orthonormal), of a non-emissive material in a
+  // scene without glass: recorded in spheres_ (true) or left to the march (false).
   bool takeSphere(const ir::Node& c, int root_material) {
     const ir::Node* sphere = &c;
     dvec3 center(0.0);
@@ -270,10 +270,13 @@ class SceneWriter {
         !sphere->definition.empty() || sphere->args.size() != 1 || !sphere->args[0].isConst())
       return false;
     if (material < 0) material = std::max(root_material, 0);
-    if (material < static_cast<int>(scene_.materials.size())) {
-      const ir::MaterialModel model = scene_.materials[material].model;
-      if (model == ir::MaterialModel::Glass || model == ir::MaterialModel::Emissive) return false;
-    }
+    if (material < static_cast<int>(scene_.materials.size()) &&
+        scene_.materials[material].model == ir::MaterialModel::Emissive)
+      return false;
+    // A ray inside marched glass (march side -1) does not see analytic
+    // surfaces: glass touching or overlapping the sphere would let it through.
+    for (const ir::Material& m : scene_.materials)
+      if (m.model == ir::MaterialModel::Glass) return false;
     const double radius = sphere->args[0].value * radius_scale;
     if (!(radius > 0) || !std::isfinite(radius)) return false;
     spheres_.push_back({center, radius, material, c.range.line()});
