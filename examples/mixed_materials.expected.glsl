@@ -219,12 +219,12 @@ const float kSceneHitEps = 1.68226038e-06;
 const float kScenePixelCone = 0.000674018952;
 const float kSceneStepScale = 1.0;
 // The marched part of the scene lies in this box.
-const vec3 kSceneBoxLo = vec3(-0.750009329, -9.32916421e-06, -1.58302203);
-const vec3 kSceneBoxHi = vec3(2.03000933, 1.10000933, 1.45000933);
+const vec3 kSceneBoxLo = vec3(-1.85000951, -9.50510213e-06, -1.58302221);
+const vec3 kSceneBoxHi = vec3(2.03000951, 1.50000951, 1.45000951);
 const vec3 kSunDir = vec3(0.394055203, 0.788110406, 0.472866244);
 const float kSunCosAngle = 0.998629535;
 const vec3 kSunRadiance = vec3(139.358464);
-// Surfaces intersected analytically (line 12 13): planes (dot(p, n) <= offset is solid), then spheres.
+// Surfaces intersected analytically (line 12): planes (dot(p, n) <= offset is solid), then spheres.
 // Nearest hit from outside a solid, or 3e38; `index` names it.
 float sdPlanesHit(vec3 ro, vec3 rd, out int index) {
   float t = 3.0e38;
@@ -236,29 +236,16 @@ float sdPlanesHit(vec3 ro, vec3 rd, out int index) {
       index = 0;
     }
   }
-  {
-    vec3 oc = ro - vec3(-1.1, 0.75, -0.6);
-    float b = dot(oc, rd), c = dot(oc, oc) - 0.5625;
-    vec3 f = oc - b * rd;
-    float disc = 0.5625 - dot(f, f);
-    if (b < 0.0 && c > 0.0 && disc >= 0.0) {
-      float ts = c / (-b + sqrt(disc));
-      if (ts < t) {
-        t = ts;
-        index = 1;
-      }
-    }
-  }
   return t;
 }
 vec3 sdAnalyticNormal(int index, vec3 p, out int material) {
   if (index == 0) { material = 0; return vec3(0.0, 1.0, 0.0); }
-  if (index == 1) { material = 1; return normalize(p - vec3(-1.1, 0.75, -0.6)); }
   material = 0;
   return vec3(0.0, 1.0, 0.0);
 }
 
 // ---- scene helpers and primitives (only those the scene uses) ----
+float sdSphere(vec3 p, float r) { return length(p) - r; }
 float sdTorus(vec3 p, float major, float minor) {
   return length(vec2(length(p.xz) - major, p.y)) - minor;
 }
@@ -278,31 +265,38 @@ float sdBox(vec3 p, vec3 size, float rounding) {
 // ---- scene distance ----
 float sdScene(vec3 p) {
   float d0 = 1e30;  // line 11 union
-  vec3 p1 = p + vec3(-1.2, -0.28, -0.6);  // line 14 transform
-  float d2 = sdTorus(p1, 0.55, 0.28);  // line 14 torus
+  vec3 p1 = p + vec3(1.1, -0.75, 0.6);  // line 13 transform
+  float d2 = sdSphere(p1, 0.75);  // line 13 sphere
   d0 = min(d0, d2);
-  vec3 p3 = p + vec3(0.3, 0.0, -1.0);  // line 15 transform
-  float d4 = sdCone(p3, 0.45, 1.1);  // line 15 cone
+  vec3 p3 = p + vec3(-1.2, -0.28, -0.6);  // line 14 transform
+  float d4 = sdTorus(p3, 0.55, 0.28);  // line 14 torus
   d0 = min(d0, d4);
-  vec3 p5 = mat3(0.866025404, 0.0, 0.5, 0.0, 1.0, 0.0, -0.5, 0.0, 0.866025404) * p + vec3(-1.57583302, -0.5, 0.129422863);  // line 16 transform
-  float d6 = sdBox(p5, vec3(1.0), 0.0);  // line 16 box
+  vec3 p5 = p + vec3(0.3, 0.0, -1.0);  // line 15 transform
+  float d6 = sdCone(p5, 0.45, 1.1);  // line 15 cone
   d0 = min(d0, d6);
+  vec3 p7 = mat3(0.866025404, 0.0, 0.5, 0.0, 1.0, 0.0, -0.5, 0.0, 0.866025404) * p + vec3(-1.57583302, -0.5, 0.129422863);  // line 16 transform
+  float d8 = sdBox(p7, vec3(1.0), 0.0);  // line 16 box
+  d0 = min(d0, d8);
   return d0;
 }
 int sdMaterialId(vec3 p) {
   vec2 d0 = vec2(1e30, -1.0);  // line 11 union
-  vec3 p1 = p + vec3(-1.2, -0.28, -0.6);  // line 14 transform
-  float d2 = sdTorus(p1, 0.55, 0.28);  // line 14 torus
-  vec2 m3 = vec2(d2, 2.0);
+  vec3 p1 = p + vec3(1.1, -0.75, 0.6);  // line 13 transform
+  float d2 = sdSphere(p1, 0.75);  // line 13 sphere
+  vec2 m3 = vec2(d2, 1.0);
   d0 = vec2(min(d0.x, m3.x), m3.x < d0.x ? m3.y : d0.y);
-  vec3 p4 = p + vec3(0.3, 0.0, -1.0);  // line 15 transform
-  float d5 = sdCone(p4, 0.45, 1.1);  // line 15 cone
-  vec2 m6 = vec2(d5, 3.0);
+  vec3 p4 = p + vec3(-1.2, -0.28, -0.6);  // line 14 transform
+  float d5 = sdTorus(p4, 0.55, 0.28);  // line 14 torus
+  vec2 m6 = vec2(d5, 2.0);
   d0 = vec2(min(d0.x, m6.x), m6.x < d0.x ? m6.y : d0.y);
-  vec3 p7 = mat3(0.866025404, 0.0, 0.5, 0.0, 1.0, 0.0, -0.5, 0.0, 0.866025404) * p + vec3(-1.57583302, -0.5, 0.129422863);  // line 16 transform
-  float d8 = sdBox(p7, vec3(1.0), 0.0);  // line 16 box
-  vec2 m9 = vec2(d8, 4.0);
+  vec3 p7 = p + vec3(0.3, 0.0, -1.0);  // line 15 transform
+  float d8 = sdCone(p7, 0.45, 1.1);  // line 15 cone
+  vec2 m9 = vec2(d8, 3.0);
   d0 = vec2(min(d0.x, m9.x), m9.x < d0.x ? m9.y : d0.y);
+  vec3 p10 = mat3(0.866025404, 0.0, 0.5, 0.0, 1.0, 0.0, -0.5, 0.0, 0.866025404) * p + vec3(-1.57583302, -0.5, 0.129422863);  // line 16 transform
+  float d11 = sdBox(p10, vec3(1.0), 0.0);  // line 16 box
+  vec2 m12 = vec2(d11, 4.0);
+  d0 = vec2(min(d0.x, m12.x), m12.x < d0.x ? m12.y : d0.y);
   return int(d0.y);
 }
 
