@@ -3,7 +3,8 @@
 creation, shader size, render speed and memory grow with the instance count.
 
   bench/large_scenes.py [--sdfc build/cli/sdfc] [--out bench/results/large_scenes.md]
-                        [--counts 1000,10000,100000,1000000] [--spp 8] [--quick]
+                        [--counts 100,1000,10000,100000,1000000] [--spp 2] [--repeats 3]
+                        [--before OLD_SDFC] [--quick]
 
 Scenes: spheres at uniform random positions in a fixed box (40 x 8 x 40 above
 a ground plane), written as instances(positions: file("points.csv")); the
@@ -13,8 +14,12 @@ same filled volume. Figures:
      at 64x36 1 spp (pipeline creation ms, wall s, peak RSS via /usr/bin/time);
   2. the same 1,000 spheres as 1,000 inline union children (--instance-threshold 0):
      the shader that grows with the scene;
-  3. 640x360 ms per sample, 100 vs 100,000 instances (median of --repeats runs),
-     and their ratio against the target (100k at >= 1/3 the speed of 100);
+  3. per count at 640x360: loop iterations per pixel (kernel + grid lists +
+     hierarchy visits, `--view iterations`), primary march steps, and ms per
+     sample (median of --repeats runs, counts interleaved); the ratio 100 vs
+     100,000 against the target (100k at >= 1/3 the speed of 100);
+  3b. with --before OLD_SDFC: the same 100 and 100,000 scenes rendered by an
+     older binary and this one, interleaved, in the same run (before/after);
   4. peak RSS of one 640x360 1 spp render of 1,000,000 instances (target < 1 GiB);
   5. `sdfc check` of 200,000 spheres written as union children vs instances(file).
 Only the standard library; /usr/bin/time must exist (Debian package `time`).
@@ -106,14 +111,47 @@ def shader_figures(sdfc, scene, dir_, flags=()):
             "render_wall_s": wall, "rss_mib": rss}
 
 
-def ms_per_sample(sdfc, scene, dir_, spp, repeats):
-    out = []
-    for _ in range(repeats):
-        png = os.path.join(dir_, "big.png")
-        _, rss, err = timed([sdfc, "render", scene, "-o", png, "--size", "640x360", "--spp", str(spp)])
-        spp_per_s = field(r"spp in [^,]*, ([0-9.eE+-]+) spp/s", err)
-        out.append(1000.0 / spp_per_s)
-    return statistics.median(out), out
+def ms_once(sdfc, scene, dir_, spp):
+    png = os.path.join(dir_, "big.png")
+    _, _, err = timed([sdfc, "render", scene, "-o", png, "--size", "640x360", "--spp", str(spp)])
+    return 1000.0 / field(r"spp in [^,]*, ([0-9.eE+-]+) spp/s", err)
+
+
+def iterations(sdfc, scene, dir_):
+    """Mean loop iterations and primary march steps per pixel at 640x360, 1 spp."""
+    png = os.path.join(dir_, "it.png")
+    _, _, err = timed([sdfc, "render", scene, "-o", png, "--size", "640x360", "--spp", "1", "--view", "iterations"])
+    return field(r"loop iterations per pixel: mean ([0-9.eE+-]+)", err), field(r"primary ray steps: mean ([0-9.eE+-]+)", err)
+
+
+def read_pfm_first_channel(path):
+    import struct
+    with open(path, "rb") as f:
+        kind = f.readline().strip()
+        w, h = map(int, f.readline().split())
+        scale = float(f.readline())
+        ch = 3 if kind == b"PF" else 1
+        data = struct.unpack(("<" if scale < 0 else ">") + "%df" % (w * h * ch), f.read(4 * w * h * ch))
+    return data[::ch]
+
+
+def depth_disagreement(before, after, scene, dir_, flags_before=(), any_side=False):
+    """Share of 640x360 pixels whose primary depth from `before` is over 1% nearer than from
+    `after` (any_side: differs by over 1% either way)."""
+    maps = []
+    for i, (sdfc, flags) in enumerate(((before, flags_before), (after, ()))):
+        path = os.path.join(dir_, "depth%d.pfm" % i)
+        timed([sdfc, "render", scene, "-o", path, "--size", "640x360", "--spp", "1", "--view", "depth"] + list(flags))
+        maps.append(read_pfm_first_channel(path))
+    if any_side:
+        return sum(1 for a, b in zip(*maps) if abs(a - b) > 0.01 * abs(a)) / float(len(maps[0]))
+    return sum(1 for a, b in zip(*maps) if a < 0.99 * b) / float(len(maps[0]))
+
+
+def grid_summary(sdfc, scene):
+    proc = subprocess.run([sdfc, "compile", scene, "--emit", "ir"], capture_output=True, text=True)
+    m = re.search(r"grid (\S+) cells of [^,]*, lists of ([0-9.]+) on average, (\d+) crowded", proc.stdout)
+    return "%s, lists %s, %s crowded" % m.groups() if m else "none"
 
 
 def main():
@@ -121,8 +159,9 @@ def main():
     root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
     ap.add_argument("--sdfc", default=os.path.join(root, "build", "cli", "sdfc"))
     ap.add_argument("--out", default=os.path.join(root, "bench", "results", "large_scenes.md"))
-    ap.add_argument("--counts", default="1000,10000,100000,1000000")
-    ap.add_argument("--spp", type=int, default=8)
+    ap.add_argument("--counts", default="100,1000,10000,100000,1000000")
+    ap.add_argument("--spp", type=int, default=2)
+    ap.add_argument("--before", help="an older sdfc binary for a before/after comparison in the same run")
     ap.add_argument("--repeats", type=int, default=3)
     ap.add_argument("--quick", action="store_true", help="small counts, for a smoke run")
     args = ap.parse_args()
@@ -149,23 +188,69 @@ def main():
             f = shader_figures(args.sdfc, write_instanced(dir_, n), dir_)
             emit("| %d | data | %.2f | %d | %.0f | %.2f | %.0f |" % (n, f["compile_s"], f["spirv_bytes"],
                                                                   f["pipeline_ms"], f["render_wall_s"], f["rss_mib"]))
-        n_inline = min(counts[0], 1000)
+        n_inline = 1000 if not args.quick else 100
         f = shader_figures(args.sdfc, write_union(dir_, n_inline), dir_, ["--instance-threshold", "0"])
         emit("| %d | inline code (--instance-threshold 0) | %.2f | %d | %.0f | %.2f | %.0f |"
              % (n_inline, f["compile_s"], f["spirv_bytes"], f["pipeline_ms"], f["render_wall_s"], f["rss_mib"]))
         emit("")
 
-        emit("## Render speed at 640x360, same extent, %d spp, median of %d" % (args.spp, args.repeats))
+        emit("## Render speed at 640x360, same extent, %d spp, median of %d interleaved runs" % (args.spp, args.repeats))
         emit("")
-        small_ms, small_all = ms_per_sample(args.sdfc, write_instanced(dir_, 100), dir_, args.spp, args.repeats)
-        big_ms, big_all = ms_per_sample(args.sdfc, write_instanced(dir_, big), dir_, args.spp, args.repeats)
-        emit("| instances | ms per sample (median) | runs |")
-        emit("|---:|---:|---|")
-        emit("| 100 | %.0f | %s |" % (small_ms, ", ".join("%.0f" % x for x in small_all)))
-        emit("| %d | %.0f | %s |" % (big, big_ms, ", ".join("%.0f" % x for x in big_all)))
+        speed_counts = sorted(set(counts + [100, big]))
+        scenes = {n: write_instanced(dir_, n) for n in speed_counts}
+        runs = {n: [] for n in speed_counts}
+        for _ in range(args.repeats):
+            for n in speed_counts:
+                runs[n].append(ms_once(args.sdfc, scenes[n], dir_, args.spp))
+        emit("| instances | sphere radius | grid (cells, mean list, crowded cells) | loop iterations / pixel | primary steps / pixel | ms per sample (median) | runs |")
+        emit("|---:|---:|---|---:|---:|---:|---|")
+        med = {}
+        for n in speed_counts:
+            it, steps = iterations(args.sdfc, scenes[n], dir_)
+            med[n] = statistics.median(runs[n])
+            emit("| %d | %.3g | %s | %.0f | %.1f | %.0f | %s |" % (n, radius_for(n), grid_summary(args.sdfc, scenes[n]), it,
+                                                             steps, med[n], ", ".join("%.0f" % x for x in runs[n])))
         emit("")
-        emit("Speed of %d instances relative to 100: %.2f (target >= 0.33)." % (big, small_ms / big_ms))
+        emit("Speed of %d instances relative to 100: %.2f (target >= 0.33)." % (big, med[100] / med[big]))
         emit("")
+        # The grid's bound against exact distances: the same 1,000 spheres as inline code.
+        it_g, st_g = iterations(args.sdfc, scenes[1000] if 1000 in scenes else write_instanced(dir_, 1000), dir_)
+        png = os.path.join(dir_, "it.png")
+        _, _, err = timed([args.sdfc, "render", write_instanced(dir_, 1000), "-o", png, "--size", "640x360",
+                           "--spp", "1", "--view", "iterations", "--instance-threshold", "0"])
+        emit("Primary steps per pixel for 1000 spheres: %.2f through the grid, %.2f with exact distances"
+             " (inline code; its loop iterations per pixel: %.0f vs %.0f through the grid)."
+             % (st_g, field(r"primary ray steps: mean ([0-9.eE+-]+)", err),
+                field(r"loop iterations per pixel: mean ([0-9.eE+-]+)", err), it_g))
+        emit("")
+        emit("Pixels whose primary depth differs by over 1%% between the grid and the inline code (1000"
+             " spheres, 640x360): %.2f%%." % (100 * depth_disagreement(
+                 args.sdfc, args.sdfc, write_instanced(dir_, 1000), dir_, ["--instance-threshold", "0"], True)))
+        emit("")
+        if args.before:
+            emit("## Before/after, same run (%s vs %s), %d spp, median of %d interleaved"
+                 % (args.before, args.sdfc, args.spp, args.repeats))
+            emit("")
+            ab = {(b, n): [] for b in ("before", "after") for n in (100, big)}
+            for _ in range(args.repeats):
+                for n in (100, big):
+                    ab[("before", n)].append(ms_once(args.before, scenes[n], dir_, args.spp))
+                    ab[("after", n)].append(ms_once(args.sdfc, scenes[n], dir_, args.spp))
+            emit("| instances | before ms/sample | after ms/sample | before/after | before iterations / pixel | after |")
+            emit("|---:|---:|---:|---:|---:|---:|")
+            for n in (100, big):
+                b, a = statistics.median(ab[("before", n)]), statistics.median(ab[("after", n)])
+                emit("| %d | %.0f | %.0f | %.2f | %.0f | %.0f |" % (n, b, a, b / a, iterations(args.before, scenes[n], dir_)[0],
+                                                           iterations(args.sdfc, scenes[n], dir_)[0]))
+            emit("")
+            emit("Ratio %d vs 100: before %.2f, after %.2f." % (big,
+                statistics.median(ab[("before", 100)]) / statistics.median(ab[("before", big)]),
+                statistics.median(ab[("after", 100)]) / statistics.median(ab[("after", big)])))
+            emit("")
+            emit("Primary rays of %d instances that the before binary stops more than 1%% nearer than this one"
+                 " (`--view depth`, 640x360): %.1f%% of pixels." % (big, 100 * depth_disagreement(
+                     args.before, args.sdfc, scenes[big], dir_)))
+            emit("")
 
         n_rss = max(counts)
         scene = write_instanced(dir_, n_rss)

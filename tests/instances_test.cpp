@@ -14,6 +14,7 @@
 #include "driver/compile.h"
 #include "eval/evaluator.h"
 #include "gpu_points.h"
+#include "passes/passes.h"
 #include "scene_render.h"
 #include "vulkan_context.h"
 
@@ -108,6 +109,77 @@ TEST(Instances, HierarchyEqualsBruteForceAtRandomPoints) {
     near_surface += std::fabs(b.distance) < 0.3;
   }
   EXPECT_GT(near_surface, 100);  // the points probe the instances, not only empty space
+}
+
+// A dense cloud: 600 spheres in a 4 x 2 x 4 box, so that many grid cells
+// hold more than kGridListMax candidates (their reach shrinks) and a few are
+// crowded (left to the hierarchy).
+std::string denseCloud(int count = 600) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-2, 2), h(0, 2), r(0.1, 0.3);
+  std::ostringstream s;
+  s << "camera(position: [0, 5, 9], target: [0, 1, 0], fov: 40)\nsun(direction: [-0.4, 0.8, 0.5])\n"
+       "scene {\n  plane(offset: 0)\n";
+  for (int i = 0; i < count; ++i)
+    s << "  translate([" << u(rng) << ", " << h(rng) << ", " << u(rng) << "]) { sphere(radius: " << r(rng)
+      << ") }\n";
+  s << "}\n";
+  return s.str();
+}
+
+void collectSets(const ir::NodeRef& n, std::vector<const ir::Node*>& out) {
+  if (n->kind == ir::NodeKind::Instances) out.push_back(n.get());
+  for (const ir::NodeRef& c : n->children) collectSets(c, out);
+}
+
+// The grid's bound (passes/instance_grid.cpp, the shader's arithmetic in
+// float64) against brute force over every instance: never above it, and equal
+// wherever the nearest instance is within the cell's reach.
+TEST(Instances, GridBoundIsALowerBoundAndExactWithinReach) {
+  for (const std::string& text : {mixedScene(), denseCloud()}) {
+    const CompiledScene c = checked(text, 32);
+    std::vector<const ir::Node*> sets;
+    collectSets(c.scene.root, sets);
+    ASSERT_FALSE(sets.empty());
+    const Evaluator eval(c.scene);
+    std::mt19937 rng(3);
+    for (const ir::Node* n : sets) {
+      const ir::InstanceSet& set = *n->instances;
+      const ir::InstanceGrid& g = set.grid;
+      ASSERT_FALSE(g.empty()) << set.origin;
+      const dvec3 hi = g.lo + dvec3(g.dims) * g.cell;
+      std::uniform_real_distribution<double> ux(g.lo.x - 2, hi.x + 2), uy(g.lo.y - 2, hi.y + 2),
+          uz(g.lo.z - 2, hi.z + 2);
+      int exact = 0, bounded = 0, crowded = 0, shrunk = 0;
+      for (int i = 0; i < 3000; ++i) {
+        const dvec3 p(ux(rng), uy(rng), uz(rng));
+        auto one = [&](size_t k) { return eval.instanceDistance(*n, k, p); };
+        double brute = 1e300;
+        for (size_t k = 0; k < set.size(); ++k) brute = std::min(brute, one(k));
+        const double bound = instanceGridBound(set, p, one);
+        if (std::isnan(bound)) {
+          ++crowded;
+          continue;
+        }
+        ASSERT_LE(bound, brute + 1e-12) << set.origin << " at " << p.x << " " << p.y << " " << p.z;
+        if (brute > 0) EXPECT_GT(bound, 0.0);  // a bound, never a false hit
+        const bool inside = glm::all(glm::greaterThanEqual(p, g.lo)) && glm::all(glm::lessThan(p, hi));
+        if (!inside) continue;
+        const glm::ivec3 cell = glm::clamp(glm::ivec3(glm::floor((p - g.lo) / g.cell)), glm::ivec3(0), g.dims - 1);
+        const size_t index = size_t(cell.x) + size_t(g.dims.x) * (size_t(cell.y) + size_t(g.dims.y) * cell.z);
+        shrunk += g.reach[index] < g.margin;
+        if (brute < g.reach[index]) {
+          ASSERT_NEAR(bound, brute, 1e-12) << set.origin;
+          ++exact;
+        } else {
+          ++bounded;
+        }
+      }
+      std::printf("%s: %d exact, %d bounded (nearest beyond reach), %d crowded, %d in shrunk cells\n",
+                  set.origin.c_str(), exact, bounded, crowded, shrunk);
+      EXPECT_GT(exact, 50);
+    }
+  }
 }
 
 // Pairs of overlapping spheres, 4 apart: near a surface each blend involves
@@ -325,6 +397,36 @@ TEST_F(InstancesGpu, ImageEqualsTheInlineFormAndStaysUnderTheLoopCap) {
   std::printf("most loop iterations in a pixel: %.0f\n", most);
   EXPECT_GT(most, 100);
   EXPECT_LT(most, float(gpu::kLavapipeLoopCap));
+}
+
+// A dense cloud through the grid (lists cut to kGridListMax, shrunk reaches,
+// crowded cells answered by the hierarchy) renders as the inline union does:
+// no ray stops early on a bound.
+TEST_F(InstancesGpu, DenseCloudThroughTheGridEqualsTheInlineForm) {
+  const std::string text = denseCloud(300);
+  const CompiledScene data = compiled(text, 32), inline_form = compiled(text, 0);
+  ASSERT_EQ(data.emitted.stats.instance_sets, 1);
+  RenderOverrides o;
+  o.width = 64;
+  o.height = 36;
+  o.spp = 8;
+  Renderer rd(*context_, data.spirv, data.emitted.scene_data);
+  Renderer ri(*context_, inline_form.spirv);
+  const FloatImage a = rd.render(cameraFor(data.scene), renderSettingsFor(data, o)).color;
+  const FloatImage b = ri.render(cameraFor(inline_form.scene), renderSettingsFor(inline_form, o)).color;
+  double sum_b = 0, diff = 0, worst = 0;
+  for (size_t i = 0; i < a.rgba.size(); i += 4) {
+    double pixel = 0;
+    for (int ch = 0; ch < 3; ++ch) {
+      sum_b += b.rgba[i + ch];
+      pixel += std::fabs(a.rgba[i + ch] - b.rgba[i + ch]);
+    }
+    diff += pixel;
+    worst = std::max(worst, pixel);
+  }
+  std::printf("dense cloud, grid vs inline: mean |diff| %.3g of mean %.3g, worst pixel %.3g\n",
+              diff / (a.rgba.size() * 0.75), sum_b / (b.rgba.size() * 0.75), worst);
+  EXPECT_LT(diff / sum_b, 5e-3);
 }
 
 }  // namespace

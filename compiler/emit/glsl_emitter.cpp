@@ -35,6 +35,10 @@ constexpr double kFarBoxFactor = 1.0;
 // Stack entries a visit may drop after its work when they cannot hold
 // anything nearer than the best so far.
 constexpr int kPrunesPerVisit = 3;
+// Grid lists copy one-vec4 records up to this size (16 bytes per listed
+// instance); beyond it they hold 4-byte indices, which keeps a million
+// instances' data (76 MB) within lavapipe's 128 MiB storage buffer range.
+constexpr size_t kMaxCopiedRecordBytes = size_t(32) << 20;
 
 std::string vec3Literal(dvec3 v) {
   if (v.x == v.y && v.y == v.z) return "vec3(" + glslFloat(v.x) + ")";
@@ -339,6 +343,9 @@ class SceneWriter {
     int stride = 1;      // vec4 per record
     bool affine = false; // records hold a 3x4 map and a scale
     int param_vec4 = 0;  // vec4 of primitive parameters after the placement
+    bool grid = false;   // a grid: header (2 vec4), cells (1 vec4 each), lists (4 per vec4)
+    size_t grid_header = 0, grid_cells = 0, grid_entries = 0;
+    bool grid_records = false;  // lists hold copies of one-vec4 records, not indices
   };
   std::map<const ir::Node*, InstanceLayout> instance_layouts_;
   std::vector<float> data_;
@@ -462,7 +469,84 @@ class SceneWriter {
         pushVec4(c[0], c[1], c[2], c[3]);
       }
     }
+    if (!set.grid.empty()) {
+      // Header (lo, cell), (dims, margin); per cell (first, count, reach, 0);
+      // the lists' instance indices, four per vec4.
+      const ir::InstanceGrid& grid = set.grid;
+      l.grid = true;
+      l.grid_header = data_.size() / 4;
+      pushVec4(float(grid.lo.x), float(grid.lo.y), float(grid.lo.z), float(grid.cell));
+      pushVec4(float(grid.dims.x), float(grid.dims.y), float(grid.dims.z), float(grid.margin));
+      l.grid_cells = data_.size() / 4;
+      data_.reserve(data_.size() + grid.cells() * 4 + grid.entries.size() + 4);
+      for (size_t c = 0; c < grid.cells(); ++c)
+        pushVec4(float(grid.first[c]), float(grid.count[c]), float(grid.reach[c]), 0);
+      l.grid_entries = data_.size() / 4;
+      // One-vec4 records (no rotation, no parameters: point clouds) are copied
+      // into the lists, which saves a dependent load per listed instance.
+      l.grid_records = l.stride == 1 && grid.entries.size() * 16 <= kMaxCopiedRecordBytes;
+      if (l.grid_records) {
+        for (std::uint32_t e : grid.entries) {
+          const size_t r = (l.records + e) * 4;
+          pushVec4(data_[r], data_[r + 1], data_[r + 2], data_[r + 3]);
+        }
+      } else {
+        for (std::uint32_t e : grid.entries) data_.push_back(float(e));
+        while (data_.size() % 4 != 0) data_.push_back(0);
+      }
+    }
     return instance_layouts_.emplace(&n, l).first->second;
+  }
+
+  // The grid's lookup (ir::InstanceGrid): outside its box the margin bound,
+  // in a crowded cell (or with fewer visits than the list) the hierarchy,
+  // else the cell's list and its reach.
+  void gridFunction(const ir::Node& n, const InstanceLayout& l, bool mat, const std::string& name,
+                    const std::string& one, const std::string& tree) {
+    const std::string gh = std::to_string(l.grid_header), gc = std::to_string(l.grid_cells),
+                      ge = std::to_string(l.grid_entries), ib = std::to_string(l.records);
+    const std::string visits = options_.with_kernel ? "int(frame.traversal_visits)" : std::to_string(kSceneOnlyVisits);
+    const ir::InstanceGrid& grid = n.instances->grid;
+    Function g;
+    g.code << lineDirective(n);
+    g.code << "// Grid of " << grid.dims.x << "x" << grid.dims.y << "x" << grid.dims.z << " cells at sd_data[" << gh
+           << "]: a lookup and a list of at most " << ir::kGridListMax << " (docs/large_scenes.md).\n";
+    g.code << (mat ? "vec2 " : "float ") << name << "(vec3 p" << (mat ? ", float inherited" : "") << ") {\n";
+    g.code << "  vec4 g0 = sd_data[" << gh << "], g1 = sd_data[" << gh << " + 1];\n";
+    g.code << "  vec3 o = max(max(g0.xyz - p, p - (g0.xyz + g1.xyz * g0.w)), 0.0);\n";
+    g.code << "  // Outside the grid's box: every instance is at least the margin farther.\n";
+    g.code << "  if (o != vec3(0.0)) return " << (mat ? "vec2(length(o) + g1.w, inherited)" : "length(o) + g1.w")
+           << ";\n";
+    g.code << "  ivec3 dims = ivec3(g1.xyz);\n  vec3 f = (p - g0.xyz) / g0.w;\n";
+    g.code << "  ivec3 c = clamp(ivec3(floor(f)), ivec3(0), dims - 1);\n";
+    g.code << "  vec4 cell = sd_data[" << gc << " + c.x + dims.x * (c.y + dims.y * c.z)];\n";
+    g.code << "  int count = int(cell.y);\n";
+    g.code << "  if (count < 0 || count > " << visits << ") return " << tree << "(p" << (mat ? ", inherited" : "")
+           << ");\n";
+    g.code << "  // Unlisted instances are at least the reach plus the way to the cell's faces away.\n";
+    g.code << "  vec3 q = f - vec3(c);\n";
+    g.code << "  float face = min(min(min(q.x, q.y), q.z), min(min(1.0 - q.x, 1.0 - q.y), 1.0 - q.z));\n";
+    g.code << "  " << (mat ? "vec2 best = vec2(cell.z + g0.w * max(face, 0.0), inherited);"
+                            : "float best = cell.z + g0.w * max(face, 0.0);")
+           << "\n";
+    g.code << "  int first = int(cell.x);\n";
+    if (options_.with_kernel) {
+      g.code << "  for (int it = loopZero(); it < count; it++) {\n    g_loop_iterations++;\n";
+    } else {
+      g.code << "  for (int it = 0; it < count; it++) {\n";
+    }
+    g.code << "    int e = first + it;\n";
+    if (l.grid_records)
+      g.code << "    int rec = " << ge << " + e;\n";
+    else
+      g.code << "    int rec = " << ib << " + int(sd_data[" << ge << " + (e >> 2)][e & 3]) * " << l.stride << ";\n";
+    if (mat) {
+      g.code << "    vec2 r = " << one << "(p, rec, inherited);\n    if (r.x < best.x) best = r;\n";
+    } else {
+      g.code << "    best = min(best, " << one << "(p, rec));\n";
+    }
+    g.code << "  }\n  return best;\n}\n";
+    functions_ << g.code.str();
   }
 
   // One instance at record `rec`: its placement, then the template.
@@ -523,6 +607,8 @@ class SceneWriter {
                         const std::string& inherited) {
     const InstanceLayout& l = instanceLayout(n);
     const std::string name = (mat ? "sdmi" : "sdi") + std::to_string(l.id);
+    // With a grid the hierarchy is its fallback, under its own name.
+    const std::string tree = l.grid ? name + "_tree" : name;
     if (helper_names_.insert(name).second) {
       needHelper("sdBoxDistance", kBoxDistanceHelper);
       const bool smooth = !n.smooth.isConst() || n.smooth.value > 0;
@@ -540,7 +626,7 @@ class SceneWriter {
              << "], records of " << l.stride << " vec4 at sd_data[" << ib << "].\n";
       g.code << "// Nearest first; a box no nearer than the best so far" << (smooth ? " + k" : "")
              << " is skipped.\n";
-      g.code << (mat ? "vec2 " : "float ") << name << "(vec3 p" << (mat ? ", float inherited" : "") << ") {\n";
+      g.code << (mat ? "vec2 " : "float ") << tree << "(vec3 p" << (mat ? ", float inherited" : "") << ") {\n";
       g.code << "  " << (mat ? "vec2 best = vec2(1e30, inherited);" : "float best = 1e30;") << "\n";
       if (smooth) g.code << "  float k = " << n.smooth.glsl() << ";\n";
       g.code << "  // Stack: node, its box distance, and the least box distance at or below.\n";
@@ -607,6 +693,7 @@ class SceneWriter {
              << ");\n";
       g.code << "  return best;\n}\n";
       functions_ << g.code.str();
+      if (l.grid) gridFunction(n, l, mat, name, one, tree);
       ++function_count_;
     }
     const std::string d = var(f, mat ? "m" : "d");

@@ -21,6 +21,10 @@ class Evaluator {
   glm::dvec3 gradient(const glm::dvec3& p, double h = 1e-6) const;
   // The same for any node (tests evaluate single primitives and operators).
   EvalResult evalNode(const ir::Node& node, const glm::dvec3& p, int inherited) const;
+  // Instance i of an Instances node alone (tests check the grid's bound with it).
+  double instanceDistance(const ir::Node& node, size_t i, const glm::dvec3& p) const {
+    return evalInstance(node, i, p, -1).distance;
+  }
 
  private:
   EvalResult evalInstances(const ir::Node& node, const glm::dvec3& p, int inherited) const;

@@ -1,5 +1,7 @@
 // The IR's text form: stable (fixed precision, fixed field order), so pass
 // tests compare text in with text out and `--emit ir` is readable.
+#include <algorithm>
+#include <cstdio>
 #include <glm/gtc/matrix_access.hpp>
 #include <sstream>
 
@@ -96,7 +98,22 @@ std::string dumpNode(const Node& n, int indent) {
         const InstanceSet& set = *n.instances;
         out << " " << set.size() << " (data form: " << set.origin << "; " << set.nodes.size()
             << " hierarchy nodes, depth " << set.depth << ", per-instance params " << set.param_count
-            << ", transforms " << set.transforms.size() << ")";
+            << ", transforms " << set.transforms.size();
+        if (!set.grid.empty()) {
+          // The grid's shape and how often a cell leaves it to the hierarchy.
+          size_t listed = 0, crowded = 0;
+          for (std::int32_t c : set.grid.count) {
+            if (c < 0) ++crowded;
+            else listed += size_t(c);
+          }
+          const size_t listing = std::max<size_t>(set.grid.cells() - crowded, 1);
+          char buf[160];
+          std::snprintf(buf, sizeof buf, "; grid %dx%dx%d cells of %g, lists of %.2f on average, %zu crowded",
+                        set.grid.dims.x, set.grid.dims.y, set.grid.dims.z, set.grid.cell,
+                        double(listed) / double(listing), crowded);
+          out << buf;
+        }
+        out << ")";
         if (!n.smooth.isConst() || n.smooth.value > 0) out << " smooth=" << n.smooth.text();
         break;
       }

@@ -38,6 +38,30 @@ struct BvhNode {
 
 constexpr std::uint32_t kBvhLeafSize = 4;
 
+// A uniform grid over the set (compiler/passes/instance_grid.cpp): cell c
+// lists the instances whose boxes lie within `reach[c]` of the cell, at most
+// kGridListMax of them, so for p in the cell
+//   d = min(min over the list, reach[c] + distance from p to the cell's faces)
+// is a lower bound on the set's distance, and exact where the nearest instance
+// is listed. count[c] < 0: too many instances crowd the cell; the hierarchy
+// answers there. Outside the grid's box every instance is at least `margin`
+// farther than the box.
+constexpr int kGridListMax = 8;
+
+struct InstanceGrid {
+  glm::dvec3 lo{0};
+  double cell = 0;           // edge of the cubic cells
+  glm::ivec3 dims{0};        // cells per axis; the grid's box is lo + dims * cell
+  double margin = 0;
+  std::vector<std::uint32_t> first;  // per cell: its list's start in `entries`
+  std::vector<std::int32_t> count;   // per cell: list length, -1: use the hierarchy
+  std::vector<double> reach;         // per cell
+  std::vector<std::uint32_t> entries;  // instance indices (leaf order)
+
+  bool empty() const { return count.empty(); }
+  size_t cells() const { return count.size(); }
+};
+
 struct InstanceSet {
   std::vector<Instance> instances;  // in leaf order once the hierarchy is built
   std::vector<InstanceTransform> transforms;
@@ -47,6 +71,7 @@ struct InstanceSet {
   std::vector<double> params;
   std::vector<BvhNode> nodes;
   int depth = 0;          // levels of the hierarchy (root alone = 1)
+  InstanceGrid grid;      // empty when not built (smooth sets, or too big)
   std::string origin;     // what it was formed from, for --emit ir
 
   size_t size() const { return instances.size(); }

@@ -169,9 +169,13 @@ class Analyzer {
   void instances(ir::Node& n) {
     ir::InstanceSet& set = *n.instances;
     const ir::Node& templ = *n.children[0];
-    if (set.nodes.empty() && set.size() > 0) buildInstanceHierarchy(set, templ);
-    n.bounds = set.nodes.empty() ? Aabb{} : set.nodes[0].box;
     const bool smooth = !n.smooth.isConst() || n.smooth.value > 0;
+    if (set.nodes.empty() && set.size() > 0) {
+      buildInstanceHierarchy(set, templ);
+      // A blend needs every copy within best + k: the grid's lists do not promise that.
+      if (!smooth) buildInstanceGrid(set, templ);
+    }
+    n.bounds = set.nodes.empty() ? Aabb{} : set.nodes[0].box;
     if (smooth && n.bounds.finite()) n.bounds = n.bounds.grow(upper(n.smooth) / 4);
     n.exact = templ.exact && !smooth;
     // A torus with per-instance parameters may be a spindle somewhere.

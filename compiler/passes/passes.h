@@ -6,6 +6,7 @@
 //                  volumes and step scaling need).
 //  deriveMarchLimits: max distance, step budget and hit epsilon per scene.
 #pragma once
+#include <functional>
 #include "diag/diagnostics.h"
 #include "ir/scene.h"
 
@@ -21,6 +22,12 @@ struct InstancingOptions {
 void formInstances(ir::Scene& scene, const InstancingOptions& options);
 // The hierarchy over an instance set (analyze builds it once bounds are known).
 void buildInstanceHierarchy(ir::InstanceSet& set, const ir::Node& templ);
+// The grid over an instance set (passes/instance_grid.cpp; left empty when it
+// would not pay), and its bound at p in float64 given each instance's distance
+// (NaN where the cell defers to the hierarchy): what the shader computes.
+void buildInstanceGrid(ir::InstanceSet& set, const ir::Node& templ);
+double instanceGridBound(const ir::InstanceSet& set, const glm::dvec3& p,
+                         const std::function<double(size_t)>& distance_of);
 // The box holding b mapped by p -> m * p + t (infinite and empty boxes stay so).
 Aabb transformBox(const Aabb& b, const glm::dmat3& m, const glm::dvec3& t);
 Aabb instanceLocalBounds(const ir::InstanceSet& set, size_t i, const ir::Node& templ);

@@ -1,0 +1,164 @@
+// A uniform grid over an instance set (ir::InstanceGrid): one lookup and a
+// list of at most kGridListMax instances per evaluation, instead of a
+// root-to-leaf descent of the hierarchy whose visits grow with log(count) and
+// whose loose, overlapping boxes in dense clouds cost many sibling visits.
+//
+// Why the bound holds (docs/large_scenes.md): cell C lists every instance i
+// with dist(C, box_i) < reach, and every instance left out has
+// dist(C, box_i) >= reach, so box_i misses the interior of C grown by the
+// ball of radius reach, and for p in C
+//   dist(p, shape_i) >= dist(p, box_i) >= reach + dist(p, faces of C).
+// Outside the grid's box G = bounds grown by `margin` on every side,
+// dist(p, bounds) >= dist(p, G) + margin (per axis the excess over the bounds
+// is the excess over G plus margin; the sum of squares only grows).
+#include <algorithm>
+#include <cmath>
+
+#include "passes/passes.h"
+
+namespace sdfc {
+namespace {
+
+using glm::dvec3;
+
+// Cells per instance (about one instance per cell keeps lists short) and the
+// reach a cell aims for, in cells: larger steps in empty space against longer
+// lists.
+constexpr double kCellsPerInstance = 1.0;
+constexpr double kReachInCells = 0.5;
+// Floats index the lists on the GPU: exact below 2^24.
+constexpr size_t kMaxIndex = (size_t(1) << 24) - 1;
+
+double boxBoxDistance(const Aabb& a, const Aabb& b) {
+  const dvec3 gap = glm::max(glm::max(a.lo - b.hi, b.lo - a.hi), dvec3(0));
+  return glm::length(gap);
+}
+
+}  // namespace
+
+void buildInstanceGrid(ir::InstanceSet& set, const ir::Node& templ) {
+  ir::InstanceGrid& g = set.grid;
+  g = ir::InstanceGrid{};
+  const size_t n = set.size();
+  if (n == 0) return;
+  std::vector<Aabb> boxes(n);
+  std::vector<double> sizes(n);
+  Aabb bounds;
+  for (size_t i = 0; i < n; ++i) {
+    boxes[i] = instanceBounds(set, i, templ);
+    if (!boxes[i].finite()) return;
+    bounds = bounds.unite(boxes[i]);
+    const dvec3 e = boxes[i].hi - boxes[i].lo;
+    sizes[i] = std::max({e.x, e.y, e.z});
+  }
+  std::nth_element(sizes.begin(), sizes.begin() + n / 2, sizes.end());
+  const double typical = std::max(sizes[n / 2], 1e-9);
+  // Cubic cells, about kCellsPerInstance per instance over the bounds (each
+  // axis counted at least one typical instance wide), never smaller than a
+  // typical instance.
+  const dvec3 extent = glm::max(bounds.hi - bounds.lo, dvec3(typical));
+  double cell = std::max(std::cbrt(extent.x * extent.y * extent.z / (kCellsPerInstance * double(n))), typical);
+  const double max_cells = std::min<double>(4.0 * double(n) + 4096, double(kMaxIndex));
+  glm::dvec3 dims;
+  for (;;) {
+    g.margin = kReachInCells * cell;
+    dims = glm::ceil((bounds.hi - bounds.lo + 2.0 * g.margin) / cell);
+    if (dims.x * dims.y * dims.z <= max_cells) break;
+    cell *= 1.25;
+  }
+  g.cell = cell;
+  g.dims = glm::ivec3(dims);
+  g.lo = bounds.lo - g.margin;
+  const double reach = g.margin;
+  const size_t cells = size_t(g.dims.x) * g.dims.y * g.dims.z;
+
+  // Candidates: instances whose box grown by `reach` (a box, so a superset of
+  // the ball) overlaps the cell, counted then filled (one array, no per-cell
+  // vectors: a million cells).
+  auto cellRange = [&](const Aabb& b, glm::ivec3& c0, glm::ivec3& c1) {
+    c0 = glm::clamp(glm::ivec3(glm::floor((b.lo - reach - g.lo) / cell)), glm::ivec3(0), g.dims - 1);
+    c1 = glm::clamp(glm::ivec3(glm::floor((b.hi + reach - g.lo) / cell)), glm::ivec3(0), g.dims - 1);
+  };
+  auto cellIndex = [&](int x, int y, int z) { return size_t(x) + size_t(g.dims.x) * (size_t(y) + size_t(g.dims.y) * z); };
+  std::vector<std::uint32_t> cand_first(cells + 1, 0);
+  size_t total = 0;
+  for (size_t i = 0; i < n; ++i) {
+    glm::ivec3 c0, c1;
+    cellRange(boxes[i], c0, c1);
+    const size_t touched = size_t(c1.x - c0.x + 1) * (c1.y - c0.y + 1) * (c1.z - c0.z + 1);
+    total += touched;
+    // A few huge instances over a fine grid: not worth the memory.
+    if (total > 64 * n + (size_t(1) << 20)) return;
+    for (int z = c0.z; z <= c1.z; ++z)
+      for (int y = c0.y; y <= c1.y; ++y)
+        for (int x = c0.x; x <= c1.x; ++x) cand_first[cellIndex(x, y, z) + 1]++;
+  }
+  for (size_t c = 0; c < cells; ++c) cand_first[c + 1] += cand_first[c];
+  std::vector<std::uint32_t> cand(total), fill(cand_first.begin(), cand_first.end() - 1);
+  for (size_t i = 0; i < n; ++i) {
+    glm::ivec3 c0, c1;
+    cellRange(boxes[i], c0, c1);
+    for (int z = c0.z; z <= c1.z; ++z)
+      for (int y = c0.y; y <= c1.y; ++y)
+        for (int x = c0.x; x <= c1.x; ++x) cand[fill[cellIndex(x, y, z)]++] = std::uint32_t(i);
+  }
+  fill = {};
+
+  g.first.resize(cells);
+  g.count.resize(cells);
+  g.reach.resize(cells);
+  std::vector<std::pair<double, std::uint32_t>> near;
+  for (int z = 0; z < g.dims.z; ++z)
+    for (int y = 0; y < g.dims.y; ++y)
+      for (int x = 0; x < g.dims.x; ++x) {
+        const size_t c = cellIndex(x, y, z);
+        const dvec3 lo = g.lo + dvec3(x, y, z) * cell;
+        const Aabb box{lo, lo + cell};
+        near.clear();
+        for (std::uint32_t k = cand_first[c]; k < cand_first[c + 1]; ++k) {
+          const double d = boxBoxDistance(box, boxes[cand[k]]);
+          if (d < reach) near.push_back({d, cand[k]});
+        }
+        std::sort(near.begin(), near.end());
+        double r = reach;
+        size_t keep = near.size();
+        if (keep > size_t(ir::kGridListMax)) {
+          // The nearest kGridListMax; the rest are at least as far as the first left out.
+          r = near[ir::kGridListMax].first;
+          keep = ir::kGridListMax;
+          while (keep > 0 && near[keep - 1].first >= r) --keep;
+        }
+        g.first[c] = static_cast<std::uint32_t>(g.entries.size());
+        g.reach[c] = r;
+        // More than kGridListMax boxes touch the cell: its reach is 0 and the
+        // steps in it would never leave it. The hierarchy answers there. (A
+        // small reach only makes small steps: still right, unlike a hierarchy
+        // that runs out of visits and returns a box distance.)
+        if (!(r > 0)) {
+          g.count[c] = -1;
+          continue;
+        }
+        g.count[c] = static_cast<std::int32_t>(keep);
+        for (size_t k = 0; k < keep; ++k) g.entries.push_back(near[k].second);
+      }
+  if (g.entries.size() > kMaxIndex) g = ir::InstanceGrid{};
+}
+
+double instanceGridBound(const ir::InstanceSet& set, const glm::dvec3& p,
+                         const std::function<double(size_t)>& distance_of) {
+  const ir::InstanceGrid& g = set.grid;
+  const dvec3 hi = g.lo + dvec3(g.dims) * g.cell;
+  const dvec3 outside = glm::max(glm::max(g.lo - p, p - hi), dvec3(0));
+  if (outside != dvec3(0)) return glm::length(outside) + g.margin;
+  const dvec3 f = (p - g.lo) / g.cell;
+  const glm::ivec3 c = glm::clamp(glm::ivec3(glm::floor(f)), glm::ivec3(0), g.dims - 1);
+  const size_t index = size_t(c.x) + size_t(g.dims.x) * (size_t(c.y) + size_t(g.dims.y) * c.z);
+  if (g.count[index] < 0) return std::nan("");
+  const dvec3 lo = g.lo + dvec3(c) * g.cell;
+  const dvec3 in = glm::min(p - lo, lo + g.cell - p);
+  double best = g.reach[index] + std::max(0.0, std::min({in.x, in.y, in.z}));
+  for (std::int32_t k = 0; k < g.count[index]; ++k) best = std::min(best, distance_of(g.entries[g.first[index] + k]));
+  return best;
+}
+
+}  // namespace sdfc
