@@ -56,7 +56,7 @@ def main():
         w.writerows(rows)
     med = {d: {k: statistics.median(r[k] for r in rows if r["driver"] == d and r[k] is not None)
                for k in ("spp_per_s", "pipeline_ms", "wall_s")} for d in drivers}
-    print(f"castle {args.size}, {args.spp} spp, {args.reps} reps each, interleaved, medians:")
+    print(f"{os.path.basename(args.scene)} {args.size}, {args.spp} spp, {args.reps} reps each, interleaved, medians:")
     first = med[drivers[0]]
     for d in drivers:
         m = med[d]

@@ -31,6 +31,8 @@ void registerCommands(CLI::App& app, CommandLine& cl) {
   auto emit_flags = [&](CLI::App* sub) {
     sub->add_flag("--no-bounds", cl.no_bounds, "do not skip subtrees by their bounding volumes");
     sub->add_flag("--no-fuse", cl.no_fuse, "do not fuse transform chains");
+    sub->add_flag("--no-analytic-spheres", cl.no_analytic_spheres,
+                  "march top-level spheres instead of intersecting them in closed form");
     sub->add_flag("-O,--optimize", cl.optimize, "run spirv-opt's performance passes");
     sub->add_flag("--paper-baseline", cl.paper_baseline,
                   "march like the paper: fixed epsilon 1e-3, 256 steps, max distance 100, no scene box");

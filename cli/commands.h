@@ -32,6 +32,7 @@ struct CommandLine {
   int instance_threshold = 32;  // see passes/instancing.cpp; 0 = always inline
   bool force_bounds = false;  // render: bounds even on a CPU device
   bool no_fuse = false;
+  bool no_analytic_spheres = false;
   bool optimize = false;
   bool paper_baseline = false;
   bool white_noise = false;

@@ -55,7 +55,10 @@ int main(int argc, char** argv) {
       setenv("SDFC_DRIVER", driverChoiceName(choice), 1);
       selectDriver(choice);
     }
-    if (cl.command == "view") return view::runView(cl);
+    if (cl.command == "view") {
+      selectedDriver();  // before GLFW's first Vulkan loader call
+      return view::runView(cl);
+    }
     return runCommand(cl);
   } catch (const RuntimeError& e) {
     std::cerr << "sdfc: error: device: " << e.what() << "\n";

@@ -227,22 +227,24 @@ const vec3 kSceneBoxHi = vec3(0.750012183, 1.55001218, 0.750012183);
 const vec3 kSunDir = vec3(0.336860768, 0.842151921, 0.421075961);
 const float kSunCosAngle = 0.998629535;
 const vec3 kSunRadiance = vec3(139.358464);
-// Planes intersected analytically (dot(p, n) <= offset is solid).
-const int kNumPlanes = 1;
-const vec4 kPlanes[kNumPlanes] = vec4[](vec4(0.0, 1.0, 0.0, 0.0));  // line 12
-const int kPlaneMaterial[kNumPlanes] = int[](0);
-// Nearest hit on a plane from outside its solid, or 3e38; `index` names it.
+// Surfaces intersected analytically (line 12): planes (dot(p, n) <= offset is solid), then spheres.
+// Nearest hit from outside a solid, or 3e38; `index` names it.
 float sdPlanesHit(vec3 ro, vec3 rd, out int index) {
   float t = 3.0e38;
   index = -1;
   {
-    float c = dot(rd, kPlanes[0].xyz), h = dot(ro, kPlanes[0].xyz) - kPlanes[0].w;
+    float c = dot(rd, vec3(0.0, 1.0, 0.0)), h = dot(ro, vec3(0.0, 1.0, 0.0)) - 0.0;
     if (c < 0.0 && h > 0.0 && -h / c < t) {
       t = -h / c;
       index = 0;
     }
   }
   return t;
+}
+vec3 sdAnalyticNormal(int index, vec3 p, out int material) {
+  if (index == 0) { material = 0; return vec3(0.0, 1.0, 0.0); }
+  material = 0;
+  return vec3(0.0, 1.0, 0.0);
 }
 
 // ---- scene helpers and primitives (only those the scene uses) ----
@@ -312,12 +314,13 @@ const int kRefineSteps = 2;
 // Out of steps is not a miss when the ray is still closing in (a grazing ray
 // crawling along a face): it hits at its secant root, or at its first stop. Its
 // steps reach kSceneMaxSteps, which sdfc counts on the AOV ray and warns about.
-// The analytic plane (kPlanes) the last march() stopped on, or -1.
+// The analytic surface (a plane or sphere, sdPlanesHit) the last march() stopped on, or -1.
 int g_plane_hit = -1;
 // |distance| at the point the last march() returned: how far it may lie off the surface.
 float g_hit_offness = 0.0;
 float march(vec3 ro, vec3 rd, float t_max, float side, out int steps) {
-  // Planes are not in sdScene: intersect them here and march no farther.
+  // Analytic planes and spheres are not in sdScene: intersect them here and
+  // march no farther.
   g_plane_hit = -1;
   // An analytic hit counts at any distance short of the ray's end; only the
   // marched part is limited to the scene's reach (kSceneMaxDist).
@@ -624,8 +627,9 @@ vec3 tracePath(vec3 ro, vec3 rd, int max_bounces, bool record_aov) {
     vec3 n;
     Material m;
     if (g_plane_hit >= 0) {
-      n = kPlanes[g_plane_hit].xyz;
-      m = sdMaterial(kPlaneMaterial[g_plane_hit]);
+      int analytic_material;
+      n = sdAnalyticNormal(g_plane_hit, p, analytic_material);
+      m = sdMaterial(analytic_material);
     } else
     {
       vec3 material_point;

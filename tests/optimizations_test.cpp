@@ -244,5 +244,86 @@ scene {
   EXPECT_EQ(validationMessageCount(), 0);
 }
 
+
+// Spheres directly in the scene (bare or under a rigid transform and uniform
+// scale) are intersected in closed form like planes: sdScene leaves them out,
+// emissive spheres and any sphere in a scene with glass stay marched, the loop
+// work falls, and the image
+// and its depth/normal AOVs match the marched ones (tests/accuracy_test.cpp
+// checks them against an exact ray caster).
+TEST(Optimizations, SpheresAreIntersectedAnalyticallyNotMarched) {
+  const std::string scene = R"(
+camera(position: [0, 2, 9], target: [0, 0.5, 0], fov: 40)
+sky(color: [0.8, 0.85, 0.9])
+scene {
+  plane(normal: [0, 1, 0])
+  translate([-1, 0.6, 0]) { sphere(radius: 0.6, material: metal(albedo: [0.9, 0.8, 0.6], roughness: 0.3)) }
+  translate([1.2, 0.5, 0]) { rotate(axis: [0, 1, 1], degrees: 40) { scale(0.5) { sphere(radius: 1) } } }
+  translate([0, 0.3, 1.5]) { box(size: 0.6) }
+}
+)";
+  CompileOptions analytic, marched;
+  marched.emit.analytic_spheres = false;
+  analytic.emit.march.image_height = marched.emit.march.image_height = 48;
+  const CompiledScene with = compileText(scene, analytic), without = compileText(scene, marched);
+  EXPECT_EQ(functionBody(with.emitted.glsl, "float sdScene(vec3 p)").find("sdSphere("), std::string::npos);
+  EXPECT_NE(functionBody(without.emitted.glsl, "float sdScene(vec3 p)").find("sdSphere("), std::string::npos);
+  EXPECT_NE(functionBody(with.emitted.glsl, "float sdScene(vec3 p)").find("sdBox("), std::string::npos);
+  for (const char* kept : {"scene { sphere(radius: 1, material: glass(ior: 1.5)) }",
+                           "scene { sphere(radius: 1, material: emissive(color: [1, 1, 1], strength: 2)) }",
+                           "scene { scale([1, 2, 1]) { sphere(radius: 1) } }",
+                           "scene { sphere(radius: 1) translate([0, 1.5, 0]) { box(size: 1, material: glass(ior: 1.5)) } }",
+                           "scene { union { sphere(radius: 1) box(size: 1) } }"})
+    EXPECT_NE(functionBody(compileText(kept).emitted.glsl, "float sdScene(vec3 p)").find("sdSphere("),
+              std::string::npos)
+        << kept;
+
+  VulkanContext context;
+  createContext(context);
+  RenderOverrides o;
+  o.width = 64;
+  o.height = 48;
+  auto render = [&](const CompiledScene& c, int view, uint32_t spp, uint32_t seed) {
+    Renderer renderer(context, c.spirv);
+    RenderOverrides v = o;
+    v.view = view;
+    v.spp = spp;
+    v.seed = seed;
+    v.bounces = view == gpu::kViewIterations ? 1 : 3;
+    return renderer.render(cameraFor(c.scene), renderSettingsFor(c, v));
+  };
+  auto mean = [](const FloatImage& img) {
+    double sum = 0;
+    for (uint32_t i = 0; i < img.width * img.height; ++i) sum += img.rgba[i * 4];
+    return sum / (img.width * img.height);
+  };
+  const double work_with = mean(render(with, gpu::kViewIterations, 1, 0).color);
+  const double work_without = mean(render(without, gpu::kViewIterations, 1, 0).color);
+  std::printf("[ spheres  ] loop iterations per pixel: %.1f analytic, %.1f marched\n", work_with, work_without);
+  EXPECT_LT(work_with, work_without) << "loop iterations per pixel";
+  const RenderOutput a = render(with, gpu::kViewBeauty, 16, 0), b = render(without, gpu::kViewBeauty, 16, 0);
+  const FloatImage b2 = render(without, gpu::kViewBeauty, 16, 1).color;
+  EXPECT_LE(relMse(a.color, b.color), 0.5 * relMse(b2, b.color)) << "analytic spheres changed the image";
+  // First-hit AOVs: the same surface at each pixel, to the march's hit band.
+  int depth_off = 0, normal_off = 0, hits = 0;
+  for (uint32_t i = 0; i < a.normal_depth.width * a.normal_depth.height; ++i) {
+    const float* na = &a.normal_depth.rgba[i * 4];
+    const float* nb = &b.normal_depth.rgba[i * 4];
+    if (na[3] < 0 || nb[3] < 0) {
+      depth_off += (na[3] < 0) != (nb[3] < 0);
+      continue;
+    }
+    ++hits;
+    depth_off += std::fabs(na[3] - nb[3]) > 1e-3f * std::max(1.0f, nb[3]);
+    normal_off += na[0] * nb[0] + na[1] * nb[1] + na[2] * nb[2] < std::cos(glm::radians(2.0f));
+  }
+  std::printf("[ spheres  ] %d first hits: depth off %d, normal off by > 2 deg %d\n", hits, depth_off, normal_off);
+  EXPECT_GT(hits, 0);
+  EXPECT_LE(depth_off, hits / 200) << "first-hit depth differs from the marched sphere";
+  EXPECT_LE(normal_off, hits / 200) << "first-hit normal differs from the marched sphere";
+  destroyContext(context);
+  EXPECT_EQ(validationMessageCount(), 0);
+}
+
 }  // namespace
 }  // namespace sdfc

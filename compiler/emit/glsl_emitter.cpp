@@ -130,6 +130,7 @@ class SceneWriter {
         root.smooth.isConst() && root.smooth.value == 0) {
       std::vector<ir::NodeRef> kept;
       for (const ir::NodeRef& c : root.children) {
+        if (options_.analytic_spheres && spheres_.size() < 8 && takeSphere(*c, root.material)) continue;
         bool constant = c->kind == ir::NodeKind::Primitive && c->primitive == PrimitiveKind::Plane &&
                         c->definition.empty();
         for (const ir::Scalar& a : c->args) constant = constant && a.isConst();
@@ -141,7 +142,7 @@ class SceneWriter {
         const int material = c->material >= 0 ? c->material : std::max(root.material, 0);
         planes_.push_back({n, c->args[3].value, material, c->range.line()});
       }
-      if (!planes_.empty()) {
+      if (!planes_.empty() || !spheres_.empty()) {
         root.children = kept;
         if (kept.empty()) {
           // Nothing left to march: a primitive far outside the view stands in.
@@ -183,7 +184,7 @@ class SceneWriter {
     // The marched part's box: the root's bounds, or with planes taken out,
     // the union of what is left (the far placeholder has none: no box).
     Aabb box = root.bounds;
-    if (!planes_.empty()) {
+    if (!planes_.empty() || !spheres_.empty()) {
       box = Aabb();
       for (const ir::NodeRef& c : root.children) box = box.unite(c->bounds);
     }
@@ -208,29 +209,7 @@ class SceneWriter {
           << glslFloat(b.hi.z) << ");\n";
     }
     lights(out);
-    if (!planes_.empty()) {
-      out << "// Planes intersected analytically (dot(p, n) <= offset is solid).\n";
-      out << "const int kNumPlanes = " << planes_.size() << ";\n";
-      out << "const vec4 kPlanes[kNumPlanes] = vec4[](";
-      for (size_t i = 0; i < planes_.size(); ++i)
-        out << (i ? ", " : "") << "vec4(" << glslFloat(planes_[i].normal.x) << ", " << glslFloat(planes_[i].normal.y)
-            << ", " << glslFloat(planes_[i].normal.z) << ", " << glslFloat(planes_[i].offset) << ")";
-      out << ");  // line";
-      for (const auto& pl : planes_) out << " " << pl.line;
-      out << "\nconst int kPlaneMaterial[kNumPlanes] = int[](";
-      for (size_t i = 0; i < planes_.size(); ++i) out << (i ? ", " : "") << planes_[i].material;
-      out << ");\n";
-      // Straight-line code, not a loop: loops count against lavapipe's cap.
-      out << "// Nearest hit on a plane from outside its solid, or 3e38; `index` names it.\n";
-      out << "float sdPlanesHit(vec3 ro, vec3 rd, out int index) {\n  float t = 3.0e38;\n  index = -1;\n";
-      for (size_t i = 0; i < planes_.size(); ++i) {
-        const std::string k = "kPlanes[" + std::to_string(i) + "]";
-        out << "  {\n    float c = dot(rd, " << k << ".xyz), h = dot(ro, " << k << ".xyz) - " << k << ".w;\n"
-            << "    if (c < 0.0 && h > 0.0 && -h / c < t) {\n      t = -h / c;\n      index = " << i
-            << ";\n    }\n  }\n";
-      }
-      out << "  return t;\n}\n";
-    }
+    if (hasAnalyticPlanes()) analyticSurfaces(out);
     if (!data_.empty()) {
       out << "\n// Instance hierarchies and records (the runtime binds the compiler's scene data).\n";
       out << "layout(std430, set = 0, binding = 0) readonly buffer SdfcSceneData { vec4 sd_data[]; };\n";
@@ -262,10 +241,98 @@ class SceneWriter {
     int line;
   };
   std::vector<AnalyticPlane> planes_;
+  struct AnalyticSphere {
+    dvec3 center;
+    double radius;
+    int material;
+    int line;
+  };
+  std::vector<AnalyticSphere> spheres_;
   bool has_scene_box_ = false;
 
+  // A top-level sphere with constant radius, bare or under one Affine that is
+  // a similarity (scale * linear orthonormal), of a non-emissive material in a
+  // scene without glass: recorded in spheres_ (true) or left to the march (false).
+  bool takeSphere(const ir::Node& c, int root_material) {
+    const ir::Node* sphere = &c;
+    dvec3 center(0.0);
+    double radius_scale = 1.0;
+    int material = c.material;
+    if (c.kind == ir::NodeKind::Affine && c.children.size() == 1 && c.definition.empty()) {
+      sphere = c.children[0].get();
+      // local = linear * p + offset, d = scale * child(local): a sphere of
+      // radius scale * r about linear^-1 * (-offset) when scale * linear is a rotation.
+      const glm::dmat3 rotation = c.linear * c.scale;
+      const glm::dmat3 gram = glm::transpose(rotation) * rotation;
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+          if (std::abs(gram[i][j] - (i == j ? 1.0 : 0.0)) > 1e-9) return false;
+      center = glm::inverse(c.linear) * -c.offset;
+      radius_scale = c.scale;
+      if (sphere->material >= 0) material = sphere->material;
+    }
+    if (sphere->kind != ir::NodeKind::Primitive || sphere->primitive != PrimitiveKind::Sphere ||
+        !sphere->definition.empty() || sphere->args.size() != 1 || !sphere->args[0].isConst())
+      return false;
+    if (material < 0) material = std::max(root_material, 0);
+    if (material < static_cast<int>(scene_.materials.size()) &&
+        scene_.materials[material].model == ir::MaterialModel::Emissive)
+      return false;
+    // A ray inside marched glass (march side -1) does not see analytic
+    // surfaces: glass touching or overlapping the sphere would let it through.
+    for (const ir::Material& m : scene_.materials)
+      if (m.model == ir::MaterialModel::Glass) return false;
+    const double radius = sphere->args[0].value * radius_scale;
+    if (!(radius > 0) || !std::isfinite(radius)) return false;
+    spheres_.push_back({center, radius, material, c.range.line()});
+    return true;
+  }
+
+  // sdPlanesHit (the nearest analytic surface the ray enters, index: planes
+  // first, then spheres) and sdAnalyticNormal (its normal and material).
+  // Straight-line code, not loops: loops count against lavapipe's cap.
+  void analyticSurfaces(std::ostream& out) const {
+    out << "// Surfaces intersected analytically (line";
+    for (const auto& pl : planes_) out << " " << pl.line;
+    for (const auto& sp : spheres_) out << " " << sp.line;
+    out << "): planes (dot(p, n) <= offset is solid), then spheres.\n";
+    out << "// Nearest hit from outside a solid, or 3e38; `index` names it.\n";
+    out << "float sdPlanesHit(vec3 ro, vec3 rd, out int index) {\n  float t = 3.0e38;\n  index = -1;\n";
+    int index = 0;
+    for (const auto& pl : planes_) {
+      const std::string n = vec3Literal(pl.normal);
+      out << "  {\n    float c = dot(rd, " << n << "), h = dot(ro, " << n << ") - " << glslFloat(pl.offset)
+          << ";\n    if (c < 0.0 && h > 0.0 && -h / c < t) {\n      t = -h / c;\n      index = " << index++
+          << ";\n    }\n  }\n";
+    }
+    for (const auto& sp : spheres_) {
+      // From outside (c > 0) and heading in (b < 0): the near root. A ray
+      // leaving the surface it starts on has b >= 0 and no hit. In float32,
+      // b * b - c loses r^2 next to |oc|^2 for a far sphere: the discriminant is
+      // r^2 minus the squared distance from the centre to the ray (Haines et al.,
+      // "Precision improvements for ray/sphere intersection", Ray Tracing Gems
+      // 2019, ch. 7), and the near root c / q avoids -b - sqrt(disc)'s cancellation.
+      out << "  {\n    vec3 oc = ro - " << vec3Literal(sp.center) << ";\n    float b = dot(oc, rd), c = dot(oc, oc) - "
+          << glslFloat(sp.radius * sp.radius) << ";\n    vec3 f = oc - b * rd;\n    float disc = "
+          << glslFloat(sp.radius * sp.radius) << " - dot(f, f);\n"
+          << "    if (b < 0.0 && c > 0.0 && disc >= 0.0) {\n      float ts = c / (-b + sqrt(disc));\n"
+          << "      if (ts < t) {\n        t = ts;\n        index = " << index << ";\n      }\n    }\n  }\n";
+      ++index;
+    }
+    out << "  return t;\n}\n";
+    out << "vec3 sdAnalyticNormal(int index, vec3 p, out int material) {\n";
+    index = 0;
+    for (const auto& pl : planes_)
+      out << "  if (index == " << index++ << ") { material = " << pl.material << "; return "
+          << vec3Literal(pl.normal) << "; }\n";
+    for (const auto& sp : spheres_)
+      out << "  if (index == " << index++ << ") { material = " << sp.material << "; return normalize(p - "
+          << vec3Literal(sp.center) << "); }\n";
+    out << "  material = 0;\n  return vec3(0.0, 1.0, 0.0);\n}\n";
+  }
+
  public:
-  bool hasAnalyticPlanes() const { return !planes_.empty(); }
+  bool hasAnalyticPlanes() const { return !planes_.empty() || !spheres_.empty(); }
   bool hasSceneBox() const { return has_scene_box_; }
 
  private:

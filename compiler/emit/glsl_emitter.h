@@ -42,6 +42,11 @@ struct EmitOptions {
   // Planes directly in the scene are intersected analytically by the kernel
   // (kernel emission only: sdScene then leaves them out).
   bool analytic_planes = true;
+  // So are spheres there (bare or under a translate/rotate/uniform scale) of a
+  // non-emissive material in a scene without glass: a ray marching inside glass
+  // does not see analytic surfaces, and a light needs its own surface for
+  // shadow rays.
+  bool analytic_spheres = true;
   // A finite marched part gets a bounding box: march() only steps where the
   // ray is inside it, so rays that miss or leave the scene stop at once
   // (kernel emission only).

@@ -42,14 +42,15 @@ const int kRefineSteps = 2;
 // crawling along a face): it hits at its secant root, or at its first stop. Its
 // steps reach kSceneMaxSteps, which sdfc counts on the AOV ray and warns about.
 #ifdef SDFC_HAS_PLANES
-// The analytic plane (kPlanes) the last march() stopped on, or -1.
+// The analytic surface (a plane or sphere, sdPlanesHit) the last march() stopped on, or -1.
 int g_plane_hit = -1;
 #endif
 // |distance| at the point the last march() returned: how far it may lie off the surface.
 float g_hit_offness = 0.0;
 float march(vec3 ro, vec3 rd, float t_max, float side, out int steps) {
 #ifdef SDFC_HAS_PLANES
-  // Planes are not in sdScene: intersect them here and march no farther.
+  // Analytic planes and spheres are not in sdScene: intersect them here and
+  // march no farther.
   g_plane_hit = -1;
   // An analytic hit counts at any distance short of the ray's end; only the
   // marched part is limited to the scene's reach (kSceneMaxDist).
@@ -482,8 +483,9 @@ vec3 tracePath(vec3 ro, vec3 rd, int max_bounces, bool record_aov) {
     Material m;
 #ifdef SDFC_HAS_PLANES
     if (g_plane_hit >= 0) {
-      n = kPlanes[g_plane_hit].xyz;
-      m = sdMaterial(kPlaneMaterial[g_plane_hit]);
+      int analytic_material;
+      n = sdAnalyticNormal(g_plane_hit, p, analytic_material);
+      m = sdMaterial(analytic_material);
     } else
 #endif
     {
