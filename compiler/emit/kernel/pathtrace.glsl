@@ -712,8 +712,7 @@ void main() {
     int material = 0;
 #ifdef SDFC_HAS_PLANES
     if (g_plane_hit >= 0) {
-      normal = kPlanes[g_plane_hit].xyz;
-      material = kPlaneMaterial[g_plane_hit];
+      normal = sdAnalyticNormal(g_plane_hit, ro + rd * t, material);
     } else
 #endif
     {
