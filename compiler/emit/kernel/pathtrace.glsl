@@ -245,6 +245,21 @@ float raySphere(vec3 ro, vec3 rd, vec4 s) {
   if (t <= 0.0) t = -b + h;
   return t > 0.0 ? t : -1.0;
 }
+
+// Sphere lights are not in sdScene: the nearest one the ray meets before
+// t_near (-1 if none), which then becomes its distance.
+int nearestSphereLight(vec3 ro, vec3 rd, inout float t_near) {
+  int hit = -1;
+  for (int j = loopZero(); j < kNumSphereLights; j++) {
+    g_loop_iterations++;
+    float tj = raySphere(ro, rd, kSphereLights[j]);
+    if (tj > 0.0 && tj < t_near) {
+      t_near = tj;
+      hit = j;
+    }
+  }
+  return hit;
+}
 #endif
 
 // Light sampling, BSDFs and the path tracer: the beauty (and iterations) kernel only.
@@ -445,17 +460,8 @@ vec3 tracePath(vec3 ro, vec3 rd, int max_bounces, bool record_aov) {
     int steps;
     float t = march(ro, rd, 3.0e38, side, steps);
 #ifdef SDFC_HAS_SPHERE_LIGHTS
-    // Sphere lights are not in sdScene: test them analytically, nearest wins.
-    int light_hit = -1;
     float t_light = t < 0.0 ? 3.0e38 : t;
-    for (int j = loopZero(); j < kNumSphereLights; j++) {
-      g_loop_iterations++;
-      float tj = raySphere(ro, rd, kSphereLights[j]);
-      if (tj > 0.0 && tj < t_light) {
-        t_light = tj;
-        light_hit = j;
-      }
-    }
+    int light_hit = nearestSphereLight(ro, rd, t_light);
     if (light_hit >= 0) {
       if (record_aov && depth == 0) {
         g_aov_normal = normalize(ro + rd * t_light - kSphereLights[light_hit].xyz);
@@ -691,16 +697,8 @@ void main() {
   float dist = -1.0;
   vec3 albedo = vec3(0.0);
 #ifdef SDFC_HAS_SPHERE_LIGHTS
-  int light_hit = -1;
   float t_light = t < 0.0 ? 3.0e38 : t;
-  for (int j = loopZero(); j < kNumSphereLights; j++) {
-    g_loop_iterations++;
-    float tj = raySphere(ro, rd, kSphereLights[j]);
-    if (tj > 0.0 && tj < t_light) {
-      t_light = tj;
-      light_hit = j;
-    }
-  }
+  int light_hit = nearestSphereLight(ro, rd, t_light);
   if (light_hit >= 0) {
     normal = normalize(ro + rd * t_light - kSphereLights[light_hit].xyz);
     dist = t_light;
