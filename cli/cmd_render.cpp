@@ -95,14 +95,10 @@ int runRender(const CommandLine& cl) {
   imageFormatFromPath(cl.output);
   checkWritablePath(times.size() > 1 ? farm::framePath(cl.output, 0) : cl.output);
 
-  VulkanContext context;
   ContextOptions context_options;
   context_options.device_index = cl.device;
-  createContext(context, context_options);
-  struct ContextGuard {
-    VulkanContext& c;
-    ~ContextGuard() { destroyContext(c); }
-  } guard{context};
+  ScopedContext scoped_context(context_options);
+  VulkanContext& context = scoped_context.get();
 
   LoadedScene loaded = compileForDevice(cl, context, o);
   if (loaded.exit_code != kExitOk) return loaded.exit_code;

@@ -38,14 +38,10 @@ int runRenderShard(const CommandLine& cl, const RenderOverrides& o) {
     std::cerr << "sdfc: error: with --shards, --frames takes frame numbers A-B (time = frame / --fps)\n";
     return kExitUsage;
   }
-  VulkanContext context;
   ContextOptions context_options;
   context_options.device_index = cl.device;
-  createContext(context, context_options);
-  struct ContextGuard {
-    VulkanContext& c;
-    ~ContextGuard() { destroyContext(c); }
-  } guard{context};
+  ScopedContext scoped_context(context_options);
+  VulkanContext& context = scoped_context.get();
   LoadedScene loaded = compileForDevice(cl, context, o);
   if (loaded.exit_code != kExitOk) return loaded.exit_code;
   const CompiledScene& compiled = loaded.compiled;

@@ -59,6 +59,20 @@ struct VulkanContext {
 void createContext(VulkanContext& context, const ContextOptions& options = {});
 void destroyContext(VulkanContext& context);
 
+// A context for one scope: created by the constructor (which throws as
+// createContext does), destroyed on every way out of the scope.
+class ScopedContext {
+ public:
+  explicit ScopedContext(const ContextOptions& options = {}) { createContext(context_, options); }
+  ~ScopedContext() { destroyContext(context_); }
+  ScopedContext(const ScopedContext&) = delete;
+  ScopedContext& operator=(const ScopedContext&) = delete;
+  VulkanContext& get() { return context_; }
+
+ private:
+  VulkanContext context_;
+};
+
 // Validation warnings and errors reported since program start (all contexts).
 // Each is also printed to stderr. Tests assert this stays 0.
 int validationMessageCount();

@@ -91,15 +91,20 @@ std::unique_ptr<BuiltScene> BackgroundCompiler::buildReload(uint32_t view) {
   }
   auto compiled = std::make_shared<CompiledScene>(std::move(loaded.compiled));
   built->compiled = compiled;
+  createRenderer(*built, compiled->spirv, compiled->emitted.scene_data);
+  return built;
+}
+
+void BackgroundCompiler::createRenderer(BuiltScene& built, const std::vector<uint32_t>& spirv,
+                                        const std::vector<float>& scene_data) {
   try {
-    built->renderer = std::make_unique<Renderer>(context_, compiled->spirv, compiled->emitted.scene_data);
-    built->pipeline_seconds = built->renderer->pipelineSeconds();
-    built->ok = true;
+    built.renderer = std::make_unique<Renderer>(context_, spirv, scene_data);
+    built.pipeline_seconds = built.renderer->pipelineSeconds();
+    built.ok = true;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "sdfc: error: pipeline creation: %s\n", e.what());
-    built->error = "pipeline creation failed";
+    built.error = "pipeline creation failed";
   }
-  return built;
 }
 
 std::unique_ptr<BuiltScene> BackgroundCompiler::buildVariant(std::shared_ptr<const CompiledScene> scene,
@@ -121,14 +126,7 @@ std::unique_ptr<BuiltScene> BackgroundCompiler::buildVariant(std::shared_ptr<con
     built->error = "kernel compile failed";
     return built;
   }
-  try {
-    built->renderer = std::make_unique<Renderer>(context_, spv.words, emitted.scene_data);
-    built->pipeline_seconds = built->renderer->pipelineSeconds();
-    built->ok = true;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "sdfc: error: pipeline creation: %s\n", e.what());
-    built->error = "pipeline creation failed";
-  }
+  createRenderer(*built, spv.words, emitted.scene_data);
   return built;
 }
 

@@ -68,6 +68,9 @@ class BackgroundCompiler {
   void run();
   std::unique_ptr<BuiltScene> buildReload(uint32_t view);
   std::unique_ptr<BuiltScene> buildVariant(std::shared_ptr<const CompiledScene> scene, uint32_t view);
+  // The pipeline for `built` (its ok, renderer and pipeline time, or its error).
+  void createRenderer(BuiltScene& built, const std::vector<uint32_t>& spirv,
+                      const std::vector<float>& scene_data);
 
   const VulkanContext& context_;
   const CommandLine command_line_;
