@@ -124,17 +124,6 @@ def iterations(sdfc, scene, dir_):
     return field(r"loop iterations per pixel: mean ([0-9.eE+-]+)", err), field(r"primary ray steps: mean ([0-9.eE+-]+)", err)
 
 
-def read_pfm_first_channel(path):
-    import struct
-    with open(path, "rb") as f:
-        kind = f.readline().strip()
-        w, h = map(int, f.readline().split())
-        scale = float(f.readline())
-        ch = 3 if kind == b"PF" else 1
-        data = struct.unpack(("<" if scale < 0 else ">") + "%df" % (w * h * ch), f.read(4 * w * h * ch))
-    return data[::ch]
-
-
 def depth_disagreement(before, after, scene, dir_, flags_before=(), any_side=False):
     """Share of 640x360 pixels whose primary depth from `before` is over 1% nearer than from
     `after` (any_side: differs by over 1% either way)."""
