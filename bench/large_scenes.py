@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Large scenes as data (docs/large_scenes.md): how compile time, pipeline
 creation, shader size, render speed and memory grow with the instance count.
 
@@ -22,7 +22,7 @@ same filled volume. Figures:
      older binary and this one, interleaved, in the same run (before/after);
   4. peak RSS of one 640x360 1 spp render of 1,000,000 instances (target < 1 GiB);
   5. `sdfc check` of 200,000 spheres written as union children vs instances(file).
-Only the standard library; /usr/bin/time must exist (Debian package `time`).
+Needs numpy (Debian python3-numpy: run with /usr/bin/python3) and /usr/bin/time (package `time`).
 """
 import argparse
 import os
@@ -35,6 +35,7 @@ import tempfile
 import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import sdfbench as sb  # noqa: E402  (read_pfm; numpy: Debian's python3-numpy, /usr/bin/python3)
 
 HEADER = """camera(position: [0, 26, 48], target: [0, 2, 0], fov: 45)
 sun(direction: [-0.4, 0.8, 0.5], angle: 2, strength: 3)
@@ -131,10 +132,11 @@ def depth_disagreement(before, after, scene, dir_, flags_before=(), any_side=Fal
     for i, (sdfc, flags) in enumerate(((before, flags_before), (after, ()))):
         path = os.path.join(dir_, "depth%d.pfm" % i)
         timed([sdfc, "render", scene, "-o", path, "--size", "640x360", "--spp", "1", "--view", "depth"] + list(flags))
-        maps.append(read_pfm_first_channel(path))
+        maps.append(sb.read_pfm(path)[..., 0].reshape(-1))
+    a, b = maps
     if any_side:
-        return sum(1 for a, b in zip(*maps) if abs(a - b) > 0.01 * abs(a)) / float(len(maps[0]))
-    return sum(1 for a, b in zip(*maps) if a < 0.99 * b) / float(len(maps[0]))
+        return float((abs(a - b) > 0.01 * abs(a)).mean())
+    return float((a < 0.99 * b).mean())
 
 
 def grid_summary(sdfc, scene):
