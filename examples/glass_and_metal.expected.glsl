@@ -522,11 +522,12 @@ float march(vec3 ro, vec3 rd, float t_max, float side, out int steps) {
         break;
       }
     }
-    // Over-relaxation by the slope of d along the ray (m, per unit t, scaled):
-    // the next sample's sphere overlaps this one's while d + m w d >= w d, so
-    // w = 2 / (1 - m) if d stays linear; kRelaxMax / (1 - m) keeps a margin.
-    // Head-on (m = -1) the step is plain; grazing a cloud's spheres (m near 0)
-    // it is kRelaxMax d. Never past t_max, where the march ends unchecked.
+    // Over-relaxation by the slope m of d along the ray (scaled, m >= -1): if
+    // d stays linear, a step of w d lands where d' = d + m w d, and the two
+    // spheres overlap (d + d' >= w d) while w <= 2 / (1 - m); kRelaxMax / (1 - m)
+    // keeps a margin. Head-on (m = -1) the step is plain; grazing a cloud's
+    // spheres (m near 0) it is kRelaxMax d. Never past t_max, where the march
+    // ends unchecked.
     float omega = 1.0;
     if (leaving) {
       omega = 1.9;
