@@ -471,8 +471,7 @@ class SceneWriter {
       }
     }
     if (!set.grid.empty()) {
-      // Header (lo, cell), (dims, margin); per cell (first, count, reach,
-      // split + split_reach: exact in a float, split <= 8 and 2^-16 steps);
+      // Header (lo, cell), (dims, margin); per cell (first, count, reach, 0);
       // the lists' instance indices, four per vec4.
       const ir::InstanceGrid& grid = set.grid;
       l.grid = true;
@@ -482,8 +481,7 @@ class SceneWriter {
       l.grid_cells = data_.size() / 4;
       data_.reserve(data_.size() + grid.cells() * 4 + grid.entries.size() + 4);
       for (size_t c = 0; c < grid.cells(); ++c)
-        pushVec4(float(grid.first[c]), float(grid.count[c]), float(grid.reach[c]),
-                 float(double(grid.split[c]) + grid.split_reach[c]));
+        pushVec4(float(grid.first[c]), float(grid.count[c]), float(grid.reach[c]), 0);
       l.grid_entries = data_.size() / 4;
       // One-vec4 records (no rotation, no parameters: point clouds) are copied
       // into the lists, which saves a dependent load per listed instance.
@@ -533,15 +531,11 @@ class SceneWriter {
                             : "float best = cell.z + g0.w * max(face, 0.0);")
            << "\n";
     g.code << "  int first = int(cell.x);\n";
-    g.code << "  // The list is sorted by box distance to the cell: past the split, a best\n"
-              "  // below what is left's box distance ends it (still exact).\n";
-    g.code << "  int split = int(cell.w);\n  float split_below = fract(cell.w) * cell.z;\n";
     if (options_.with_kernel) {
       g.code << "  for (int it = loopZero(); it < count; it++) {\n    g_loop_iterations++;\n";
     } else {
       g.code << "  for (int it = 0; it < count; it++) {\n";
     }
-    g.code << "    if (it == split && best" << (mat ? ".x" : "") << " < split_below) break;\n";
     g.code << "    int e = first + it;\n";
     if (l.grid_records)
       g.code << "    int rec = " << ge << " + e;\n";

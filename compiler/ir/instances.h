@@ -56,13 +56,6 @@ struct InstanceGrid {
   std::vector<std::uint32_t> first;  // per cell: its list's start in `entries`
   std::vector<std::int32_t> count;   // per cell: list length, -1: use the hierarchy
   std::vector<double> reach;         // per cell
-  // Per cell: a split of its list (sorted by box distance to the cell). Past
-  // entry split[c], every box is at least split_reach[c] * reach[c] from the
-  // cell, so a best distance below that ends the list early (exactness kept).
-  // split[c] == count[c]: no split. split_reach is below 1, a multiple of
-  // 2^-16 (it rides in the cell's spare float on the GPU).
-  std::vector<std::uint8_t> split;
-  std::vector<double> split_reach;
   std::vector<std::uint32_t> entries;  // instance indices (leaf order)
 
   bool empty() const { return count.empty(); }

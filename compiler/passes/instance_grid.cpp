@@ -34,44 +34,6 @@ double boxBoxDistance(const Aabb& a, const Aabb& b) {
   return glm::length(gap);
 }
 
-double pointBoxDistance(const dvec3& p, const Aabb& b) {
-  return glm::length(glm::max(glm::max(b.lo - p, p - b.hi), dvec3(0)));
-}
-
-// Where to split a cell's sorted list (ir::InstanceGrid::split): the split
-// that evaluates fewest entries at 8 points of the cell (its octants'
-// centres), with box distances standing in for the instances' (a heuristic
-// only: the early exit is a bound whatever the split). The threshold is the
-// first unevaluated entry's box distance rounded down to 2^-16 of the reach,
-// and rounded down once more so that float rounding of reach cannot lift it.
-void chooseSplit(const Aabb& cell_box, double reach, const std::vector<std::pair<double, std::uint32_t>>& near,
-                 size_t keep, const std::vector<Aabb>& boxes, std::uint8_t& split, double& split_reach) {
-  split = static_cast<std::uint8_t>(keep);
-  split_reach = 0;
-  if (keep < 2) return;
-  constexpr double kSteps = 65536.0;
-  const dvec3 size = cell_box.hi - cell_box.lo;
-  double best_cost = double(keep);
-  for (size_t k = 1; k < keep; ++k) {
-    const double q = (std::floor(near[k].first / reach * kSteps) - 1.0) / kSteps;
-    if (!(q > 0)) continue;  // a threshold of 0 never ends a list early
-    const double s = q * reach;
-    int ended = 0;
-    for (int o = 0; o < 8; ++o) {
-      const dvec3 p = cell_box.lo + size * dvec3((o & 1) ? 0.75 : 0.25, (o & 2) ? 0.75 : 0.25, (o & 4) ? 0.75 : 0.25);
-      double best = reach + 0.25 * std::min({size.x, size.y, size.z});
-      for (size_t i = 0; i < k; ++i) best = std::min(best, pointBoxDistance(p, boxes[near[i].second]));
-      if (best < s) ++ended;
-    }
-    const double cost = double(k) + double(keep - k) * double(8 - ended) / 8.0;
-    if (cost < best_cost) {
-      best_cost = cost;
-      split = static_cast<std::uint8_t>(k);
-      split_reach = q;
-    }
-  }
-}
-
 }  // namespace
 
 void buildInstanceGrid(ir::InstanceSet& set, const ir::Node& templ) {
@@ -145,8 +107,6 @@ void buildInstanceGrid(ir::InstanceSet& set, const ir::Node& templ) {
   g.first.resize(cells);
   g.count.resize(cells);
   g.reach.resize(cells);
-  g.split.assign(cells, 0);
-  g.split_reach.assign(cells, 0.0);
   std::vector<std::pair<double, std::uint32_t>> near;
   for (int z = 0; z < g.dims.z; ++z)
     for (int y = 0; y < g.dims.y; ++y)
@@ -179,7 +139,6 @@ void buildInstanceGrid(ir::InstanceSet& set, const ir::Node& templ) {
           continue;
         }
         g.count[c] = static_cast<std::int32_t>(keep);
-        chooseSplit(box, r, near, keep, boxes, g.split[c], g.split_reach[c]);
         for (size_t k = 0; k < keep; ++k) g.entries.push_back(near[k].second);
       }
   if (g.entries.size() > kMaxIndex) g = ir::InstanceGrid{};
@@ -198,12 +157,7 @@ double instanceGridBound(const ir::InstanceSet& set, const glm::dvec3& p,
   const dvec3 lo = g.lo + dvec3(c) * g.cell;
   const dvec3 in = glm::min(p - lo, lo + g.cell - p);
   double best = g.reach[index] + std::max(0.0, std::min({in.x, in.y, in.z}));
-  // As the shader: past the split, a best below the rest's box distances ends the list.
-  const double split_below = g.split_reach[index] * g.reach[index];
-  for (std::int32_t k = 0; k < g.count[index]; ++k) {
-    if (k == g.split[index] && best < split_below) break;
-    best = std::min(best, distance_of(g.entries[g.first[index] + k]));
-  }
+  for (std::int32_t k = 0; k < g.count[index]; ++k) best = std::min(best, distance_of(g.entries[g.first[index] + k]));
   return best;
 }
 
