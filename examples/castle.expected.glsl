@@ -635,6 +635,8 @@ float hitEps(float ro_mag, float t) { return max(fpEps(ro_mag, t), t * kScenePix
 
 // Iterations a hit may add to refine its distance (runtime/loop_budget.h).
 const int kRefineSteps = 2;
+// The largest over-relaxation of a march step (march(), docs/large_scenes.md).
+const float kRelaxMax = 1.6;
 
 // Sphere tracing (Hart 1996; paper sec. 2.3): step by the distance bound scaled
 // by 1 / Lipschitz. side = -1 marches inside solids (glass exit points) on the
@@ -757,6 +759,13 @@ float march(vec3 ro, vec3 rd, float t_max, float side, out int steps) {
       }
     } else {
       steps = i + 1;
+      // An over-relaxed step is safe only if the two samples' unbounding
+      // spheres overlap (Keinert et al. 2014); else back to a plain step.
+      if (relaxed && (d + d_prev) * kSceneStepScale < t - t_prev) {
+        relaxed = false;
+        t = t_prev + d_prev * kSceneStepScale;
+        continue;
+      }
       float band = narrow ? dErr(ro_mag, t) : hitEps(ro_mag, t);
       if (i == 0 && t == 0.0 && abs(d) < band) {
         // On a surface at the ray's origin: step off it and look, far enough
@@ -781,8 +790,21 @@ float march(vec3 ro, vec3 rd, float t_max, float side, out int steps) {
         break;
       }
     }
-    relaxed = leaving;
-    float t_next = t + d * kSceneStepScale * (leaving ? 1.9 : 1.0);
+    // Over-relaxation by the slope m of d along the ray (scaled, m >= -1): if
+    // d stays linear, a step of w d lands where d' = d + m w d, and the two
+    // spheres overlap (d + d' >= w d) while w <= 2 / (1 - m); kRelaxMax / (1 - m)
+    // keeps a margin. Head-on (m = -1) the step is plain; grazing a cloud's
+    // spheres (m near 0) it is kRelaxMax d. Never past t_max, where the march
+    // ends unchecked.
+    float omega = 1.0;
+    if (leaving) {
+      omega = 1.9;
+    } else if (t_stop < 0.0 && i > 0) {
+      omega = clamp(kRelaxMax / (1.0 - min(slope * kSceneStepScale, 0.0)), 1.0, kRelaxMax);
+      if (t + d * kSceneStepScale * omega > t_max) omega = 1.0;
+    }
+    relaxed = omega > 1.0;
+    float t_next = t + d * kSceneStepScale * omega;
     if (t_stop >= 0.0) {
       // Secant on d(t) through the last two samples; a plain step if they
       // do not bracket a descent, and never farther than 8 |d| from the hit:
