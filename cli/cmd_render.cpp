@@ -127,10 +127,14 @@ int runRender(const CommandLine& cl) {
     // difference is its per-pixel noise estimate.
     SampleHalves halves;
     const bool with_halves = o.view == gpu::kViewBeauty && denoiser && needsVariance(*denoiser);
+    // Their features are the means of the same jittered samples as the colour
+    // (docs/denoise.md): at an edge they blend as the colour does.
+    settings.jittered_aovs = with_halves && cl.denoise_aovs == "jittered";
     RenderOutput out =
         with_halves
             ? renderHalves(renderer, cameraFor(compiled.scene), settings, &halves, progress, interrupt)
             : renderer.render(cameraFor(compiled.scene), settings, progress, interrupt);
+    if (settings.jittered_aovs) resolveJitteredAovs(out, &halves);
     // Write out.color in place unless denoised: a copy is a full-size image (memory).
     // Without two halves (1 spp, or interrupted early) svgf and nlm leave the image as it is.
     FloatImage denoised;
