@@ -129,7 +129,9 @@ int runRender(const CommandLine& cl) {
     const bool with_halves = o.view == gpu::kViewBeauty && denoiser && needsVariance(*denoiser);
     // Their features are the means of the same jittered samples as the colour
     // (docs/denoise.md): at an edge they blend as the colour does.
-    settings.jittered_aovs = with_halves && cl.denoise_aovs == "jittered";
+    settings.jittered_aovs =
+        with_halves && (cl.denoise_aovs == "jittered" ||
+                        (cl.denoise_aovs == "auto" && wantsJitteredAovs(*denoiser)));
     RenderOutput out =
         with_halves
             ? renderHalves(renderer, cameraFor(compiled.scene), settings, &halves, progress, interrupt)
