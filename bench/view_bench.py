@@ -8,7 +8,7 @@ printed as a table:
   - path traced, 1 spp a frame, 640x360, still camera: frames per second  [>= 5]
   - the same while orbiting with dynamic resolution (preview frames)
   - save-to-new-image latency: the file written -> first frame of the new
-    scene presented, median of 3 edits                     [<= 250 ms]
+    scene presented, median of --edits edits (5)           [<= 250 ms]
   - input to presented frame, in frames                    [<= 2]
 The machine is shared (load average recorded): compare within one run.
 
@@ -19,7 +19,7 @@ change) and --drivers picks the system lavapipe (22) and/or Mesa 25's
 (tools/lavapipe25.sh, fetched first). Mesa's on-disk shader cache is disabled,
 so every run compiles its shaders as a person's fresh edit would.
 Usage: bench/view_bench.py [--sdfc build/cli/sdfc] [--baseline OLD_SDFC]
-                           [--drivers 22,25] [--out bench/results/view.json]
+                           [--drivers 22,25] [--edits 5] [--out bench/results/view.json]
 """
 import argparse
 import json
@@ -72,7 +72,7 @@ def interval_ms(frames):
     return [b - a for a, b in zip(t, t[1:])]
 
 
-def measure(sdfc, driver, scene, text, d, n):
+def measure(sdfc, driver, scene, text, d, n, n_edits=5):
     """The four figures (and their parts) for one binary under one driver."""
     result = {}
     run = lambda script, flags: run_view(sdfc, scene, script, flags, d, driver)
@@ -100,11 +100,11 @@ def measure(sdfc, driver, scene, text, d, n):
         result["beauty_orbit_preview_fps"] = 1000.0 / statistics.median(interval_ms(moving))
         result["beauty_orbit_preview_resolutions"] = sorted({f["res"] for f in moving})
 
-    # 3. Save-to-new-image latency: three edits of a `let` number, each new to
-    # the driver (no shader cache), timed from the write to the new scene's
-    # first presented frame.
+    # 3. Save-to-new-image latency: edits of a `let` number, each new to the
+    # driver (no shader cache), timed from the write to the new scene's first
+    # presented frame.
     edits = []
-    for i, h in enumerate((3.2, 2.6, 3.0)):
+    for i, h in enumerate(3.2 - 0.1 * k for k in range(n_edits)):
         path = os.path.join(d, f"edit{i}.sdf")
         open(path, "w").write(re.sub(r"let wall_height = [0-9.]+", f"let wall_height = {h}", text))
         edits.append(path)
@@ -163,6 +163,7 @@ def main():
     ap.add_argument("--drivers", default="22,25", help="22 (system lavapipe), 25 (tools/lavapipe25.sh)")
     ap.add_argument("--out", default=os.path.join(HERE, "results", "view.json"))
     ap.add_argument("--frames", type=int, default=30)
+    ap.add_argument("--edits", type=int, default=5, help="saves timed for the save-to-image median")
     args = ap.parse_args()
     castle = os.path.join(ROOT, "examples", "castle.sdf")
     drivers = [x for x in args.drivers.split(",") if x]
@@ -183,7 +184,7 @@ def main():
             for name, sdfc in binaries:  # interleaved: before and after share the load
                 key = f"{name}_mesa{driver}"
                 print("measuring", key, file=sys.stderr, flush=True)
-                result["runs"][key] = measure(sdfc, driver, scene, text, d, args.frames)
+                result["runs"][key] = measure(sdfc, driver, scene, text, d, args.frames, args.edits)
     result["machine"]["load_average_end"] = os.getloadavg()
     # The headline figures: the new binary on sdfc's default driver (the bundled
     # Mesa 25 where tools/setup.sh fetched it, else the system's).

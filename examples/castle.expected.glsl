@@ -584,28 +584,31 @@ int sdMaterialId(vec3 p) {
   vec3 p4 = p - 2.0 * min(dot(p, vec3(1.0, 0.0, 0.0)) - 0.0, 0.0) * vec3(1.0, 0.0, 0.0);  // line 87 reflect
   vec3 p5 = p4 - 2.0 * min(dot(p4, vec3(0.0, 0.0, 1.0)) - 0.0, 0.0) * vec3(0.0, 0.0, 1.0);  // line 87 reflect
   vec3 p6 = p5 + vec3(-5.0, 0.0, -5.0);  // line 87 transform
-  d2 = vec2(min(d2.x, sdm_tower(p6, 1.0).x), sdm_tower(p6, 1.0).x < d2.x ? sdm_tower(p6, 1.0).y : d2.y);
+  vec2 m7 = sdm_tower(p6, 1.0);
+  d2 = vec2(min(d2.x, m7.x), m7.x < d2.x ? m7.y : d2.y);
   }
-  float b7 = sdBound(p, vec3(0.0, 1.75, 0.0), vec3(5.35, 1.75, 5.35));
-  if (subgroupAny(b7 < d2.x)) {
-  vec2 m8 = vec2(sd_walls(p), 1.0);
-  d2 = vec2(min(d2.x, m8.x), m8.x < d2.x ? m8.y : d2.y);
+  float b8 = sdBound(p, vec3(0.0, 1.75, 0.0), vec3(5.35, 1.75, 5.35));
+  if (subgroupAny(b8 < d2.x)) {
+  vec2 m9 = vec2(sd_walls(p), 1.0);
+  d2 = vec2(min(d2.x, m9.x), m9.x < d2.x ? m9.y : d2.y);
   }
-  float b9 = sdBound(p, vec3(0.0, 3.0, 5.2), vec3(2.25, 3.0, 0.75));
-  if (subgroupAny(b9 < d2.x)) {
-  vec3 p10 = p - 2.0 * min(dot(p, vec3(1.0, 0.0, 0.0)) - 0.0, 0.0) * vec3(1.0, 0.0, 0.0);  // line 89 reflect
-  vec3 p11 = p10 + vec3(-1.5, 0.0, -5.2);  // line 89 transform
-  d2 = vec2(min(d2.x, sdm_pointed(p11, 1.0).x), sdm_pointed(p11, 1.0).x < d2.x ? sdm_pointed(p11, 1.0).y : d2.y);
+  float b10 = sdBound(p, vec3(0.0, 3.0, 5.2), vec3(2.25, 3.0, 0.75));
+  if (subgroupAny(b10 < d2.x)) {
+  vec3 p11 = p - 2.0 * min(dot(p, vec3(1.0, 0.0, 0.0)) - 0.0, 0.0) * vec3(1.0, 0.0, 0.0);  // line 89 reflect
+  vec3 p12 = p11 + vec3(-1.5, 0.0, -5.2);  // line 89 transform
+  vec2 m13 = sdm_pointed(p12, 1.0);
+  d2 = vec2(min(d2.x, m13.x), m13.x < d2.x ? m13.y : d2.y);
   }
-  d2 = vec2(min(d2.x, sdm_keep(p, 1.0).x), sdm_keep(p, 1.0).x < d2.x ? sdm_keep(p, 1.0).y : d2.y);
+  vec2 m14 = sdm_keep(p, 1.0);
+  d2 = vec2(min(d2.x, m14.x), m14.x < d2.x ? m14.y : d2.y);
   d0 = vec2(min(d0.x, d2.x), d2.x < d0.x ? d2.y : d0.y);
   }
-  float b12 = sdBound(p, vec3(3.4, 0.8, 7.6), vec3(1.09282032, 0.8, 1.09282032));
-  if (subgroupAny(b12 < d0.x)) {
-  vec3 p13 = mat3(0.866025404, 0.0, 0.5, 0.0, 1.0, 0.0, -0.5, 0.0, 0.866025404) * p + vec3(0.855513627, -0.8, -8.28179307);  // line 93 transform
-  float d14 = sdMenger2(p13, 1.6);  // line 93 menger
-  vec2 m15 = vec2(d14, 3.0);
-  d0 = vec2(min(d0.x, m15.x), m15.x < d0.x ? m15.y : d0.y);
+  float b15 = sdBound(p, vec3(3.4, 0.8, 7.6), vec3(1.09282032, 0.8, 1.09282032));
+  if (subgroupAny(b15 < d0.x)) {
+  vec3 p16 = mat3(0.866025404, 0.0, 0.5, 0.0, 1.0, 0.0, -0.5, 0.0, 0.866025404) * p + vec3(0.855513627, -0.8, -8.28179307);  // line 93 transform
+  float d17 = sdMenger2(p16, 1.6);  // line 93 menger
+  vec2 m18 = vec2(d17, 3.0);
+  d0 = vec2(min(d0.x, m18.x), m18.x < d0.x ? m18.y : d0.y);
   }
   return int(d0.y);
 }

@@ -7,7 +7,9 @@ an orbit changes the image and orbiting back restores it; a real X screenshot
 scene (latency printed); a broken save keeps the last image, prints the errors
 exactly as `sdfc check` and says so in the title, and the next good save
 recovers; the camera key prints a pasteable camera line; input reaches the
-screen within two frames; quit exits 0 with validation layers silent. Also: no
+screen within two frames; a scripted resize makes a new swapchain and starts the
+accumulation again at the new size, and the screenshot still equals the frame;
+quit exits 0 with validation layers silent. Also: no
 display -> exit 3 with a pointer to `sdfc render`.
 """
 import os
@@ -127,6 +129,10 @@ save {j('denoised.png')}
 key f
 wait-spp 4
 save {j('framed.png')}
+resize 200 150
+wait-spp 4
+save {j('resized.png')}
+run sleep 0.5; xwd -id ${{WINDOW}} -silent -out {j('shot_resized.xwd')}
 quit
 """
         open(j("events.txt"), "w").write(script)
@@ -168,7 +174,17 @@ quit
         noise = lambda im: np.abs(np.diff(im.astype(float), axis=1)).mean()
         check(noise(denoised) < noise(stepped), f"key d denoises (pixel-to-pixel change {noise(stepped):.2f} -> {noise(denoised):.2f})")
         check(differs(framed, stepped) > 0.05, f"key f frames the scene's bounds ({differs(framed, stepped):.0%} differs)")
+        # A resize: a new swapchain at the window's size, the accumulation started
+        # again at it, and the X screenshot still equals the frame.
+        resized = read_png(j("resized.png"))
+        check(resized.shape == (150, 200, 3), f"after a resize the frame is the window's size {resized.shape}")
+        check(any(f[f.index("res") + 1] == "200x150" and f[f.index("spp") + 1] == "1" for f in frames),
+              "the resize starts the accumulation again at the new size")
+        shot = read_xwd(j("shot_resized.xwd"))
+        check(shot.shape == resized.shape and np.abs(shot - resized).max() == 0,
+              f"after a resize the X screenshot equals the frame ({shot.shape})")
         events = [l for l in lines if l.startswith("event ")]
+        check(any(e.endswith("resize 200x150") for e in events), "the view follows the window's new size")
         check(any("reload error" in e and "ERROR" in e for e in events), "the title shows the error")
         check(sum("reload ok" in e for e in events) == 3, "three good loads (first, edited, recovered)")
         latencies = [float(m.group(1)) for m in (re.search(r"save-to-image (\d+) ms", e) for e in events) if m]

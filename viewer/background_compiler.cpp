@@ -83,6 +83,7 @@ std::unique_ptr<BuiltScene> BackgroundCompiler::buildReload(uint32_t view) {
   Diagnostics diags;
   CompileOptions options = options_;
   options.emit.view = static_cast<KernelView>(view);
+  if (image_height_ > 0) options.emit.march.image_height = int(image_height_);
   LoadedScene loaded = loadScene(command_line_, diags, true, true, options, true);
   built->compile_seconds = std::chrono::duration<double>(Clock::now() - start).count();
   if (loaded.exit_code != kExitOk) {
@@ -116,6 +117,7 @@ std::unique_ptr<BuiltScene> BackgroundCompiler::buildVariant(std::shared_ptr<con
   const auto start = Clock::now();
   EmitOptions emit = options_.emit;
   emit.view = static_cast<KernelView>(view);
+  if (image_height_ > 0) emit.march.image_height = int(image_height_);
   const EmitResult emitted = emitGlsl(scene->scene, emit);
   SpirvResult spv = glslToSpirv(emitted.glsl, ShaderStage::Fragment, scene->source->path + ".glsl",
                                 options_.optimize_spirv);

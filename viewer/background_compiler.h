@@ -56,6 +56,9 @@ class BackgroundCompiler {
   // compiled while the frame loop is still inside a long pass.
   void watch(const std::string& path);
   void setView(uint32_t view) { view_ = view; }
+  // The window's height in pixels: the march's hit band is a fraction of a pixel
+  // (EmitOptions::march.image_height), so builds after a resize use the new one.
+  void setImageHeight(uint32_t height) { image_height_ = height; }
   // Called on the worker thread when a build is ready (before the first
   // request): the frame loop, asleep while idle, wakes at once to take it.
   void setOnReady(std::function<void()> on_ready) { on_ready_ = std::move(on_ready); }
@@ -82,7 +85,7 @@ class BackgroundCompiler {
   Clock::time_point pending_since_;
   struct VariantRequest {
     std::shared_ptr<const CompiledScene> scene;
-    uint32_t view;
+    uint32_t view = 0;
     Clock::time_point since;
   };
   std::deque<VariantRequest> variants_;
@@ -92,6 +95,7 @@ class BackgroundCompiler {
   std::function<void()> on_ready_;
   std::unique_ptr<FileWatcher> watcher_;  // used by the worker thread only
   std::atomic<uint32_t> view_{0};
+  std::atomic<uint32_t> image_height_{0};  // 0: options_'s
   std::thread thread_;
 };
 

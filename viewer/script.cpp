@@ -21,7 +21,7 @@ const std::map<std::string, Arity>& verbs() {
       {"wait", {1, 1}},       {"wait-spp", {1, 1}}, {"wait-reload", {0, 0}}, {"wait-idle", {0, 0}},
       {"key", {1, 1}},        {"drag", {3, 4}},     {"scroll", {1, 1}},      {"spp", {1, 1}},
       {"save", {1, 1}},       {"write-file", {1, 1}}, {"run", {1, 1000}},    {"quit", {0, 0}},
-      {"log", {1, 1000}},
+      {"log", {1, 1000}},     {"resize", {2, 2}},
   };
   return table;
 }
@@ -81,6 +81,8 @@ std::vector<ScriptCommand> loadScript(const std::string& path) {
       for (size_t i = 1; i < c.args.size(); ++i)
         if (!isNumber(c.args[i])) fail("drag expects numbers after the button");
     }
+    if (c.verb == "resize" && !(isNumber(c.args[0]) && isNumber(c.args[1])))
+      fail("resize expects a width and a height in pixels");
     if ((c.verb == "wait" || c.verb == "wait-spp" || c.verb == "scroll" || c.verb == "spp") &&
         !isNumber(c.args[0]))
       fail("'" + c.verb + "' expects a number");

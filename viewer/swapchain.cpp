@@ -146,6 +146,14 @@ void Swapchain::create() {
   VK_CHECK(vkMapMemory(device, staging_memory_, 0, VK_WHOLE_SIZE, 0, &mapped));
   mapped_ = static_cast<uint8_t*>(mapped);
   stale_ = false;
+  ++generation_;
+}
+
+void Swapchain::resize(uint32_t width, uint32_t height) {
+  if (width == requested_width_ && height == requested_height_) return;
+  requested_width_ = width;
+  requested_height_ = height;
+  stale_ = true;
 }
 
 void Swapchain::destroy() {

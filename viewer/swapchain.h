@@ -25,6 +25,11 @@ class Swapchain {
   // output). Parts outside the swapchain's extent are cut, uncovered parts black.
   // Waits until the copy is done, so `rgb` may be reused at once.
   void present(const uint8_t* rgb, uint32_t width, uint32_t height);
+  // The window's new size: the swapchain is made again, at it, before the next
+  // present (as it is after VK_ERROR_OUT_OF_DATE_KHR or VK_SUBOPTIMAL_KHR).
+  void resize(uint32_t width, uint32_t height);
+  // Swapchains made so far (the first included): tests see a resize recreate it.
+  uint32_t generation() const { return generation_; }
 
   uint32_t width() const { return extent_.width; }
   uint32_t height() const { return extent_.height; }
@@ -50,6 +55,7 @@ class Swapchain {
   VkCommandBuffer command_buffer_ = VK_NULL_HANDLE;
   VkFence acquire_fence_ = VK_NULL_HANDLE, copy_fence_ = VK_NULL_HANDLE;
   bool stale_ = false;  // out of date or suboptimal: recreate before the next frame
+  uint32_t generation_ = 0;
 };
 
 }  // namespace sdfc::view

@@ -95,10 +95,11 @@ void upscale(const std::vector<uint8_t>& small, uint32_t sw, uint32_t sh, uint32
 struct AccumulationKey {
   uint64_t scene = 0, camera = 0;
   uint32_t view = 0, scale = 1;
+  uint32_t width = 0, height = 0;  // the window's: a resize starts again
   double time = 0;
   bool operator==(const AccumulationKey& o) const {
     return scene == o.scene && camera == o.camera && view == o.view && scale == o.scale &&
-           time == o.time;
+           width == o.width && height == o.height && time == o.time;
   }
 };
 
@@ -118,6 +119,8 @@ class Viewer : public InputHandler {
   void swapIn(std::unique_ptr<BuiltScene> built);
   bool drawFrame();
   void presentBlack();
+  // Follows the window's size; false while it has none (minimised).
+  bool followWindowSize();
   bool stepScript();  // false while the current command waits
   void saveImage(const std::string& path);
   void logEvent(const std::string& text);
@@ -327,7 +330,7 @@ bool Viewer::drawFrame() {
     time_ += std::chrono::duration<double>(frame_start - last_frame_end_).count();
 
   AccumulationKey key{scene_generation_, camera_generation, view_, moving ? preview_scale_ : 1,
-                      compiled.scene.uses_time ? time_ : 0.0};
+                      width_, height_, compiled.scene.uses_time ? time_ : 0.0};
   // The primary-ray attachments are read back only for the denoiser.
   const bool need_aovs = denoise_ && view_ == gpu::kViewBeauty;
   if (!acc_ || !(key == acc_key_) || (need_aovs && !acc_->keep_aovs)) {
@@ -413,6 +416,24 @@ bool Viewer::drawFrame() {
   status_.width = acc_->width;
   status_.height = acc_->height;
   status_.preview = moving;
+  return true;
+}
+
+bool Viewer::followWindowSize() {
+  uint32_t w = 0, h = 0;
+  window_->framebufferSize(w, h);
+  if (w == 0 || h == 0) return false;
+  if (w == width_ && h == height_) return true;
+  width_ = w;
+  height_ = h;
+  // A new swapchain at the new size before the next present; the accumulation
+  // key holds the size, so the image starts again; like a camera motion, the
+  // frames drawn while the border is dragged are previews.
+  swapchain_->resize(w, h);
+  compiler_->setImageHeight(h);
+  frames_still_ = 0;
+  redisplay_ = true;
+  logEvent("resize " + std::to_string(w) + "x" + std::to_string(h));
   return true;
 }
 
@@ -575,6 +596,9 @@ bool Viewer::stepScript() {
     std::fflush(stdout);
     const int status = std::system(command.c_str());
     if (status != 0) std::fprintf(stderr, "sdfc: script line %d: command exited with %d\n", c.line, status);
+  } else if (c.verb == "resize") {
+    window_->setSize(std::max(1, std::atoi(c.args[0].c_str())), std::max(1, std::atoi(c.args[1].c_str())));
+    logEvent("input resize " + c.args[0] + "x" + c.args[1]);
   } else if (c.verb == "log") {
     logEvent("log " + c.rest);
   } else if (c.verb == "quit") {
@@ -607,7 +631,8 @@ int Viewer::run() {
     if (quit_) break;
     compiler_->setView(view_);  // what the next reload builds
     for (std::unique_ptr<BuiltScene>& built : compiler_->take()) swapIn(std::move(built));
-    const bool drew = active_ ? drawFrame() : false;
+    const bool sized = followWindowSize();
+    const bool drew = active_ && sized ? drawFrame() : false;
     ++iterations_;
     updateTitle(false);
     // Idle (converged, or waiting for the first build): sleep on input, not spin.

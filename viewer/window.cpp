@@ -38,9 +38,9 @@ Window::Window(int width, int height, const std::string& title, InputHandler* ha
     throw NoDisplayError("the window system offers no Vulkan surface: " + g_last_glfw_error);
   }
   glfwWindowHint(GLFW_CLIENT_API, GLFW_NO_API);
-  // Fixed size: the render size of the scene (or --size); a resize would restart
-  // every accumulation and the swapchain, for little gain while editing.
-  glfwWindowHint(GLFW_RESIZABLE, GLFW_FALSE);
+  // Opens at the render size of the scene (or --size); the view follows a resize
+  // (a new swapchain and accumulation, view_loop.cpp).
+  glfwWindowHint(GLFW_RESIZABLE, GLFW_TRUE);
   window_ = glfwCreateWindow(width, height, title.c_str(), nullptr, nullptr);
   if (!window_) {
     glfwTerminate();
@@ -84,6 +84,15 @@ bool Window::shouldClose() const { return glfwWindowShouldClose(window_); }
 void Window::requestClose() { glfwSetWindowShouldClose(window_, GLFW_TRUE); }
 void Window::pollEvents() { glfwPollEvents(); }
 void Window::waitEvents(double timeout_seconds) { glfwWaitEventsTimeout(timeout_seconds); }
+
+void Window::framebufferSize(uint32_t& width, uint32_t& height) const {
+  int w = 0, h = 0;
+  glfwGetFramebufferSize(window_, &w, &h);
+  width = uint32_t(w > 0 ? w : 0);
+  height = uint32_t(h > 0 ? h : 0);
+}
+
+void Window::setSize(int width, int height) { glfwSetWindowSize(window_, width, height); }
 
 unsigned long Window::nativeId() const {
   // GLFW 3.3 is X11-only on Debian 12 (glfw3-wayland is a separate library).

@@ -3,6 +3,7 @@
 #pragma once
 #include <vulkan/vulkan.h>
 
+#include <cstdint>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -28,7 +29,7 @@ class NoDisplayError : public std::runtime_error {
 
 class Window {
  public:
-  // Initialises GLFW and opens a fixed-size window without a client API.
+  // Initialises GLFW and opens a resizable window without a client API.
   // Throws NoDisplayError when there is no display or no Vulkan support.
   Window(int width, int height, const std::string& title, InputHandler* handler);
   ~Window();
@@ -44,6 +45,10 @@ class Window {
   void requestClose();
   void pollEvents();
   void waitEvents(double timeout_seconds);
+  // The drawable size in pixels (0 x 0 while minimised), and a request to change
+  // it (the script's `resize`; a person drags the window's border).
+  void framebufferSize(uint32_t& width, uint32_t& height) const;
+  void setSize(int width, int height);
   // The X11 window id (for screenshots), 0 on other platforms.
   unsigned long nativeId() const;
 

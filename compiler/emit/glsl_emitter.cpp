@@ -1,5 +1,6 @@
 #include "emit/glsl_emitter.h"
 
+#include <cctype>
 #include <cmath>
 #include <functional>
 #include <map>
@@ -40,6 +41,14 @@ constexpr int kPrunesPerVisit = 3;
 // instance); beyond it they hold 4-byte indices, which keeps a million
 // instances' data (76 MB) within lavapipe's 128 MiB storage buffer range.
 constexpr size_t kMaxCopiedRecordBytes = size_t(32) << 20;
+
+// A plain variable name (not a call or other expression), safe to repeat.
+bool isIdentifier(const std::string& s) {
+  if (s.empty() || !(std::isalpha(static_cast<unsigned char>(s[0])) || s[0] == '_')) return false;
+  for (char c : s)
+    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_')) return false;
+  return true;
+}
 
 std::string vec3Literal(dvec3 v) {
   if (v.x == v.y && v.y == v.z) return "vec3(" + glslFloat(v.x) + ")";
@@ -840,7 +849,15 @@ class SceneWriter {
           f.code << "   } else {\n";
         }
       }
-      const std::string r = node(c, p, f, mat, inherited);
+      std::string r = node(c, p, f, mat, inherited);
+      if (mat && !isIdentifier(r)) {
+        // The material pair is used three times below: a call written out
+        // three times is inlined three times (glslang and the driver's NIR
+        // inline every call site; only a later CSE may merge the copies).
+        const std::string m = var(f, "m");
+        f.code << "  vec2 " << m << " = " << r << ";\n";
+        r = m;
+      }
       const std::string rd = mat ? r + ".x" : r;
       std::ostringstream s;
       if (is_union) {
