@@ -17,7 +17,10 @@ Levers are configurations that add one thing at a time:
   nlm          + the dual-buffer NL-means denoiser   (denoiser lever; docs/denoise.md)
   nlm-mesa25   + lavapipe of Mesa 25.0.7             (driver lever; sdfc's default
                when tools/setup.sh fetched it into build/lavapipe-25)
-All but the last are pinned to the system's Mesa 22.3.6 (--driver system) so
+  nlr          nlm + jittered features and a first-order regression (denoiser
+               lever, round 3; system driver)
+  nlr-mesa25   the same on Mesa 25.0.7
+All but the -mesa25 ones are pinned to the system's Mesa 22.3.6 (--driver system) so
 the driver's share stays separate.
 """
 import csv
@@ -39,6 +42,8 @@ CONVERGE_CONFIGS = {
     "svgf": (["--denoise", "svgf"], "system"),
     "nlm": (["--denoise", "nlm"], "system"),
     "nlm-mesa25": (["--denoise", "nlm"], "bundled"),
+    "nlr": (["--denoise", "nlr"], "system"),
+    "nlr-mesa25": (["--denoise", "nlr"], "bundled"),
 }
 SEED = 7
 

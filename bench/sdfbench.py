@@ -23,6 +23,7 @@ STDERR_PATTERNS = {
     "spp_done": r"wrote .* \((\d+) spp in",
     "spp_per_s": r"spp in [^,]*, ([0-9.eE+-]+) spp/s",
     "denoise_ms": r"denoised \(\w+\) in (\d+) ms",
+    "denoise_cpu_ms": r"denoised \(\w+\) in \d+ ms \((\d+) CPU ms\)",
 }
 
 

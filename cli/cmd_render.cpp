@@ -1,6 +1,7 @@
 // `sdfc render`: compile, render progressively on the Vulkan device, denoise,
 // write the image (or a frame sequence over time).
 #include <chrono>
+#include <ctime>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
@@ -127,16 +128,25 @@ int runRender(const CommandLine& cl) {
     // difference is its per-pixel noise estimate.
     SampleHalves halves;
     const bool with_halves = o.view == gpu::kViewBeauty && denoiser && needsVariance(*denoiser);
+    // Their features are the means of the same jittered samples as the colour
+    // (docs/denoise.md): at an edge they blend as the colour does.
+    settings.jittered_aovs =
+        with_halves && (cl.denoise_aovs == "jittered" ||
+                        (cl.denoise_aovs == "auto" && wantsJitteredAovs(*denoiser)));
     RenderOutput out =
         with_halves
             ? renderHalves(renderer, cameraFor(compiled.scene), settings, &halves, progress, interrupt)
             : renderer.render(cameraFor(compiled.scene), settings, progress, interrupt);
+    if (settings.jittered_aovs) resolveJitteredAovs(out, &halves);
     // Write out.color in place unless denoised: a copy is a full-size image (memory).
     // Without two halves (1 spp, or interrupted early) svgf and nlm leave the image as it is.
     FloatImage denoised;
     if (o.view == gpu::kViewBeauty && denoiser && *denoiser != Denoiser::None &&
         (!with_halves || halves.samples_b > 0)) {
       const auto start = std::chrono::steady_clock::now();
+      // Process CPU time: the device is idle meanwhile, so this is the filter's
+      // own, whatever else loads the machine.
+      const std::clock_t cpu_start = std::clock();
       denoised = denoise(*denoiser, out.color, out.normal_depth, out.albedo_steps, &halves);
       // bench/denoise_study.py reads this line: the filter's own cost.
       if (!quiet)
@@ -144,7 +154,8 @@ int runRender(const CommandLine& cl) {
                   << std::lround(std::chrono::duration<double, std::milli>(
                                      std::chrono::steady_clock::now() - start)
                                      .count())
-                  << " ms\n";
+                  << " ms (" << std::lround(1000.0 * double(std::clock() - cpu_start) / CLOCKS_PER_SEC)
+                  << " CPU ms)\n";
     }
     const FloatImage& image = denoised.empty() ? out.color : denoised;
     const std::string path = times.size() > 1 ? farm::framePath(cl.output, static_cast<int>(f)) : cl.output;

@@ -69,8 +69,12 @@ void registerCommands(CLI::App& app, CommandLine& cl) {
   render->add_option("--bounces", cl.bounces, "maximum path length")->check(CLI::Range(0, 64));
   render->add_option("--light-samples", cl.light_samples, "light samples per vertex")
       ->check(CLI::Range(0, 16));
-  render->add_option("--denoise", cl.denoiser, "none | bilateral | atrous | svgf | nlm")
-      ->check(CLI::IsMember({"none", "bilateral", "atrous", "svgf", "nlm"}));
+  render->add_option("--denoise", cl.denoiser, "none | bilateral | atrous | svgf | nlm | nlr")
+      ->check(CLI::IsMember({"none", "bilateral", "atrous", "svgf", "nlm", "nlr"}));
+  render->add_option("--denoise-aovs", cl.denoise_aovs,
+                     "features of svgf, nlm, nlr: auto (jittered for nlr) | jittered (means over "
+                     "the samples) | centre (one unjittered ray)")
+      ->check(CLI::IsMember({"auto", "jittered", "centre"}));
   render->add_option("--view", cl.view, "beauty | normal | steps | depth | albedo | iterations")
       ->check(CLI::IsMember({"beauty", "normal", "steps", "depth", "albedo", "iterations"}));
   render->add_option("--time", cl.time, "scene time in seconds");

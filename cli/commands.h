@@ -41,6 +41,7 @@ struct CommandLine {
   std::string size;
   int spp = 0, bounces = -1, light_samples = -1;
   std::string denoiser = "none";
+  std::string denoise_aovs = "auto";  // the denoiser's features: auto | jittered | centre
   std::string view = "beauty";
   double time = 0;
   std::string frames;

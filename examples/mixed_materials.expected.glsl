@@ -55,6 +55,8 @@ struct FrameParams {
   // Non-zero: the path tracer skips its unjittered AOV ray (attachments 1 and 2
   // are then zero). The renderer sets it on beauty passes whose AOVs it does
   // not read: they are the same every pass, and the ray costs a primary march.
+  // kAovJittered: no AOV ray; the AOVs are the means of the pass's jittered
+  // samples' first hits instead (see below).
   uint skip_aov_ray;
 };
 
@@ -63,6 +65,10 @@ struct FrameParams {
 //              debug views -> the view's value in rgb.
 //  location 1: primary hit: world normal (xyz), hit distance (w; -1 if missed).
 //  location 2: primary hit: albedo (rgb), march steps of the primary ray (w).
+// With skip_aov_ray == kAovJittered (beauty): locations 1 and 2 hold the means
+// over the pass's samples of normal, hit distance, albedo (0 where a sample
+// missed) and march steps, and location 0's a the fraction of samples that hit.
+SDFC_CONST uint kAovJittered = 2u;
 
 #ifdef __cplusplus
 static_assert(sizeof(FrameParams) == 112, "push constant layout");
@@ -809,6 +815,12 @@ void main() {
   bool trace = frame.view == kViewBeauty || frame.view == kViewIterations;
   int count = trace ? int(frame.sample_count) : 0;
   vec3 sum = vec3(0.0);
+  // kAovJittered: every sample records its first hit and the AOVs are their
+  // means (misses count as 0; coverage = hit fraction), as the colour is
+  // antialiased over the same jittered rays (docs/denoise.md).
+  bool jittered = frame.skip_aov_ray == kAovJittered;
+  vec4 aov_nd = vec4(0.0), aov_as = vec4(0.0);
+  float coverage = 0.0;
   // s = -1 is the unjittered primary ray for the AOVs (pass-split independent;
   // skipped on request when they are not read); sharing the loop keeps one
   // inlined copy of the tracer.
@@ -819,17 +831,31 @@ void main() {
     vec2 jitter = aov ? vec2(0.5) : rand2();
     vec3 ro, rd;
     cameraRay(vec2(pixel) + jitter, !aov, ro, rd);
-    vec3 l = tracePath(ro, rd, aov ? 0 : int(frame.max_bounces), aov);
+    if (jittered) {
+      g_aov_normal = g_aov_albedo = vec3(0.0);
+      g_aov_dist = -1.0;
+    }
+    vec3 l = tracePath(ro, rd, aov ? 0 : int(frame.max_bounces), aov || jittered);
     if (!aov && !any(isnan(l)) && !any(isinf(l))) sum += l;
+    if (jittered) {
+      bool hit = g_aov_dist >= 0.0;
+      aov_nd += vec4(g_aov_normal, hit ? g_aov_dist : 0.0);
+      aov_as += vec4(g_aov_albedo, float(g_aov_steps));
+      coverage += hit ? 1.0 : 0.0;
+    }
   }
 
   out_normal_depth = vec4(g_aov_normal, g_aov_dist);
   out_albedo_steps = vec4(g_aov_albedo, float(g_aov_steps));
   vec3 color = sum / float(max(count, 1));
+  if (jittered) {
+    out_normal_depth = aov_nd / float(max(count, 1));
+    out_albedo_steps = aov_as / float(max(count, 1));
+  }
   if (frame.view == kViewNormal) color = g_aov_normal * 0.5 + 0.5;
   if (frame.view == kViewSteps) color = heatMap(float(g_aov_steps) / float(kSceneMaxSteps));
   if (frame.view == kViewDepth) color = vec3(g_aov_dist);
   if (frame.view == kViewAlbedo) color = g_aov_albedo;
   if (frame.view == kViewIterations) color = vec3(float(g_loop_iterations), 0.0, 0.0);
-  out_color = vec4(color, 1.0);
+  out_color = vec4(color, jittered ? coverage / float(max(count, 1)) : 1.0);
 }

@@ -32,6 +32,7 @@ std::optional<Denoiser> parseDenoiser(std::string_view name) {
   if (name == "atrous" || name == "a-trous" || name == "a_trous") return Denoiser::ATrous;
   if (name == "svgf") return Denoiser::Svgf;
   if (name == "nlm") return Denoiser::Nlm;
+  if (name == "nlr") return Denoiser::Nlr;
   return std::nullopt;
 }
 
@@ -42,6 +43,7 @@ const char* denoiserName(Denoiser denoiser) {
     case Denoiser::ATrous: return "atrous";
     case Denoiser::Svgf: return "svgf";
     case Denoiser::Nlm: return "nlm";
+    case Denoiser::Nlr: return "nlr";
   }
   return "?";
 }
@@ -143,8 +145,10 @@ FloatImage atrousFilter(const FloatImage& color, const FloatImage& normal_depth,
 }
 
 bool needsVariance(Denoiser denoiser) {
-  return denoiser == Denoiser::Svgf || denoiser == Denoiser::Nlm;
+  return denoiser == Denoiser::Svgf || denoiser == Denoiser::Nlm || denoiser == Denoiser::Nlr;
 }
+
+bool wantsJitteredAovs(Denoiser denoiser) { return denoiser == Denoiser::Nlr; }
 
 FloatImage denoise(Denoiser denoiser, const FloatImage& color, const FloatImage& normal_depth,
                    const FloatImage& albedo_steps, const SampleHalves* halves) {
@@ -157,6 +161,10 @@ FloatImage denoise(Denoiser denoiser, const FloatImage& color, const FloatImage&
       if (!halves || halves->samples_a == 0 || halves->samples_b == 0)
         throw std::invalid_argument("denoise: nlm needs two half-sample renders");
       return nlmDenoise(*halves, normal_depth, albedo_steps);
+    case Denoiser::Nlr:
+      if (!halves || halves->samples_a == 0 || halves->samples_b == 0)
+        throw std::invalid_argument("denoise: nlr needs two half-sample renders");
+      return nlmDenoise(*halves, normal_depth, albedo_steps, nlrParams());
     case Denoiser::Bilateral: return bilateralFilter(color);
     case Denoiser::ATrous: return atrousFilter(color, normal_depth, albedo_steps);
     case Denoiser::None: break;

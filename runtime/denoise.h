@@ -9,7 +9,10 @@
 //  - Svgf: variance-guided A-Trous with per-pixel strength selection
 //    (denoise_svgf.h); needs two half-sample renders (renderHalves in renderer.h).
 //  - Nlm: dual-buffer joint NL-means, two passes (denoise_nlm.h); also needs
-//    the two halves. The best of these at equal samples (docs/denoise.md).
+//    the two halves.
+//  - Nlr: nlm's weights with a first-order regression on features averaged over
+//    the jittered samples (nlrParams in denoise_nlm.h). The best of these at equal
+//    samples (docs/denoise.md).
 #pragma once
 #include <optional>
 #include <string>
@@ -21,9 +24,9 @@
 
 namespace sdfc {
 
-enum class Denoiser { None, Bilateral, ATrous, Svgf, Nlm };
+enum class Denoiser { None, Bilateral, ATrous, Svgf, Nlm, Nlr };
 
-// "none", "bilateral", "atrous" (also "a-trous"), "svgf", "nlm"; nullopt otherwise.
+// "none", "bilateral", "atrous" (also "a-trous"), "svgf", "nlm", "nlr"; nullopt otherwise.
 std::optional<Denoiser> parseDenoiser(std::string_view name);
 const char* denoiserName(Denoiser denoiser);
 
@@ -53,8 +56,11 @@ FloatImage atrousFilter(const FloatImage& color, const FloatImage& normal_depth,
 
 // Whether `denoiser` needs two half-sample renders (SampleHalves).
 bool needsVariance(Denoiser denoiser);
+// Whether its features are best averaged over the jittered samples
+// (RenderSettings::jittered_aovs) rather than taken from one unjittered ray.
+bool wantsJitteredAovs(Denoiser denoiser);
 
-// Dispatch with default parameters; None returns `color` unchanged. Svgf and Nlm
+// Dispatch with default parameters; None returns `color` unchanged. Svgf, Nlm and Nlr
 // need `halves` (with samples in both) and throw std::invalid_argument without them.
 FloatImage denoise(Denoiser denoiser, const FloatImage& color, const FloatImage& normal_depth,
                    const FloatImage& albedo_steps, const SampleHalves* halves = nullptr);

@@ -74,11 +74,81 @@ inline float pixelDistance(const float* gp, const float* gq, const float* vp, co
   return sum * (1.0f / 3.0f);
 }
 
+// First-order regression (NFOR, Bitterli et al. 2016, sec. 4; Moon et al. 2014):
+// within the window the colour is modelled as c_p + beta . (x_q - x_p), x the
+// features (albedo, normal, relative depth), fitted by weighted least squares
+// with the NL-means weights; the estimate is the intercept. An edge pixel
+// whose features are a blend of two surfaces (jittered AOVs) then takes the
+// blend the model predicts from neighbours on either side instead of needing
+// look-alikes. With only the centre weighted (zero variance) it is the identity.
+constexpr int kRegressors = 8;  // 1, albedo - albedo_p (3), normal - normal_p (3), depth
+// Per pixel: sum w z z^T (upper triangle, 36) and sum w z c (8 x 3), z the regressors.
+constexpr int kMoments = kRegressors * (kRegressors + 1) / 2 + kRegressors * 3;
+
+inline void regressors(const Features& f, size_t p, size_t q, float* z) {
+  z[0] = 1.0f;
+  for (int c = 0; c < 3; ++c) {
+    z[1 + c] = f.albedo[q * 3 + c] - f.albedo[p * 3 + c];
+    z[4 + c] = f.normal[q * 3 + c] - f.normal[p * 3 + c];
+  }
+  z[7] = (f.depth[q] - f.depth[p]) / std::max(f.depth[p], 1e-6f);
+}
+
+inline void addMoments(float* m, const float* z, const float* colour, float weight) {
+  if (weight <= 0.0f) return;
+  int k = 0;
+  for (int i = 0; i < kRegressors; ++i) {
+    const float wz = weight * z[i];
+    for (int j = i; j < kRegressors; ++j) m[k++] += wz * z[j];
+    for (int c = 0; c < 3; ++c) m[k++] += wz * colour[c];
+  }
+}
+
+// The intercept of the weighted fit: solve (Z^T W Z + ridge W diag(0, 1..1)) beta
+// = Z^T W c by Cholesky in double. `out` keeps the weighted mean when the system
+// is not positive definite.
+void solveIntercept(const float* m, float ridge, float* out) {
+  constexpr int n = kRegressors;
+  double a[n][n], b[n][3];
+  int k = 0;
+  for (int i = 0; i < n; ++i) {
+    for (int j = i; j < n; ++j) a[i][j] = a[j][i] = m[k++];
+    for (int c = 0; c < 3; ++c) b[i][c] = m[k++];
+  }
+  if (!(a[0][0] > 0)) return;
+  for (int i = 1; i < n; ++i) a[i][i] += ridge * a[0][0];
+  for (int j = 0; j < n; ++j) {  // a = L L^T, L in the lower triangle
+    double d = a[j][j];
+    for (int p = 0; p < j; ++p) d -= a[j][p] * a[j][p];
+    if (!(d > 1e-12 * a[0][0])) return;
+    a[j][j] = std::sqrt(d);
+    for (int i = j + 1; i < n; ++i) {
+      double v = a[i][j];
+      for (int p = 0; p < j; ++p) v -= a[i][p] * a[j][p];
+      a[i][j] = v / a[j][j];
+    }
+  }
+  for (int c = 0; c < 3; ++c) {
+    double y[n], x[n];
+    for (int i = 0; i < n; ++i) {
+      double v = b[i][c];
+      for (int p = 0; p < i; ++p) v -= a[i][p] * y[p];
+      y[i] = v / a[i][i];
+    }
+    for (int i = n - 1; i >= 0; --i) {
+      double v = y[i];
+      for (int p = i + 1; p < n; ++p) v -= a[p][i] * x[p];
+      x[i] = v / a[i][i];
+    }
+    out[c] = float(x[0]);
+  }
+}
+
 // One pass: out_a = ua filtered with weights from guide gb, out_b = ub with
 // weights from guide ga.
 void crossFilter(const Plane& ua, const Plane& ub, const Plane& ga, const Plane& gb,
                  const Plane& var_a, const Plane& var_b, const Features& f, float k,
-                 const NlmParams& params, Plane& out_a, Plane& out_b) {
+                 const NlmParams& params, bool regress, Plane& out_a, Plane& out_b) {
   const int w = f.width, h = f.height, r = params.radius, pr = std::max(params.patch_radius, 0);
   const float k2 = k * k;
   const float patch_norm = 1.0f / float((2 * pr + 1) * (2 * pr + 1));
@@ -93,12 +163,17 @@ void crossFilter(const Plane& ua, const Plane& ub, const Plane& ga, const Plane&
     std::vector<float> hsum_b(size_t(rows) * w), hsum_a(size_t(rows) * w);
     std::vector<float> sum_a(size_t(kTileRows) * w * 3), sum_b(size_t(kTileRows) * w * 3);
     std::vector<float> wsum_a(size_t(kTileRows) * w), wsum_b(size_t(kTileRows) * w);
+    // With `regress`: each pixel's weighted moments of the first-order model.
+    std::vector<float> moments_a(regress ? size_t(kTileRows) * w * kMoments : 0);
+    std::vector<float> moments_b(moments_a.size());
     for (int tile = next_tile++; tile < tiles; tile = next_tile++) {
       const int y0 = tile * kTileRows, y1 = std::min(h, y0 + kTileRows);
       std::fill(sum_a.begin(), sum_a.end(), 0.0f);
       std::fill(sum_b.begin(), sum_b.end(), 0.0f);
       std::fill(wsum_a.begin(), wsum_a.end(), 0.0f);
       std::fill(wsum_b.begin(), wsum_b.end(), 0.0f);
+      std::fill(moments_a.begin(), moments_a.end(), 0.0f);
+      std::fill(moments_b.begin(), moments_b.end(), 0.0f);
       for (int oy = -r; oy <= r; ++oy)
         for (int ox = -r; ox <= r; ++ox) {
           // Pixel distances on rows y0 - pr .. y1 + pr (0 where p or q is outside).
@@ -143,7 +218,7 @@ void crossFilter(const Plane& ua, const Plane& ub, const Plane& ga, const Plane&
               const size_t p = size_t(y) * w + x, q = size_t(qy) * w + qx;
               if (f.hit[p] != f.hit[q]) continue;  // sky and surfaces never mix
               float feature = 1.0f;
-              if (f.hit[p] && q != p)
+              if (f.hit[p] && q != p && params.feature_weights)
                 feature = f.weight(p, q, ox, oy, params.sigma_normal, params.sigma_depth,
                                    params.sigma_albedo);
               if (feature < Features::kNegligible) continue;
@@ -163,6 +238,12 @@ void crossFilter(const Plane& ua, const Plane& ub, const Plane& ga, const Plane&
               }
               wsum_a[t] += weight_a;
               wsum_b[t] += weight_b;
+              if (regress && f.hit[p]) {
+                float x[kRegressors];
+                regressors(f, p, q, x);
+                addMoments(&moments_a[t * kMoments], x, &ua[q * 3], weight_a);
+                addMoments(&moments_b[t * kMoments], x, &ub[q * 3], weight_b);
+              }
             }
           }
         }
@@ -172,6 +253,10 @@ void crossFilter(const Plane& ua, const Plane& ub, const Plane& ga, const Plane&
           for (int c = 0; c < 3; ++c) {  // the centre's weight is 1: never zero
             out_a[p * 3 + c] = sum_a[t * 3 + c] / wsum_a[t];
             out_b[p * 3 + c] = sum_b[t * 3 + c] / wsum_b[t];
+          }
+          if (regress && f.hit[p]) {
+            solveIntercept(&moments_a[t * kMoments], params.ridge, &out_a[p * 3]);
+            solveIntercept(&moments_b[t * kMoments], params.ridge, &out_b[p * 3]);
           }
         }
     }
@@ -203,12 +288,14 @@ FloatImage nlmDenoise(const SampleHalves& halves, const FloatImage& normal_depth
 
   Plane var_a, var_b, out_a, out_b;
   guideVariances(a, b, w, h, params.variance_radius, n_a, n_b, var_a, var_b);
-  crossFilter(a, b, a, b, var_a, var_b, f, params.k_first, params, out_a, out_b);
+  crossFilter(a, b, a, b, var_a, var_b, f, params.k_first, params,
+              params.regression && params.passes == 1, out_a, out_b);
   for (int pass = 1; pass < params.passes; ++pass) {
     // The previous pass's halves guide the next: less noise, better weights.
     const Plane guide_a = std::move(out_a), guide_b = std::move(out_b);
     guideVariances(guide_a, guide_b, w, h, params.variance_radius, n_a, n_b, var_a, var_b);
-    crossFilter(a, b, guide_a, guide_b, var_a, var_b, f, params.k_second, params, out_a, out_b);
+    crossFilter(a, b, guide_a, guide_b, var_a, var_b, f, params.k_second, params,
+                params.regression && pass + 1 == params.passes, out_a, out_b);
   }
 
   FloatImage out(halves.a.width, halves.a.height, 1.0f);

@@ -31,7 +31,25 @@ struct NlmParams {
   int passes = 2;
   int variance_radius = 1;  // box over (guide_a - guide_b)^2, (2r+1)^2
   float sigma_normal = 128.0f, sigma_depth = 1.0f, sigma_albedo = 0.05f;  // feature weight
+  bool feature_weights = true;  // weight = min(colour, feature); off: the colour weight alone
+  // The last pass fits the colour to the features by weighted least squares
+  // (first order) and takes the fit at the pixel instead of the weighted mean.
+  bool regression = false;
+  float ridge = 1e-3f;  // on the slopes, times the sum of the weights
 };
+
+// `--denoise nlr`: NL-means-weighted first-order regression on features averaged
+// over the jittered samples (RenderSettings::jittered_aovs). Measured on castle,
+// colonnade and glass Menger at 640x360 16 spp (docs/denoise.md): the colour
+// weight alone (the blended edge features would reject true neighbours), a
+// second-pass strength of 1.25.
+inline NlmParams nlrParams() {
+  NlmParams params;
+  params.regression = true;
+  params.feature_weights = false;
+  params.k_second = 1.25f;
+  return params;
+}
 
 // The denoised sample-weighted mean of the halves. `normal_depth`, `albedo_steps`:
 // the renderer's attachments 1 and 2. Throws std::invalid_argument on size mismatch.

@@ -188,9 +188,12 @@ void Renderer::drawBand(Accumulation& acc, uint32_t b, uint32_t count, RenderOut
   params.tile_y = y0;
   params.sample_count = count;
   params.traversal_visits = traversalVisitsFor(acc.settings, count);
-  const bool read_aovs = final_out || (acc.keep_aovs && acc.passes == 0);
+  const bool beauty = acc.settings.view == gpu::kViewBeauty;
+  // Jittered AOVs differ every pass: each pass's are read and summed.
+  const bool jittered = acc.settings.jittered_aovs && beauty;
+  const bool read_aovs = final_out || (acc.keep_aovs && acc.passes == 0) || jittered;
   // Beauty passes whose AOVs are not read skip the AOV ray (the image is the same).
-  params.skip_aov_ray = !read_aovs && count > 0 && acc.settings.view == gpu::kViewBeauty;
+  params.skip_aov_ray = jittered ? gpu::kAovJittered : !read_aovs && count > 0 && beauty;
   runPass(context_, pipeline_, target_, &params, acc.settings.pass_timeout_seconds, rows,
           read_aovs ? kAttachmentCount : 1);
   const size_t band_floats = size_t(width) * rows * 4;
@@ -210,6 +213,21 @@ void Renderer::drawBand(Accumulation& acc, uint32_t b, uint32_t count, RenderOut
     }
     if (count > 0 && !sum.empty())
       for (size_t i = 0; i < band_floats; ++i) sum[i] += sampleTerm(pass[i], count);
+  }
+  if (jittered) {
+    // Running sums of pass mean * pass samples, in acc's AOV images.
+    if (acc.normal_depth.empty()) {
+      acc.normal_depth = FloatImage(acc.width, acc.height);
+      acc.albedo_steps = FloatImage(acc.width, acc.height);
+    }
+    const size_t base = size_t(y0) * width * 4;
+    float* nd_sum = acc.normal_depth.rgba.data() + base;
+    float* as_sum = acc.albedo_steps.rgba.data() + base;
+    for (size_t i = 0; count > 0 && i < band_floats; ++i) {
+      nd_sum[i] += normal_depth[i] * float(count);
+      as_sum[i] += albedo_steps[i] * float(count);
+    }
+    if (!final_out) return;
   }
   if (!final_out) {
     if (read_aovs) {
@@ -241,6 +259,15 @@ void Renderer::drawBand(Accumulation& acc, uint32_t b, uint32_t count, RenderOut
   // + 0.0f maps -0 to +0, as the former double accumulation (0.0 + x) did.
   float* nd = grow(out.normal_depth);
   float* as = grow(out.albedo_steps);
+  if (jittered) {
+    const size_t base = size_t(y0) * width * 4;
+    const float scale = 1.0f / float(count_done);
+    for (size_t i = 0; i < band_floats; ++i) {
+      nd[i] = acc.normal_depth.rgba[base + i] * scale;
+      as[i] = acc.albedo_steps.rgba[base + i] * scale;
+    }
+    return;
+  }
   for (size_t i = 0; i < band_floats; ++i) {
     nd[i] = normal_depth[i] + 0.0f;
     as[i] = albedo_steps[i] + 0.0f;
@@ -350,6 +377,24 @@ RenderOutput Renderer::render(const CameraDesc& camera, const RenderSettings& se
     progress(info);
   }
   return out;
+}
+
+void resolveJitteredAovs(RenderOutput& out, SampleHalves* halves) {
+  for (size_t i = 0; i < out.color.pixelCount(); ++i) {
+    float& coverage = out.color.rgba[i * 4 + 3];
+    float* nd = &out.normal_depth.rgba[i * 4];
+    float* as = &out.albedo_steps.rgba[i * 4];
+    const float inverse = coverage > 0.0f ? 1.0f / coverage : 0.0f;
+    for (int c = 0; c < 3; ++c) {
+      nd[c] *= inverse;
+      as[c] *= inverse;
+    }
+    nd[3] = coverage >= 0.5f ? nd[3] * inverse : -1.0f;
+    coverage = 1.0f;
+  }
+  if (halves)
+    for (FloatImage* half : {&halves->a, &halves->b})
+      for (size_t i = 0; i < half->pixelCount(); ++i) half->rgba[i * 4 + 3] = 1.0f;
 }
 
 RenderOutput renderHalves(Renderer& renderer, const CameraDesc& camera,

@@ -57,6 +57,11 @@ struct RenderSettings {
   uint32_t first_sample = 0;
   // Also return the exact color sums (RenderOutput::color_sums): what a shard stores.
   bool keep_sums = false;
+  // Beauty: AOVs as means over the jittered samples (gpu::kAovJittered) instead
+  // of the unjittered AOV ray: RenderOutput's normal_depth and albedo_steps are
+  // then sample means (0 where a sample missed) and color's a is the coverage;
+  // resolveJitteredAovs turns them into per-hit features for the denoisers.
+  bool jittered_aovs = false;
   double pass_timeout_seconds = 60;
   // Pixels per band (0 = kBandPixels). An interactive view draws its whole
   // window as one band: one submission and one wait a frame instead of several.
@@ -174,6 +179,12 @@ class Renderer {
   RenderPipeline pipeline_;
   RenderTarget target_;
 };
+
+// A render with RenderSettings::jittered_aovs -> the denoisers' features:
+// normal, albedo and distance as means over the samples that hit (distance -1
+// where fewer than half hit, the sky side of the filters), steps the mean over
+// all samples; color's a back to 1. Also the halves' a, if given.
+void resolveJitteredAovs(RenderOutput& out, SampleHalves* halves = nullptr);
 
 // Renders samples [first, first + n/2) and [first + n/2, first + n) of `settings`
 // as two independent halves and returns their merge (the same estimator as one

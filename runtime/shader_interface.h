@@ -54,6 +54,8 @@ struct FrameParams {
   // Non-zero: the path tracer skips its unjittered AOV ray (attachments 1 and 2
   // are then zero). The renderer sets it on beauty passes whose AOVs it does
   // not read: they are the same every pass, and the ray costs a primary march.
+  // kAovJittered: no AOV ray; the AOVs are the means of the pass's jittered
+  // samples' first hits instead (see below).
   uint skip_aov_ray;
 };
 
@@ -62,6 +64,10 @@ struct FrameParams {
 //              debug views -> the view's value in rgb.
 //  location 1: primary hit: world normal (xyz), hit distance (w; -1 if missed).
 //  location 2: primary hit: albedo (rgb), march steps of the primary ray (w).
+// With skip_aov_ray == kAovJittered (beauty): locations 1 and 2 hold the means
+// over the pass's samples of normal, hit distance, albedo (0 where a sample
+// missed) and march steps, and location 0's a the fraction of samples that hit.
+SDFC_CONST uint kAovJittered = 2u;
 
 #ifdef __cplusplus
 static_assert(sizeof(FrameParams) == 112, "push constant layout");

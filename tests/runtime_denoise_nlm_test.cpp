@@ -112,6 +112,56 @@ TEST(RuntimeDenoiseNlm, ErrorFallsAsSamplesRise) {
   EXPECT_LT(previous, 1e-8);  // the undenoised image has 1.2e-7 here
 }
 
+// nlr (nlm's weights with a first-order regression on the features): the same
+// convergence guarantees.
+TEST(RuntimeDenoiseNlr, ZeroVarianceIsTheIdentity) {
+  FloatImage normal_depth, albedo;
+  planeGuides(normal_depth, albedo, true, 4);
+  SampleHalves h = noisyHalves(0.2f, 8, stepTruth, 25);
+  h.b = h.a;
+  const FloatImage out = nlmDenoise(h, normal_depth, albedo, nlrParams());
+  for (size_t i = 0; i < out.pixelCount(); ++i)
+    for (int c = 0; c < 3; ++c) ASSERT_FLOAT_EQ(out.rgba[i * 4 + c], h.a.rgba[i * 4 + c]) << i;
+}
+
+TEST(RuntimeDenoiseNlr, ErrorFallsAsSamplesRise) {
+  FloatImage normal_depth, albedo;
+  planeGuides(normal_depth, albedo, false);
+  double previous = 1e30;
+  for (uint32_t samples : {2u, 8u, 32u, 128u, 512u, 1u << 14, 1u << 20}) {
+    const SampleHalves h = noisyHalves(0.5f, samples, stepTruth, 26);
+    const double raw = meanSquaredError(meanOf(h), stepTruth);
+    const double error = meanSquaredError(nlmDenoise(h, normal_depth, albedo, nlrParams()), stepTruth);
+    std::printf("nlr on a shadow edge, %7u spp: MSE %.3g (undenoised %.3g)\n", 2 * samples, error, raw);
+    EXPECT_LT(error, previous);
+    EXPECT_LT(error, raw);
+    previous = error;
+  }
+  EXPECT_LT(previous, 1e-8);
+}
+
+float rampTruth(uint32_t x) { return 0.1f + 0.8f * float(x) / float(kSize - 1); }
+
+TEST(RuntimeDenoiseNlr, RegressionFollowsAFeatureRamp) {
+  // Colour proportional to an albedo ramp across the plane: the weighted mean
+  // flattens the ramp (bias), the first-order fit on the albedo follows it.
+  FloatImage normal_depth, albedo;
+  planeGuides(normal_depth, albedo, false);
+  for (uint32_t y = 0; y < kSize; ++y)
+    for (uint32_t x = 0; x < kSize; ++x)
+      for (int c = 0; c < 3; ++c) albedo.at(x, y)[c] = rampTruth(x);
+  const SampleHalves h = noisyHalves(0.2f, 8, rampTruth, 27);
+  NlmParams mean_only = nlrParams();
+  mean_only.regression = false;
+  const double raw = meanSquaredError(meanOf(h), rampTruth);
+  const double mean_error = meanSquaredError(nlmDenoise(h, normal_depth, albedo, mean_only), rampTruth);
+  const double fit_error = meanSquaredError(nlmDenoise(h, normal_depth, albedo, nlrParams()), rampTruth);
+  std::printf("albedo ramp: MSE undenoised %.3g, weighted mean %.3g, regression %.3g\n", raw,
+              mean_error, fit_error);
+  EXPECT_LT(fit_error, 0.8 * mean_error);  // 0.64 when written
+  EXPECT_LT(fit_error * 5.0, raw);
+}
+
 TEST(RuntimeDenoiseNlm, KeepsFeatureEdgesAndSky) {
   // Two planes meeting at a normal edge, four rows of sky (value 1) above: the
   // planes' means stay apart and the sky is never mixed with a surface.
@@ -143,6 +193,11 @@ TEST(RuntimeDenoiseNlm, DispatchNeedsHalves) {
   halves.samples_a = 2;
   halves.samples_b = 6;
   EXPECT_EQ(parseDenoiser("nlm"), Denoiser::Nlm);
+  EXPECT_EQ(parseDenoiser("nlr"), Denoiser::Nlr);
+  EXPECT_STREQ(denoiserName(Denoiser::Nlr), "nlr");
+  EXPECT_TRUE(needsVariance(Denoiser::Nlr));
+  EXPECT_TRUE(wantsJitteredAovs(Denoiser::Nlr));
+  EXPECT_FALSE(wantsJitteredAovs(Denoiser::Nlm));
   EXPECT_STREQ(denoiserName(Denoiser::Nlm), "nlm");
   EXPECT_TRUE(needsVariance(Denoiser::Nlm));
   EXPECT_THROW(denoise(Denoiser::Nlm, halves.a, normal_depth, albedo), std::invalid_argument);

@@ -673,6 +673,12 @@ void main() {
   int count = int(frame.sample_count);
 #endif
   vec3 sum = vec3(0.0);
+  // kAovJittered: every sample records its first hit and the AOVs are their
+  // means (misses count as 0; coverage = hit fraction), as the colour is
+  // antialiased over the same jittered rays (docs/denoise.md).
+  bool jittered = frame.skip_aov_ray == kAovJittered;
+  vec4 aov_nd = vec4(0.0), aov_as = vec4(0.0);
+  float coverage = 0.0;
   // s = -1 is the unjittered primary ray for the AOVs (pass-split independent;
   // skipped on request when they are not read); sharing the loop keeps one
   // inlined copy of the tracer.
@@ -683,13 +689,27 @@ void main() {
     vec2 jitter = aov ? vec2(0.5) : rand2();
     vec3 ro, rd;
     cameraRay(vec2(pixel) + jitter, !aov, ro, rd);
-    vec3 l = tracePath(ro, rd, aov ? 0 : int(frame.max_bounces), aov);
+    if (jittered) {
+      g_aov_normal = g_aov_albedo = vec3(0.0);
+      g_aov_dist = -1.0;
+    }
+    vec3 l = tracePath(ro, rd, aov ? 0 : int(frame.max_bounces), aov || jittered);
     if (!aov && !any(isnan(l)) && !any(isinf(l))) sum += l;
+    if (jittered) {
+      bool hit = g_aov_dist >= 0.0;
+      aov_nd += vec4(g_aov_normal, hit ? g_aov_dist : 0.0);
+      aov_as += vec4(g_aov_albedo, float(g_aov_steps));
+      coverage += hit ? 1.0 : 0.0;
+    }
   }
 
   out_normal_depth = vec4(g_aov_normal, g_aov_dist);
   out_albedo_steps = vec4(g_aov_albedo, float(g_aov_steps));
   vec3 color = sum / float(max(count, 1));
+  if (jittered) {
+    out_normal_depth = aov_nd / float(max(count, 1));
+    out_albedo_steps = aov_as / float(max(count, 1));
+  }
 #ifdef SDFC_ALL_VIEWS
   if (frame.view == kViewNormal) color = g_aov_normal * 0.5 + 0.5;
   if (frame.view == kViewSteps) color = heatMap(float(g_aov_steps) / float(kSceneMaxSteps));
@@ -700,7 +720,7 @@ void main() {
 #ifdef SDFC_VIEW_ITERATIONS
   color = vec3(float(g_loop_iterations), 0.0, 0.0);
 #endif
-  out_color = vec4(color, 1.0);
+  out_color = vec4(color, jittered ? coverage / float(max(count, 1)) : 1.0);
 }
 #else
 // A debug view's main (normal, steps, depth or albedo): the primary ray alone,
