@@ -574,11 +574,21 @@ float g_aov_dist = -1.0;
 vec3 g_aov_albedo = vec3(0.0);
 int g_aov_steps = 0;
 
-// Radiance along (ro, rd) with at most max_bounces scattering events. Loops per
-// call: bounce <= max_bounces + 1, each with march <= kSceneMaxSteps, sphere-light
-// test <= kNumSphereLights, normal 4, and (at most max_bounces times) light loop
-// <= frame.light_samples, each with a sphere-light occlusion test <= kNumSphereLights
-// and a shadow march <= kSceneMaxSteps.
+// Next-event estimation: with a light and a material that has a smooth lobe.
+const bool kNextEvent = true;
+
+// Radiance along (ro, rd) with at most max_bounces scattering events.
+//
+// One loop marches every ray of the path through one march() call: the path's
+// rays and, at each vertex that scatters, frame.light_samples shadow rays, one
+// an iteration (every march() call site is a full inlined copy of the scene,
+// which lavapipe JIT-compiles at the first draw: one site, not two). Random
+// numbers are drawn in the order of a loop over the light samples followed by
+// the BSDF sample, so images do not depend on this arrangement.
+// Loops per call: the path loop <= (max_bounces + 1) + max_bounces * L
+// iterations (L = frame.light_samples), each with march <= kSceneMaxSteps,
+// sphere-light test <= kNumSphereLights,
+// normal 4, and the light sample's sphere-light occlusion test <= kNumSphereLights.
 vec3 tracePath(vec3 ro, vec3 rd, int max_bounces, bool record_aov) {
   vec3 radiance = vec3(0.0);
   vec3 throughput = vec3(1.0);
@@ -589,68 +599,93 @@ vec3 tracePath(vec3 ro, vec3 rd, int max_bounces, bool record_aov) {
   float side = sdScene(ro) < -fpEps(maxComponent(abs(ro)), 0.0) ? -1.0 : 1.0;
   float prev_pdf = 0.0;   // BSDF pdf of the last scattering; 0 = delta or camera
   vec3 prev_pos = ro;
-  for (int depth = loopZero(); depth <= max_bounces; depth++) {
+  int depth = 0;
+  // The vertex being shaded, kept while its shadow rays are marched.
+  vec3 p = ro, n = vec3(0.0), nf = vec3(0.0);
+  Material m;
+  float offset = 0.0;
+  bool entering = true;
+  // The shadow ray this iteration marches (shadow_ray), if it may add light
+  // (shadow_valid; else it takes no steps), and what it adds when unblocked.
+  int light_j = 0;
+  bool shadow_ray = false, shadow_valid = false;
+  vec3 shadow_origin = vec3(0.0), shadow_dir = vec3(0.0), shadow_radiance = vec3(0.0);
+  float shadow_dist = -1.0;
+  const int light_samples = kNextEvent ? int(frame.light_samples) : 0;
+  for (int it = loopZero(); it < max_bounces + 1 + max_bounces * light_samples; it++) {
     g_loop_iterations++;
     int steps;
-    float t = march(ro, rd, 3.0e38, side, steps);
-    if (t < 0.0) {
-      if (record_aov && depth == 0) g_aov_steps = steps;
-      vec3 sky = sdSky(rd);
-      // sdSky holds no sun disc: the kernel adds it, MIS-weighted against NEE.
-      if (dot(rd, kSunDir) >= kSunCosAngle) sky += kSunRadiance * misBsdfWeight(prev_pdf, lightPdf(0, prev_pos));
-      radiance += throughput * sky;
-      break;
-    }
+    float t = march(shadow_ray ? shadow_origin : ro, shadow_ray ? shadow_dir : rd,
+                    shadow_ray ? (shadow_valid ? shadow_dist : -1.0) : 3.0e38, shadow_ray ? 1.0 : side, steps);
+    if (shadow_ray) {
+      if (shadow_valid && t < 0.0) radiance += shadow_radiance;
+      light_j++;
+    } else {
+      if (t < 0.0) {
+        if (record_aov && depth == 0) g_aov_steps = steps;
+        vec3 sky = sdSky(rd);
+        // sdSky holds no sun disc: the kernel adds it, MIS-weighted against NEE.
+        if (dot(rd, kSunDir) >= kSunCosAngle) sky += kSunRadiance * misBsdfWeight(prev_pdf, lightPdf(0, prev_pos));
+        radiance += throughput * sky;
+        break;
+      }
 
-    vec3 p = ro + rd * t;
-    vec3 n;
-    Material m;
-    {
-      vec3 material_point;
-      n = surfaceNormal(p, rd, t, material_point);
-      m = sdMaterial(sdMaterialId(material_point));
-    }
-    if (record_aov && depth == 0) {
-      g_aov_normal = n;
-      g_aov_dist = t;
-      g_aov_albedo = m.albedo;
-      g_aov_steps = steps;
-    }
-    radiance += throughput * m.emission;  // emitters found by BSDF sampling: weight 1
-    if (depth >= max_bounces || m.model == MAT_EMISSIVE) break;
+      p = ro + rd * t;
+      {
+        vec3 material_point;
+        n = surfaceNormal(p, rd, t, material_point);
+        m = sdMaterial(sdMaterialId(material_point));
+      }
+      if (record_aov && depth == 0) {
+        g_aov_normal = n;
+        g_aov_dist = t;
+        g_aov_albedo = m.albedo;
+        g_aov_steps = steps;
+      }
+      radiance += throughput * m.emission;  // emitters found by BSDF sampling: weight 1
+      if (depth >= max_bounces || m.model == MAT_EMISSIVE) break;
 
-    bool entering = dot(rd, n) < 0.0;
-    vec3 nf = entering ? n : -n;  // faces the incoming ray
+      entering = dot(rd, n) < 0.0;
+      nf = entering ? n : -n;  // faces the incoming ray
+      // New rays start off the surface by a few times its uncertainty: the hit's
+      // |d|, float32 rounding of p, and 1/100 pixel at t (the normal taps' scale;
+      // without it, the tolerance now being local, rays starting closer took 29%
+      // more loop iterations on the castle). Not by the hit band: a quarter pixel
+      // at distance would lift rays out of crevices and under contact points
+      // (measured: +0.03% image mean against Mitsuba 3).
+      offset = 4.0 * max(max(kSceneHitEps, g_hit_offness), max(maxComponent(abs(p)) * 4.0 * 1.1920929e-7, 0.01 * t * kScenePixelCone));
+      // Next-event estimation at this vertex: frame.light_samples shadow rays to
+      // uniformly chosen lights (smooth lobes only).
+      light_j = m.model == MAT_DIFFUSE || m.model == MAT_METAL ? 0 : light_samples;
+    }
     vec3 wo = -rd;
-    // New rays start off the surface by a few times its uncertainty: the hit's
-    // |d|, float32 rounding of p, and 1/100 pixel at t (the normal taps' scale;
-    // without it, the tolerance now being local, rays starting closer took 29%
-    // more loop iterations on the castle). Not by the hit band: a quarter pixel
-    // at distance would lift rays out of crevices and under contact points
-    // (measured: +0.03% image mean against Mitsuba 3).
-    float offset = 4.0 * max(max(kSceneHitEps, g_hit_offness), max(maxComponent(abs(p)) * 4.0 * 1.1920929e-7, 0.01 * t * kScenePixelCone));
 
-    // Next-event estimation: frame.light_samples shadow rays to uniformly chosen lights.
-    if (m.model == MAT_DIFFUSE || m.model == MAT_METAL) {
+    // Light sample light_j: its shadow ray is the next iteration's march.
+    shadow_ray = light_j < light_samples;
+    if (shadow_ray) {
+      shadow_valid = false;
       vec3 origin = p + nf * offset;
       float n_light = float(frame.light_samples);
-      for (int j = loopZero(); j < int(frame.light_samples); j++) {
-        g_loop_iterations++;
-        vec2 u_pick = rand2();
-        vec2 u_dir = rand2();
-        int index = min(int(u_pick.x * float(kLightCount)), kLightCount - 1);
-        vec3 wi, le;
-        float dist;
-        if (!sampleLight(index, origin, u_dir, wi, dist, le)) continue;
+      vec2 u_pick = rand2();
+      vec2 u_dir = rand2();
+      int index = min(int(u_pick.x * float(kLightCount)), kLightCount - 1);
+      vec3 wi, le;
+      float dist;
+      if (sampleLight(index, origin, u_dir, wi, dist, le)) {
         float bsdf_pdf;
         vec3 f_cos = evalBsdf(m, nf, wo, wi, bsdf_pdf);
-        if (maxComponent(f_cos) <= 0.0) continue;
-        int shadow_steps;
-        if (march(origin, wi, dist, 1.0, shadow_steps) >= 0.0) continue;
-        float light_pdf = lightPdf(index, origin);
-        float w = powerHeuristic(n_light * light_pdf, bsdf_pdf);
-        radiance += throughput * f_cos * le * (w / (n_light * light_pdf));
+        bool blocked = maxComponent(f_cos) <= 0.0;
+        if (!blocked) {
+          float light_pdf = lightPdf(index, origin);
+          float w = powerHeuristic(n_light * light_pdf, bsdf_pdf);
+          shadow_radiance = throughput * f_cos * le * (w / (n_light * light_pdf));
+          shadow_valid = true;
+          shadow_origin = origin;
+          shadow_dir = wi;
+          shadow_dist = dist;
+        }
       }
+      continue;
     }
 
     // Sample the BSDF: the new direction wi, throughput weight f cos / pdf, and pdf.
@@ -683,6 +718,7 @@ vec3 tracePath(vec3 ro, vec3 rd, int max_bounces, bool record_aov) {
       if (rand2().x >= q) break;
       throughput /= q;
     }
+    depth++;
   }
   return radiance;
 }

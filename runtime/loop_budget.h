@@ -7,15 +7,17 @@
 // iteration of the loops enclosing it, whatever branch the lanes took. One sample
 // (one iteration of main's sample loop) runs:
 //   1                                  sample loop
-//   + (B + 1) * (1 + S + N + 4)        bounce loop: march, sphere-light test, normal
-//   + B * L * (1 + N + S)              light loop with its sphere-light occlusion
-//                                      test and shadow march, at the B vertices
-//                                      that may scatter
+//   + (B + 1 + B * L) * (1 + S + 2 N + 4)
+//                                      path loop: one march a ray (the path's
+//                                      B + 1 rays and L shadow rays at each of
+//                                      the B vertices that may scatter), the
+//                                      sphere-light test, the normal, and the
+//                                      light sample's sphere-light occlusion test
 // with S = kSceneMaxSteps + kRefineSteps (a march may add kRefineSteps
 // iterations after a hit to refine it), B = max_bounces, L = light_samples,
 // N = sphere lights.
 // Each pass also traces one unjittered primary ray for the AOVs (sample loop
-// iteration s = -1, B = 0): 1 + (1 + S + N + 4).
+// iteration s = -1, B = 0): 1 + (1 + S + 2 N + 4).
 #pragma once
 #include <cstdint>
 
@@ -33,8 +35,7 @@ constexpr uint64_t kRefineSteps = 2;
 constexpr uint64_t loopIterationsPerSampleWide(uint64_t max_steps, uint64_t max_bounces,
                                                uint64_t light_samples, uint64_t sphere_lights) {
   const uint64_t march = max_steps + kRefineSteps;
-  return 1 + (max_bounces + 1) * (1 + march + sphere_lights + 4) +
-         max_bounces * light_samples * (1 + sphere_lights + march);
+  return 1 + (max_bounces + 1 + max_bounces * light_samples) * (1 + march + 2 * sphere_lights + 4);
 }
 
 // Upper bound on the loop iterations of one sample. Pass the scene's number of
@@ -49,7 +50,7 @@ constexpr uint32_t loopIterationsPerSample(uint32_t max_steps, uint32_t max_boun
 // Loop iterations of a pass independent of its sample count (the AOV ray).
 constexpr uint32_t loopIterationsPerPassOverhead(uint32_t max_steps,
                                                  uint32_t sphere_lights = kMaxSphereLights) {
-  return 1 + (1 + max_steps + uint32_t(kRefineSteps) + sphere_lights + 4);
+  return 1 + (1 + max_steps + uint32_t(kRefineSteps) + 2 * sphere_lights + 4);
 }
 
 // Upper bound on the loop iterations of a pass of `sample_count` samples.
@@ -77,7 +78,7 @@ constexpr uint32_t samplesPerPassWithinCap(uint32_t max_steps, uint32_t max_boun
 // node, at most frame.traversal_visits iterations). Every scene evaluation in
 // the kernel sits in the body of a counted loop iteration, one per iteration
 // (march step, normal difference, the material id per bounce), except the
-// inside test each tracePath call makes before its bounce loop: so a pass makes
+// inside test each tracePath call makes before its path loop: so a pass makes
 // at most (its loop iterations + samples + 1) evaluations (+ 1: the AOV ray).
 // An evaluation may reach an Instances node through both sdScene and
 // sdMaterialId, but never more than `sets_per_evaluation` of them.
@@ -98,8 +99,8 @@ constexpr uint32_t traversalVisitsWithinCap(uint64_t kernel_iterations, uint32_t
 static_assert(traversalVisitsWithinCap(1000, 1) == (65535 - 1 - 1000) / 1002);
 
 static_assert(loopIterationsPerSample(98, 0, 0, 0) == 1 + 105);
-static_assert(loopIterationsPerPass(98, 2, 1, 3, 0) == 106 + 3 * (1 + 3 * 105 + 2 * 101));
-static_assert(loopIterationsPerSample(98, 2, 1, 2) == 1 + 3 * 107 + 2 * 103);
+static_assert(loopIterationsPerPass(98, 2, 1, 3, 0) == 106 + 3 * (1 + 5 * 105));
+static_assert(loopIterationsPerSample(98, 2, 1, 2) == 1 + 5 * 109);
 static_assert(loopIterationsPerPass(256, 4, 1, samplesPerPassWithinCap(256, 4, 1)) <
               gpu::kLavapipeLoopCap);
 static_assert(loopIterationsPerPass(256, 4, 1, samplesPerPassWithinCap(256, 4, 1) + 1) >=
