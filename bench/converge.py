@@ -99,7 +99,13 @@ def time_to(rows, metric, target):
     first = min(rows, key=lambda r: r["spp"])
     if first[metric] <= target:
         return first["wall_s"], "at first rung"
-    return sb.time_to_error(pts, target)
+    t, how = sb.time_to_error(pts, target)
+    # Past two more doublings of the last rung the curve is a plateau (a biased
+    # filter), not a trend: an extrapolated figure would mean nothing.
+    last_s = max(r["wall_s"] for r in rows)
+    if t is not None and how == "extrapolated" and t > 4 * last_s:
+        return None, f"never (levels off at {min(r[metric] for r in rows):.2g})"
+    return t, how
 
 
 def run(args, reference, errors):
@@ -144,9 +150,11 @@ def report_lines(args, summary, ref_spp):
     for scene, configs in summary.items():
         base = configs.get("baseline", {}).get("flip_s")
         for config, s in configs.items():
-            mark = lambda t, how: "-" if t is None else f"{t:.1f}{' x' if how == 'extrapolated' else ''}"
+            mark = lambda t, how: (how if how and how.startswith("never") else "-") if t is None else \
+                f"{t:.1f}{' x' if how == 'extrapolated' else ''}"
             speed = f"{base / s['flip_s']:.2f}x" if base and s["flip_s"] else "-"
-            both = "-" if s["both_s"] is None else f"{s['both_s']:.1f}"
+            never = any(str(s[k]).startswith("never") for k in ("flip_how", "relmse_how"))
+            both = ("never" if never else "-") if s["both_s"] is None else f"{s['both_s']:.1f}"
             lines.append(f"| {scene} | {config} | {mark(s['flip_s'], s['flip_how'])} | "
                          f"{mark(s['relmse_s'], s['relmse_how'])} | {both} | {speed} |")
     return lines
