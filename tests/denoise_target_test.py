@@ -30,8 +30,11 @@ def main():
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--sdfc", default=os.path.join(ROOT, "build", "cli", "sdfc"))
     args = p.parse_args()
-    work = tempfile.mkdtemp(prefix="denoise_target_")
+    with tempfile.TemporaryDirectory(prefix="denoise_target_") as work:
+        return check(args, work)
 
+
+def check(args, work):
     def image(spp, denoiser="none", extra=(), seed=7):
         out = os.path.join(work, f"{denoiser}_{spp}_{seed}.pfm")
         sb.render(args.sdfc, SCENE, out, ["--size", SIZE, "--spp", str(spp), "--seed", str(seed),
