@@ -156,7 +156,6 @@ scene {
   o.height = 48;
   auto work = [&](const CompiledScene& c) {
     Renderer renderer(context, c.spirv);
-    renderer.setCameraInsideTest(cameraInsideTest(c.scene, c.emitted.limits));
     RenderOverrides v = o;
     v.view = gpu::kViewIterations;
     v.spp = 1;
@@ -174,7 +173,6 @@ scene {
   // Same image: the difference is below the noise between two seeds.
   auto image = [&](const CompiledScene& c, uint32_t seed) {
     Renderer renderer(context, c.spirv);
-    renderer.setCameraInsideTest(cameraInsideTest(c.scene, c.emitted.limits));
     RenderOverrides v = o;
     v.spp = 16;
     v.seed = seed;
@@ -220,7 +218,6 @@ scene {
   o.height = 48;
   auto iterations = [&](const CompiledScene& c) {
     Renderer renderer(context, c.spirv);
-    renderer.setCameraInsideTest(cameraInsideTest(c.scene, c.emitted.limits));
     RenderOverrides v = o;
     v.view = gpu::kViewIterations;
     v.spp = 1;
@@ -236,7 +233,6 @@ scene {
               work_without);
   auto image = [&](const CompiledScene& c, uint32_t seed) {
     Renderer renderer(context, c.spirv);
-    renderer.setCameraInsideTest(cameraInsideTest(c.scene, c.emitted.limits));
     RenderOverrides v = o;
     v.spp = 16;
     v.seed = seed;
@@ -289,7 +285,6 @@ scene {
   o.height = 48;
   auto render = [&](const CompiledScene& c, int view, uint32_t spp, uint32_t seed) {
     Renderer renderer(context, c.spirv);
-    renderer.setCameraInsideTest(cameraInsideTest(c.scene, c.emitted.limits));
     RenderOverrides v = o;
     v.view = view;
     v.spp = spp;
