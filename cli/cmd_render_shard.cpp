@@ -65,7 +65,6 @@ int runRenderShard(const CommandLine& cl, const RenderOverrides& o) {
   }
 
   Renderer renderer(context, compiled.spirv);
-  renderer.setCameraInsideTest(cameraInsideTest(compiled.scene, compiled.emitted.limits));
   const bool fault = faultArmed(uint32_t(cl.shard_index));
   ProgressCallback progress = cl.quiet ? ProgressCallback{} : makeTerminalProgress("shard");
   if (fault)
