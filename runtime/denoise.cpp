@@ -152,19 +152,13 @@ bool wantsJitteredAovs(Denoiser denoiser) { return denoiser == Denoiser::Nlr; }
 
 FloatImage denoise(Denoiser denoiser, const FloatImage& color, const FloatImage& normal_depth,
                    const FloatImage& albedo_steps, const SampleHalves* halves) {
+  if (needsVariance(denoiser) && (!halves || halves->samples_a == 0 || halves->samples_b == 0))
+    throw std::invalid_argument(std::string("denoise: ") + denoiserName(denoiser) +
+                                " needs two half-sample renders");
   switch (denoiser) {
-    case Denoiser::Svgf:
-      if (!halves || halves->samples_a == 0 || halves->samples_b == 0)
-        throw std::invalid_argument("denoise: svgf needs two half-sample renders");
-      return svgfDenoise(*halves, normal_depth, albedo_steps);
-    case Denoiser::Nlm:
-      if (!halves || halves->samples_a == 0 || halves->samples_b == 0)
-        throw std::invalid_argument("denoise: nlm needs two half-sample renders");
-      return nlmDenoise(*halves, normal_depth, albedo_steps);
-    case Denoiser::Nlr:
-      if (!halves || halves->samples_a == 0 || halves->samples_b == 0)
-        throw std::invalid_argument("denoise: nlr needs two half-sample renders");
-      return nlmDenoise(*halves, normal_depth, albedo_steps, nlrParams());
+    case Denoiser::Svgf: return svgfDenoise(*halves, normal_depth, albedo_steps);
+    case Denoiser::Nlm: return nlmDenoise(*halves, normal_depth, albedo_steps);
+    case Denoiser::Nlr: return nlmDenoise(*halves, normal_depth, albedo_steps, nlrParams());
     case Denoiser::Bilateral: return bilateralFilter(color);
     case Denoiser::ATrous: return atrousFilter(color, normal_depth, albedo_steps);
     case Denoiser::None: break;

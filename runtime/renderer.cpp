@@ -197,6 +197,7 @@ void Renderer::drawBand(Accumulation& acc, uint32_t b, uint32_t count, RenderOut
   runPass(context_, pipeline_, target_, &params, acc.settings.pass_timeout_seconds, rows,
           read_aovs ? kAttachmentCount : 1);
   const size_t band_floats = size_t(width) * rows * 4;
+  const size_t band_base = size_t(y0) * width * 4;  // the band's first float in a whole image
   const float* pass = target_.mapped;
   const float* normal_depth = target_.mapped + target_.floatsPerImage();
   const float* albedo_steps = normal_depth + target_.floatsPerImage();
@@ -220,9 +221,8 @@ void Renderer::drawBand(Accumulation& acc, uint32_t b, uint32_t count, RenderOut
       acc.normal_depth = FloatImage(acc.width, acc.height);
       acc.albedo_steps = FloatImage(acc.width, acc.height);
     }
-    const size_t base = size_t(y0) * width * 4;
-    float* nd_sum = acc.normal_depth.rgba.data() + base;
-    float* as_sum = acc.albedo_steps.rgba.data() + base;
+    float* nd_sum = acc.normal_depth.rgba.data() + band_base;
+    float* as_sum = acc.albedo_steps.rgba.data() + band_base;
     for (size_t i = 0; count > 0 && i < band_floats; ++i) {
       nd_sum[i] += normal_depth[i] * float(count);
       as_sum[i] += albedo_steps[i] * float(count);
@@ -231,10 +231,9 @@ void Renderer::drawBand(Accumulation& acc, uint32_t b, uint32_t count, RenderOut
   }
   if (!final_out) {
     if (read_aovs) {
-      const size_t base = size_t(y0) * width * 4;
       for (size_t i = 0; i < band_floats; ++i) {
-        acc.normal_depth.rgba[base + i] = normal_depth[i] + 0.0f;
-        acc.albedo_steps.rgba[base + i] = albedo_steps[i] + 0.0f;
+        acc.normal_depth.rgba[band_base + i] = normal_depth[i] + 0.0f;
+        acc.albedo_steps.rgba[band_base + i] = albedo_steps[i] + 0.0f;
       }
     }
     return;
@@ -260,11 +259,10 @@ void Renderer::drawBand(Accumulation& acc, uint32_t b, uint32_t count, RenderOut
   float* nd = grow(out.normal_depth);
   float* as = grow(out.albedo_steps);
   if (jittered) {
-    const size_t base = size_t(y0) * width * 4;
     const float scale = 1.0f / float(count_done);
     for (size_t i = 0; i < band_floats; ++i) {
-      nd[i] = acc.normal_depth.rgba[base + i] * scale;
-      as[i] = acc.albedo_steps.rgba[base + i] * scale;
+      nd[i] = acc.normal_depth.rgba[band_base + i] * scale;
+      as[i] = acc.albedo_steps.rgba[band_base + i] * scale;
     }
     return;
   }
