@@ -92,14 +92,17 @@ std::unique_ptr<BuiltScene> BackgroundCompiler::buildReload(uint32_t view) {
   }
   auto compiled = std::make_shared<CompiledScene>(std::move(loaded.compiled));
   built->compiled = compiled;
-  createRenderer(*built, compiled->spirv, compiled->emitted.scene_data);
+  createRenderer(*built, compiled->spirv, compiled->emitted.scene_data, compiled->emitted.limits);
   return built;
 }
 
 void BackgroundCompiler::createRenderer(BuiltScene& built, const std::vector<uint32_t>& spirv,
-                                        const std::vector<float>& scene_data) {
+                                        const std::vector<float>& scene_data,
+                                        const MarchLimits& limits) {
   try {
     built.renderer = std::make_unique<Renderer>(context_, spirv, scene_data);
+    // built.compiled (shared) outlives the renderer it holds the scene for.
+    built.renderer->setCameraInsideTest(cameraInsideTest(built.compiled->scene, limits));
     built.pipeline_seconds = built.renderer->pipelineSeconds();
     built.ok = true;
   } catch (const std::exception& e) {
@@ -128,7 +131,7 @@ std::unique_ptr<BuiltScene> BackgroundCompiler::buildVariant(std::shared_ptr<con
     built->error = "kernel compile failed";
     return built;
   }
-  createRenderer(*built, spv.words, emitted.scene_data);
+  createRenderer(*built, spv.words, emitted.scene_data, emitted.limits);
   return built;
 }
 

@@ -72,8 +72,9 @@ class BackgroundCompiler {
   std::unique_ptr<BuiltScene> buildReload(uint32_t view);
   std::unique_ptr<BuiltScene> buildVariant(std::shared_ptr<const CompiledScene> scene, uint32_t view);
   // The pipeline for `built` (its ok, renderer and pipeline time, or its error).
+  // `limits`: the kernel's, for the camera-inside test (built.compiled's scene).
   void createRenderer(BuiltScene& built, const std::vector<uint32_t>& spirv,
-                      const std::vector<float>& scene_data);
+                      const std::vector<float>& scene_data, const MarchLimits& limits);
 
   const VulkanContext& context_;
   const CommandLine command_line_;

@@ -130,6 +130,7 @@ int main(int argc, char** argv) {
       auto start = Clock::now();
       double cpu = cpuMs();
       Renderer renderer(context, spirv, compiled.emitted.scene_data);
+      renderer.setCameraInsideTest(cameraInsideTest(compiled.scene, compiled.emitted.limits));
       pipeline.push_back(msSince(start));
       pipeline_cpu.push_back(cpuMs() - cpu);
       RenderOverrides o;

@@ -433,6 +433,19 @@ void cameraRay(vec2 film, bool lens, out vec3 ro, out vec3 rd) {
 #endif
 }
 
+// -1 when the camera ray's origin ro is inside a solid (deeper than float
+// error), else 1. A pinhole camera's rays all start at frame.cam_origin, so the
+// renderer decides it once per frame on the CPU with the same float threshold
+// (frame.camera_inside; runtime/camera_inside.h): no inlined copy of the scene
+// here. A thin lens moves ro per sample and keeps the per-ray test.
+float cameraSide(vec3 ro) {
+#ifdef SDFC_HAS_APERTURE
+  return sdScene(ro) < -fpEps(maxComponent(abs(ro)), 0.0) ? -1.0 : 1.0;
+#else
+  return frame.camera_inside != 0u ? -1.0 : 1.0;
+#endif
+}
+
 // The surface a marched ray hit at p = ro + t rd (not an analytic plane): its
 // outward normal, and in `material_point` where its material is read.
 // The surface is that of the solid the ray enters, or of the one it leaves
@@ -492,7 +505,7 @@ vec3 tracePath(vec3 ro, vec3 rd, int max_bounces, bool record_aov) {
   // an object: it then sees the object's inside, not a hit at t = 0).
   // A camera on a surface (within float error of it) is outside: march() then
   // tells a ray leaving the surface from one entering it.
-  float side = sdScene(ro) < -fpEps(maxComponent(abs(ro)), 0.0) ? -1.0 : 1.0;
+  float side = cameraSide(ro);
   float prev_pdf = 0.0;   // BSDF pdf of the last scattering; 0 = delta or camera
   vec3 prev_pos = ro;
   int depth = 0;
@@ -776,7 +789,7 @@ void main() {
   vec3 ro, rd;
   cameraRay(vec2(pixel) + vec2(0.5), false, ro, rd);
   // A camera inside a solid sees its inside (as the path tracer).
-  float side = sdScene(ro) < -fpEps(maxComponent(abs(ro)), 0.0) ? -1.0 : 1.0;
+  float side = cameraSide(ro);
   int steps;
   float t = march(ro, rd, 3.0e38, side, steps);
   vec3 normal = vec3(0.0);
