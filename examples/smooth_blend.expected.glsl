@@ -31,7 +31,7 @@ SDFC_CONST uint kViewIterations = 5u;
 // iterations in total (Mesa's LP_MAX_TGSI_LOOP_ITERATIONS).
 SDFC_CONST uint kLavapipeLoopCap = 65535u;
 
-// Push constants: 112 bytes, under the 128 every Vulkan device guarantees.
+// Push constants: 116 bytes, under the 128 every Vulkan device guarantees.
 struct FrameParams {
   vec4 cam_origin;   // xyz: eye; w: tan(vertical fov / 2)
   vec4 cam_right;    // xyz: unit right; w: aperture radius (0 = pinhole)
@@ -59,6 +59,10 @@ struct FrameParams {
   // kAovJittered: no AOV ray; the AOVs are the means of the pass's jittered
   // samples' first hits instead (see below).
   uint skip_aov_ray;
+  // Non-zero: the camera's origin is inside a solid (pinhole cameras; decided
+  // per frame and time on the CPU by runtime/camera_inside.h with the kernel's
+  // float threshold). Thin-lens kernels test each ray's origin instead.
+  uint camera_inside;
 };
 
 // Fragment outputs (all RGBA32F attachments, one pixel per invocation):
@@ -72,7 +76,7 @@ struct FrameParams {
 SDFC_CONST uint kAovJittered = 2u;
 
 #ifdef __cplusplus
-static_assert(sizeof(FrameParams) == 112, "push constant layout");
+static_assert(sizeof(FrameParams) == 116, "push constant layout");
 }  // namespace sdfc::gpu
 #endif
 // ---- kernel prelude: interface, materials, random numbers, sampling ----
@@ -630,6 +634,15 @@ void cameraRay(vec2 film, bool lens, out vec3 ro, out vec3 rd) {
   ro = frame.cam_origin.xyz;
 }
 
+// -1 when the camera ray's origin ro is inside a solid (deeper than float
+// error), else 1. A pinhole camera's rays all start at frame.cam_origin, so the
+// renderer decides it once per frame on the CPU with the same float threshold
+// (frame.camera_inside; runtime/camera_inside.h): no inlined copy of the scene
+// here. A thin lens moves ro per sample and keeps the per-ray test.
+float cameraSide(vec3 ro) {
+  return frame.camera_inside != 0u ? -1.0 : 1.0;
+}
+
 // The surface a marched ray hit at p = ro + t rd (not an analytic plane): its
 // outward normal, and in `material_point` where its material is read.
 // The surface is that of the solid the ray enters, or of the one it leaves
@@ -680,7 +693,7 @@ vec3 tracePath(vec3 ro, vec3 rd, int max_bounces, bool record_aov) {
   // an object: it then sees the object's inside, not a hit at t = 0).
   // A camera on a surface (within float error of it) is outside: march() then
   // tells a ray leaving the surface from one entering it.
-  float side = sdScene(ro) < -fpEps(maxComponent(abs(ro)), 0.0) ? -1.0 : 1.0;
+  float side = cameraSide(ro);
   float prev_pdf = 0.0;   // BSDF pdf of the last scattering; 0 = delta or camera
   vec3 prev_pos = ro;
   int depth = 0;
