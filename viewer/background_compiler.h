@@ -36,6 +36,9 @@ struct BuiltScene {
   std::string error;  // a short reason for the title bar
   Clock::time_point requested, finished;
   double compile_seconds = 0, pipeline_seconds = 0;
+  // How long the build waited, after pipeline creation, for the SPIR-V
+  // validation running beside it (CompileOptions::validate_spirv off).
+  double validation_wait_seconds = 0;
 };
 
 class BackgroundCompiler {

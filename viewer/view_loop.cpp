@@ -236,6 +236,8 @@ void Viewer::open() {
   // As `render`: lavapipe runs both sides of a branch, so bound checks only cost.
   if (context_.properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU && !cl_.force_bounds)
     compile.emit.bounding_volumes = false;
+  // SPIR-V is validated beside pipeline creation, off the save's critical path.
+  compile.validate_spirv = false;
   compiler_ = std::make_unique<BackgroundCompiler>(context_, cl_, compile);
   view_ = viewFromName(cl_.view);
   compiler_->setView(view_);
@@ -400,9 +402,10 @@ bool Viewer::drawFrame() {
     char line[256];
     std::snprintf(line, sizeof line,
                   "save-to-image %.0f ms (compile %.0f ms, pipeline %.0f ms, first frame %.0f ms at "
-                  "%ux%u)",
+                  "%ux%u; waited %.0f ms for SPIR-V validation)",
                   msBetween(since, frame_end), active_->compile_seconds * 1000,
-                  active_->pipeline_seconds * 1000, last_frame_ms_, acc_->width, acc_->height);
+                  active_->pipeline_seconds * 1000, last_frame_ms_, acc_->width, acc_->height,
+                  active_->validation_wait_seconds * 1000);
     std::fprintf(stderr, "sdfc: %s %s\n", scene_generation_ == 1 ? "loaded:" : "reloaded:", line);
     logEvent(std::string("reload ok ") + line);
   }
