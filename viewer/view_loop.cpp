@@ -42,7 +42,7 @@ constexpr double kPreviewSlowMs = 60, kPreviewFastMs = 20;
 // a band is a submission and a wait, and the 640 x 360 castle took two at the
 // renderer's default.
 constexpr uint64_t kViewBandPixels = 1u << 21;
-constexpr uint32_t kReloadPreviewScale = 4;
+constexpr uint32_t kReloadPreviewScale = kMaxPreviewScale;
 constexpr double kTimeStep = 1.0 / 30.0;  // the step key, and play speed is real time
 constexpr double kScriptWaitSeconds = 600;  // a wait-* command longer than this fails
 
@@ -305,8 +305,9 @@ void Viewer::swapIn(std::unique_ptr<BuiltScene> built) {
   if (!first) {
     frames_still_ = 0;
     // Its first frame also pays the driver's shader compile (lavapipe JITs at the
-    // first draw): draw it small, so the new scene shows as soon as possible.
-    preview_scale_ = std::max(preview_scale_, kReloadPreviewScale);
+    // first draw): draw it at the smallest preview size, so the new scene shows
+    // as soon as possible (castle, after the compile: 4 ms at 80x45, 15 at 160x90).
+    preview_scale_ = kReloadPreviewScale;
   }
   if (!script_write_) reload_since_ = active_->requested;
 }
