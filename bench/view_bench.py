@@ -137,7 +137,15 @@ def measure_save(result, run, text, d, n_edits):
     result["reload_compile_ms"] = [parse(r"\(compile", l) for l in reloads]
     result["reload_pipeline_ms"] = [parse("pipeline", l) for l in reloads]
     result["reload_first_frame_ms"] = [parse("first frame", l) for l in reloads]
-    for k in ("reload_compile_ms", "reload_pipeline_ms", "reload_first_frame_ms"):
+    # sdfc view validates SPIR-V beside pipeline creation; the wait after it (0 for
+    # binaries that validate inside the compile and do not print it).
+    waited = [re.search(r"waited (\d+) ms", l) for l in reloads]
+    result["reload_validation_wait_ms"] = [float(m.group(1)) if m else 0.0 for m in waited]
+    result["reload_other_ms"] = [s - c - p - f - w for s, c, p, f, w in zip(
+        result["save_to_image_ms"], result["reload_compile_ms"], result["reload_pipeline_ms"],
+        result["reload_first_frame_ms"], result["reload_validation_wait_ms"])]
+    for k in ("reload_compile_ms", "reload_pipeline_ms", "reload_first_frame_ms",
+              "reload_validation_wait_ms", "reload_other_ms"):
         result[k + "_median"] = statistics.median(result[k])
     result["reload_first_frame_resolution"] = [re.search(r"at (\d+x\d+)", l).group(1) for l in reloads]
     full = [parse("save-to-full-resolution", l) for l in lines if "reload full" in l][1:]
@@ -175,6 +183,8 @@ ROWS = [
     ("  compile, ms", "reload_compile_ms_median"),
     ("  pipeline, ms", "reload_pipeline_ms_median"),
     ("  first frame, ms", "reload_first_frame_ms_median"),
+    ("  waiting for SPIR-V validation, ms", "reload_validation_wait_ms_median"),
+    ("  the rest (watcher, hand-off), ms", "reload_other_ms_median"),
     ("  to the first full-resolution frame, ms", "save_to_full_resolution_ms_median"),
     ("input to presented frame, frames, max (<= 2)", "input_to_frame_frames_max"),
 ]
