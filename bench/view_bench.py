@@ -20,6 +20,9 @@ change) and --drivers picks the system lavapipe (22) and/or Mesa 25's
 so every run compiles its shaders as a person's fresh edit would.
 Usage: bench/view_bench.py [--sdfc build/cli/sdfc] [--baseline OLD_SDFC]
                            [--drivers 22,25] [--edits 5] [--out bench/results/view.json]
+                           [--figures normal,beauty,save,input] [--rounds 1]
+--rounds R repeats the interleaved (binary, driver) measurements R times (A/B/A/B...),
+pooling the saves of all rounds into one median.
 """
 import argparse
 import json
@@ -72,11 +75,22 @@ def interval_ms(frames):
     return [b - a for a, b in zip(t, t[1:])]
 
 
-def measure(sdfc, driver, scene, text, d, n, n_edits=5):
+def measure(sdfc, driver, scene, text, d, n, n_edits=5, figures=("normal", "beauty", "save", "input")):
     """The four figures (and their parts) for one binary under one driver."""
     result = {}
     run = lambda script, flags: run_view(sdfc, scene, script, flags, d, driver)
+    if "normal" in figures:
+        measure_normal(result, run, n)
+    if "beauty" in figures:
+        measure_beauty(result, run, n)
+    if "save" in figures:
+        measure_save(result, run, text, d, n_edits)
+    if "input" in figures:
+        measure_input(result, run)
+    return result
 
+
+def measure_normal(result, run, n):
     # 1. Normal view, full resolution each frame while orbiting.
     _, frames, _ = run(f"wait-idle\nlog orbit\ndrag left {4 * n} 0 {n}\nwait 2\nquit\n",
                        ["--view", "normal", "--no-dynamic-resolution", "--size", "640x360"])
@@ -87,6 +101,9 @@ def measure(sdfc, driver, scene, text, d, n, n_edits=5):
     result["normal_640x360_outside_pass_ms"] = statistics.median(
         float(f["ms"]) - float(f["render_ms"]) for f in orbit)
 
+
+
+def measure_beauty(result, run, n):
     # 2. Path traced, 1 spp a frame, still camera; then orbiting with dynamic resolution.
     _, frames, _ = run(f"wait-spp {n + 1}\nlog orbit\ndrag left {4 * n} 0 {n}\nwait-spp 2\nquit\n",
                        ["--spp", "100000", "--size", "640x360"])
@@ -100,6 +117,9 @@ def measure(sdfc, driver, scene, text, d, n, n_edits=5):
         result["beauty_orbit_preview_fps"] = 1000.0 / statistics.median(interval_ms(moving))
         result["beauty_orbit_preview_resolutions"] = sorted({f["res"] for f in moving})
 
+
+
+def measure_save(result, run, text, d, n_edits):
     # 3. Save-to-new-image latency: edits of a `let` number, each new to the
     # driver (no shader cache), timed from the write to the new scene's first
     # presented frame.
@@ -114,14 +134,27 @@ def measure(sdfc, driver, scene, text, d, n, n_edits=5):
     parse = lambda key, l: float(re.search(key + r" (\d+) ms", l).group(1))
     result["save_to_image_ms"] = [parse("save-to-image", l) for l in reloads]
     result["save_to_image_ms_median"] = statistics.median(result["save_to_image_ms"])
-    result["reload_compile_ms_median"] = statistics.median(parse(r"\(compile", l) for l in reloads)
-    result["reload_pipeline_ms_median"] = statistics.median(parse("pipeline", l) for l in reloads)
-    result["reload_first_frame_ms_median"] = statistics.median(parse("first frame", l) for l in reloads)
+    result["reload_compile_ms"] = [parse(r"\(compile", l) for l in reloads]
+    result["reload_pipeline_ms"] = [parse("pipeline", l) for l in reloads]
+    result["reload_first_frame_ms"] = [parse("first frame", l) for l in reloads]
+    # sdfc view validates SPIR-V beside pipeline creation; the wait after it (0 for
+    # binaries that validate inside the compile and do not print it).
+    waited = [re.search(r"waited (\d+) ms", l) for l in reloads]
+    result["reload_validation_wait_ms"] = [float(m.group(1)) if m else 0.0 for m in waited]
+    result["reload_other_ms"] = [s - c - p - f - w for s, c, p, f, w in zip(
+        result["save_to_image_ms"], result["reload_compile_ms"], result["reload_pipeline_ms"],
+        result["reload_first_frame_ms"], result["reload_validation_wait_ms"])]
+    for k in ("reload_compile_ms", "reload_pipeline_ms", "reload_first_frame_ms",
+              "reload_validation_wait_ms", "reload_other_ms"):
+        result[k + "_median"] = statistics.median(result[k])
     result["reload_first_frame_resolution"] = [re.search(r"at (\d+x\d+)", l).group(1) for l in reloads]
     full = [parse("save-to-full-resolution", l) for l in lines if "reload full" in l][1:]
     result["save_to_full_resolution_ms"] = full
     result["save_to_full_resolution_ms_median"] = statistics.median(full)
 
+
+
+def measure_input(result, run):
     # 4. Input to presented frame (frames).
     lines, frames, _ = run("wait-idle\ndrag left 40 0 10\nwait 3\nquit\n", ["--spp", "1", "--size", "640x360"])
     by_index = {int(f["frame"]): f for f in frames}
@@ -135,7 +168,6 @@ def measure(sdfc, driver, scene, text, d, n, n_edits=5):
                 waits.append(later[0] - k)
     result["input_to_frame_frames_max"] = max(waits)
     result["input_to_frame_frames"] = waits
-    return result
 
 
 ROWS = [
@@ -151,9 +183,29 @@ ROWS = [
     ("  compile, ms", "reload_compile_ms_median"),
     ("  pipeline, ms", "reload_pipeline_ms_median"),
     ("  first frame, ms", "reload_first_frame_ms_median"),
+    ("  waiting for SPIR-V validation, ms", "reload_validation_wait_ms_median"),
+    ("  the rest (watcher, hand-off), ms", "reload_other_ms_median"),
     ("  to the first full-resolution frame, ms", "save_to_full_resolution_ms_median"),
     ("input to presented frame, frames, max (<= 2)", "input_to_frame_frames_max"),
 ]
+
+
+def pool(rounds):
+    """One result from several rounds: lists joined (medians taken again), numbers the median."""
+    out = {}
+    for k in rounds[0]:
+        values = [r[k] for r in rounds if k in r]
+        if isinstance(values[0], list):
+            out[k] = [x for v in values for x in v]
+        elif isinstance(values[0], (int, float)):
+            out[k] = statistics.median(values)
+        else:
+            out[k] = values[0]
+    for k in list(out):
+        if k.endswith("_median") and isinstance(out.get(k[:-len("_median")]), list):
+            out[k] = statistics.median(out[k[:-len("_median")]])
+    out["rounds"] = len(rounds)
+    return out
 
 
 def main():
@@ -164,7 +216,12 @@ def main():
     ap.add_argument("--out", default=os.path.join(HERE, "results", "view.json"))
     ap.add_argument("--frames", type=int, default=30)
     ap.add_argument("--edits", type=int, default=5, help="saves timed for the save-to-image median")
+    ap.add_argument("--figures", default="normal,beauty,save,input",
+                    help="which figures: normal, beauty, save (save-to-image), input")
+    ap.add_argument("--rounds", type=int, default=1,
+                    help="repeat the interleaved measurements; lists are pooled, figures are medians of rounds")
     args = ap.parse_args()
+    figures = [x for x in args.figures.split(",") if x]
     castle = os.path.join(ROOT, "examples", "castle.sdf")
     drivers = [x for x in args.drivers.split(",") if x]
     if "25" in drivers:
@@ -180,11 +237,15 @@ def main():
         scene = os.path.join(d, "castle.sdf")
         text = open(castle).read()
         open(scene, "w").write(text)
-        for driver in drivers:
-            for name, sdfc in binaries:  # interleaved: before and after share the load
-                key = f"{name}_mesa{driver}"
-                print("measuring", key, file=sys.stderr, flush=True)
-                result["runs"][key] = measure(sdfc, driver, scene, text, d, args.frames, args.edits)
+        rounds = {}
+        for r in range(args.rounds):
+            for driver in drivers:
+                for name, sdfc in binaries:  # interleaved: before and after share the load
+                    key = f"{name}_mesa{driver}"
+                    print("measuring", key, "round", r + 1, "load", os.getloadavg()[0], file=sys.stderr, flush=True)
+                    rounds.setdefault(key, []).append(
+                        measure(sdfc, driver, scene, text, d, args.frames, args.edits, figures))
+        result["runs"] = {key: pool(rs) for key, rs in rounds.items()}
     result["machine"]["load_average_end"] = os.getloadavg()
     # The headline figures: the new binary on sdfc's default driver (the bundled
     # Mesa 25 where tools/setup.sh fetched it, else the system's).
@@ -199,7 +260,7 @@ def main():
     for label, k in ROWS:
         cells = []
         for run in keys:
-            v = result["runs"][run].get(k, 0)
+            v = result["runs"][run].get(k, float("nan"))
             cells.append(f"{v:18.1f}")
         print(f"{label:52s} " + " ".join(cells))
     for driver in drivers:
@@ -207,7 +268,7 @@ def main():
         if a and b:
             print(f"after / before, Mesa {driver}: " + ", ".join(
                 f"{k} {a[k] / b[k]:.2f}" for k in ("normal_640x360_ms_per_frame", "normal_640x360_render_ms",
-                                                 "beauty_640x360_1spp_fps", "save_to_image_ms_median") if b.get(k)))
+                                                 "beauty_640x360_1spp_fps", "save_to_image_ms_median") if b.get(k) and k in a))
     print("load average:", result["machine"]["load_average_start"], "->", result["machine"]["load_average_end"])
     print("wrote", args.out)
 

@@ -16,7 +16,7 @@ Mesa's on-disk shader cache is off (every build is new to the driver).
 Writes bench/results/view_jit.json; medians are printed.
 
 Usage: bench/view_jit_bench.py --baseline OLD_SDFC [--sdfc build/cli/sdfc]
-                               [--drivers 22,25] [--rounds 5]
+                               [--drivers 22,25] [--rounds 5] [--no-render]
 """
 import argparse
 import json
@@ -71,6 +71,7 @@ def main():
     ap.add_argument("--rounds", type=int, default=5)
     ap.add_argument("--scene", default=os.path.join(ROOT, "examples", "castle.sdf"))
     ap.add_argument("--out", default=os.path.join(HERE, "results", "view_jit.json"))
+    ap.add_argument("--no-render", action="store_true", help="only the first-draw figures (no spp/s)")
     args = ap.parse_args()
     drivers = [d for d in args.drivers.split(",") if d]
     if "25" in drivers:
@@ -95,9 +96,10 @@ def main():
                     key = f"{name}_mesa{driver}"
                     print(f"round {r + 1}/{args.rounds} {key}", file=sys.stderr, flush=True)
                     s = first_draw(args.first_draw, args.scene, glsl[name], driver)
-                    t4 = render_seconds(sdfc, args.scene, 4, driver, out)
-                    t20 = render_seconds(sdfc, args.scene, 20, driver, out)
-                    s["steady_spp_per_s"] = 16 / max(t20 - t4, 1e-9)
+                    if not args.no_render:
+                        t4 = render_seconds(sdfc, args.scene, 4, driver, out)
+                        t20 = render_seconds(sdfc, args.scene, 20, driver, out)
+                        s["steady_spp_per_s"] = 16 / max(t20 - t4, 1e-9)
                     for k, v in s.items():
                         samples.setdefault(key, {}).setdefault(k, []).append(v)
     result = {"machine": {"cpus": os.cpu_count(), "load_average_start": load_start,
@@ -117,7 +119,7 @@ def main():
         if a and b:
             print(f"after / before, Mesa {driver}: " + ", ".join(
                 f"{k} {a[k] / b[k]:.2f}" for k in ("pipeline_cpu_ms", "jit_1x1_cpu_ms", "first_draw_160x90_ms",
-                                                 "second_draw_160x90_ms", "steady_spp_per_s")))
+                                                 "second_draw_160x90_ms", "steady_spp_per_s") if k in a))
     print("load average:", result["machine"]["load_average_start"], "->", result["machine"]["load_average_end"])
     print("wrote", args.out)
 

@@ -106,6 +106,7 @@ int runRender(const CommandLine& cl) {
   const CompiledScene& compiled = loaded.compiled;
 
   Renderer renderer(context, compiled.spirv, compiled.emitted.scene_data);
+  renderer.setCameraInsideTest(cameraInsideTest(compiled.scene, compiled.emitted.limits));
   const std::atomic<bool>* interrupt = installInterruptHandler();
   ToneMap tone;
   tone.exposure_stops = static_cast<float>(cl.exposure);

@@ -31,7 +31,7 @@ SDFC_CONST uint kViewIterations = 5u;
 // iterations in total (Mesa's LP_MAX_TGSI_LOOP_ITERATIONS).
 SDFC_CONST uint kLavapipeLoopCap = 65535u;
 
-// Push constants: 112 bytes, under the 128 every Vulkan device guarantees.
+// Push constants: 116 bytes, under the 128 every Vulkan device guarantees.
 struct FrameParams {
   vec4 cam_origin;   // xyz: eye; w: tan(vertical fov / 2)
   vec4 cam_right;    // xyz: unit right; w: aperture radius (0 = pinhole)
@@ -59,6 +59,10 @@ struct FrameParams {
   // kAovJittered: no AOV ray; the AOVs are the means of the pass's jittered
   // samples' first hits instead (see below).
   uint skip_aov_ray;
+  // Non-zero: the camera's origin is inside a solid (pinhole cameras; decided
+  // per frame and time on the CPU by runtime/camera_inside.h with the kernel's
+  // float threshold). Thin-lens kernels test each ray's origin instead.
+  uint camera_inside;
 };
 
 // Fragment outputs (all RGBA32F attachments, one pixel per invocation):
@@ -72,7 +76,7 @@ struct FrameParams {
 SDFC_CONST uint kAovJittered = 2u;
 
 #ifdef __cplusplus
-static_assert(sizeof(FrameParams) == 112, "push constant layout");
+static_assert(sizeof(FrameParams) == 116, "push constant layout");
 }  // namespace sdfc::gpu
 #endif
 // ---- kernel prelude: interface, materials, random numbers, sampling ----
@@ -296,7 +300,8 @@ float sdScene(vec3 p) {
   }
   return d0;
 }
-int sdMaterialId(vec3 p) { return 1; }
+vec2 sdSceneMaterial(vec3 p) { return vec2(sdScene(p), 1.0); }
+int sdMaterialId(vec3 p) { return int(sdSceneMaterial(p).y); }
 
 Material sdMaterial(int id) {
   if (id == 1) return Material(MAT_GLASS, vec3(0.95, 0.97, 1.0), vec3(0.0), 1.5, 0.0);  // crystal
@@ -531,26 +536,6 @@ float march(vec3 ro, vec3 rd, float t_max, float side, out int steps) {
   return t_hit >= 0.0 ? max(t_hit, 0.0) : -1.0;
 }
 
-// Gradient from 4 taps on a tetrahedron's vertices (cheaper than the paper's 6
-// central differences, sec. 2.4). A loop, so sdScene is emitted once, not 4 times.
-// field_mean: the taps' mean, the field at p to O(h^2).
-vec3 sceneNormal(vec3 p, float h, out float field_mean) {
-  vec3 n = vec3(0.0);
-  field_mean = 0.0;
-  for (int i = loopZero(); i < 4; i++) {
-    g_loop_iterations++;
-    // (+,-,-), (-,-,+), (-,+,-), (+,+,+): the even-parity cube corners
-    vec3 k = vec3(i == 0 || i == 3, i >= 2, i == 1 || i == 3) * 2.0 - 1.0;
-    float d = sdScene(p + k * h);
-    n += k * d;
-    field_mean += 0.25 * d;
-  }
-  // A degenerate field (coplanar CSG faces make a zero-width sheet whose
-  // taps cancel) has no gradient: a NaN here would poison the denoisers.
-  float len = length(n);
-  return len > 0.0 ? n / len : vec3(0.0, 1.0, 0.0);
-}
-
 // ---- lights ----
 
 // Light sampling, BSDFs and the path tracer: the beauty (and iterations) kernel only.
@@ -627,8 +612,18 @@ void cameraRay(vec2 film, bool lens, out vec3 ro, out vec3 rd) {
   ro = frame.cam_origin.xyz;
 }
 
+// -1 when the camera ray's origin ro is inside a solid (deeper than float
+// error), else 1. A pinhole camera's rays all start at frame.cam_origin, so the
+// renderer decides it once per frame on the CPU with the same float threshold
+// (frame.camera_inside; runtime/camera_inside.h): no inlined copy of the scene
+// here. A thin lens moves ro per sample and keeps the per-ray test.
+float cameraSide(vec3 ro) {
+  return frame.camera_inside != 0u ? -1.0 : 1.0;
+}
+
 // The surface a marched ray hit at p = ro + t rd (not an analytic plane): its
-// outward normal, and in `material_point` where its material is read.
+// outward normal, and its material id (kernels that shade: the path tracer
+// and the albedo view; the other views read no material).
 // The surface is that of the solid the ray enters, or of the one it leaves
 // when it enters none: the normal is the field's gradient just past p along
 // the ray (inside the solid entered, outside the one left), and the
@@ -638,14 +633,37 @@ void cameraRay(vec2 film, bool lens, out vec3 ro, out vec3 rd) {
 // h: 16x float resolution at p, or 1/400 of a pixel at t if wider (the
 // width of the strip along an edge whose normal mixes the two faces);
 // the point ahead lies past p's offset from the surface.
-vec3 surfaceNormal(vec3 p, vec3 rd, float t, out vec3 material_point) {
+// The gradient comes from 4 taps on a tetrahedron's vertices (cheaper than the
+// paper's 6 central differences, sec. 2.4) and the material from a 5th
+// evaluation, all in one loop: sdSceneMaterial is inlined once for the taps and
+// the material (each call site of a scene function is a whole inlined copy, and
+// lavapipe's compile of it at the first draw is most of a reload's latency).
+vec3 surfaceNormal(vec3 p, vec3 rd, float t, out int material) {
   float h = max(16.0 * fpEps(maxComponent(abs(p)), 0.0), 0.01 * t * kScenePixelCone);
   float ahead = 2.0 * h + 2.0 * g_hit_offness;
-  float field;
-  vec3 n = sceneNormal(p + rd * ahead, h, field);  // outward: the gradient of sdScene
-  bool ahead_solid = field < 0.0;
-  material_point = ahead_solid ? p + rd * ahead : p - rd * ahead;
-  return n;
+  vec3 centre = p + rd * ahead;
+  vec3 n = vec3(0.0);
+  float field = 0.0;  // the taps' mean: the field at centre to O(h^2)
+  material = 0;
+  const int kEvaluations = 5;
+  for (int i = loopZero(); i < kEvaluations; i++) {
+    g_loop_iterations++;
+    // (+,-,-), (-,-,+), (-,+,-), (+,+,+): the even-parity cube corners
+    vec3 k = vec3(i == 0 || i == 3, i >= 2, i == 1 || i == 3) * 2.0 - 1.0;
+    // The 5th: where the material is read, ahead when that is inside a solid.
+    vec3 q = i < 4 ? centre + k * h : (field < 0.0 ? centre : p - rd * ahead);
+    vec2 dm = sdSceneMaterial(q);
+    if (i < 4) {
+      n += k * dm.x;
+      field += 0.25 * dm.x;
+    } else {
+      material = int(dm.y);
+    }
+  }
+  // A degenerate field (coplanar CSG faces make a zero-width sheet whose
+  // taps cancel) has no gradient: a NaN here would poison the denoisers.
+  float len = length(n);
+  return len > 0.0 ? n / len : vec3(0.0, 1.0, 0.0);
 }
 
 // ---- path tracer ----
@@ -677,7 +695,7 @@ vec3 tracePath(vec3 ro, vec3 rd, int max_bounces, bool record_aov) {
   // an object: it then sees the object's inside, not a hit at t = 0).
   // A camera on a surface (within float error of it) is outside: march() then
   // tells a ray leaving the surface from one entering it.
-  float side = sdScene(ro) < -fpEps(maxComponent(abs(ro)), 0.0) ? -1.0 : 1.0;
+  float side = cameraSide(ro);
   float prev_pdf = 0.0;   // BSDF pdf of the last scattering; 0 = delta or camera
   vec3 prev_pos = ro;
   int depth = 0;
@@ -718,9 +736,9 @@ vec3 tracePath(vec3 ro, vec3 rd, int max_bounces, bool record_aov) {
         m = sdMaterial(analytic_material);
       } else
       {
-        vec3 material_point;
-        n = surfaceNormal(p, rd, t, material_point);
-        m = sdMaterial(sdMaterialId(material_point));
+        int surface_material;
+        n = surfaceNormal(p, rd, t, surface_material);
+        m = sdMaterial(surface_material);
       }
       if (record_aov && depth == 0) {
         g_aov_normal = n;

@@ -7,17 +7,18 @@
 // iteration of the loops enclosing it, whatever branch the lanes took. One sample
 // (one iteration of main's sample loop) runs:
 //   1                                  sample loop
-//   + (B + 1 + B * L) * (1 + S + 2 N + 4)
+//   + (B + 1 + B * L) * (1 + S + 2 N + 5)
 //                                      path loop: one march a ray (the path's
 //                                      B + 1 rays and L shadow rays at each of
 //                                      the B vertices that may scatter), the
-//                                      sphere-light test, the normal, and the
+//                                      sphere-light test, the normal's 4 taps and
+//                                      the material (one loop of 5), and the
 //                                      light sample's sphere-light occlusion test
 // with S = kSceneMaxSteps + kRefineSteps (a march may add kRefineSteps
 // iterations after a hit to refine it), B = max_bounces, L = light_samples,
 // N = sphere lights.
 // Each pass also traces one unjittered primary ray for the AOVs (sample loop
-// iteration s = -1, B = 0): 1 + (1 + S + 2 N + 4).
+// iteration s = -1, B = 0): 1 + (1 + S + 2 N + 5).
 #pragma once
 #include <cstdint>
 
@@ -32,10 +33,13 @@ constexpr uint32_t kMaxSphereLights = 16;
 // Iterations a march may add after its hit (kRefineSteps in pathtrace.glsl).
 constexpr uint64_t kRefineSteps = 2;
 
+// surfaceNormal's loop in a shading kernel: 4 taps and the material id.
+constexpr uint64_t kNormalLoopIterations = 5;
+
 constexpr uint64_t loopIterationsPerSampleWide(uint64_t max_steps, uint64_t max_bounces,
                                                uint64_t light_samples, uint64_t sphere_lights) {
   const uint64_t march = max_steps + kRefineSteps;
-  return 1 + (max_bounces + 1 + max_bounces * light_samples) * (1 + march + 2 * sphere_lights + 4);
+  return 1 + (max_bounces + 1 + max_bounces * light_samples) * (1 + march + 2 * sphere_lights + kNormalLoopIterations);
 }
 
 // Upper bound on the loop iterations of one sample. Pass the scene's number of
@@ -50,7 +54,7 @@ constexpr uint32_t loopIterationsPerSample(uint32_t max_steps, uint32_t max_boun
 // Loop iterations of a pass independent of its sample count (the AOV ray).
 constexpr uint32_t loopIterationsPerPassOverhead(uint32_t max_steps,
                                                  uint32_t sphere_lights = kMaxSphereLights) {
-  return 1 + (1 + max_steps + uint32_t(kRefineSteps) + 2 * sphere_lights + 4);
+  return 1 + (1 + max_steps + uint32_t(kRefineSteps) + 2 * sphere_lights + uint32_t(kNormalLoopIterations));
 }
 
 // Upper bound on the loop iterations of a pass of `sample_count` samples.
@@ -77,11 +81,11 @@ constexpr uint32_t samplesPerPassWithinCap(uint32_t max_steps, uint32_t max_boun
 // Instance hierarchies (compiler/emit: one loop per evaluation of an Instances
 // node, at most frame.traversal_visits iterations). Every scene evaluation in
 // the kernel sits in the body of a counted loop iteration, one per iteration
-// (march step, normal difference, the material id per bounce), except the
+// (march step, normal tap or material id), except the
 // inside test each tracePath call makes before its path loop: so a pass makes
 // at most (its loop iterations + samples + 1) evaluations (+ 1: the AOV ray).
-// An evaluation may reach an Instances node through both sdScene and
-// sdMaterialId, but never more than `sets_per_evaluation` of them.
+// An evaluation (sdScene or sdSceneMaterial) reaches at most
+// `sets_per_evaluation` Instances nodes.
 constexpr uint64_t sceneEvaluationsPerPass(uint64_t kernel_iterations, uint32_t sample_count) {
   return kernel_iterations + sample_count + 1;
 }
@@ -98,9 +102,9 @@ constexpr uint32_t traversalVisitsWithinCap(uint64_t kernel_iterations, uint32_t
 
 static_assert(traversalVisitsWithinCap(1000, 1) == (65535 - 1 - 1000) / 1002);
 
-static_assert(loopIterationsPerSample(98, 0, 0, 0) == 1 + 105);
-static_assert(loopIterationsPerPass(98, 2, 1, 3, 0) == 106 + 3 * (1 + 5 * 105));
-static_assert(loopIterationsPerSample(98, 2, 1, 2) == 1 + 5 * 109);
+static_assert(loopIterationsPerSample(98, 0, 0, 0) == 1 + 106);
+static_assert(loopIterationsPerPass(98, 2, 1, 3, 0) == 107 + 3 * (1 + 5 * 106));
+static_assert(loopIterationsPerSample(98, 2, 1, 2) == 1 + 5 * 110);
 static_assert(loopIterationsPerPass(256, 4, 1, samplesPerPassWithinCap(256, 4, 1)) <
               gpu::kLavapipeLoopCap);
 static_assert(loopIterationsPerPass(256, 4, 1, samplesPerPassWithinCap(256, 4, 1) + 1) >=

@@ -169,6 +169,7 @@ Accumulation Renderer::startAccumulation(const CameraDesc& camera, const RenderS
   acc.params.view = settings.view;
   acc.params.max_bounces = settings.max_bounces;
   acc.params.light_samples = settings.light_samples;
+  acc.params.camera_inside = inside_test_ && inside_test_(camera.position, settings.time) ? 1u : 0u;
   acc.sums.resize(acc.band_count);
   acc.first_pass.resize(acc.band_count);
   acc.keep_aovs = keep_aovs;

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "camera.h"
+#include "camera_inside.h"
 #include "denoise_svgf.h"
 #include "float_image.h"
 #include "progress.h"
@@ -149,6 +150,11 @@ class Renderer {
 
   double pipelineSeconds() const { return pipeline_.create_seconds; }
 
+  // Decides FrameParams::camera_inside for each accumulation (its camera and time);
+  // pinhole kernels read it instead of testing the scene per pixel. Without one the
+  // camera is taken as outside.
+  void setCameraInsideTest(CameraInsideTest test) { inside_test_ = std::move(test); }
+
   // Throws RuntimeError on device errors or a pass exceeding its timeout. When
   // `*interrupt` becomes true, stops after the current pass and returns what was
   // accumulated with interrupted = true.
@@ -178,6 +184,7 @@ class Renderer {
   const VulkanContext& context_;
   RenderPipeline pipeline_;
   RenderTarget target_;
+  CameraInsideTest inside_test_;
 };
 
 // A render with RenderSettings::jittered_aovs -> the denoisers' features:

@@ -29,7 +29,7 @@ SDFC_CONST uint kViewIterations = 5u;
 // iterations in total (Mesa's LP_MAX_TGSI_LOOP_ITERATIONS).
 SDFC_CONST uint kLavapipeLoopCap = 65535u;
 
-// Push constants: 112 bytes, under the 128 every Vulkan device guarantees.
+// Push constants: 116 bytes, under the 128 every Vulkan device guarantees.
 struct FrameParams {
   vec4 cam_origin;   // xyz: eye; w: tan(vertical fov / 2)
   vec4 cam_right;    // xyz: unit right; w: aperture radius (0 = pinhole)
@@ -57,6 +57,10 @@ struct FrameParams {
   // kAovJittered: no AOV ray; the AOVs are the means of the pass's jittered
   // samples' first hits instead (see below).
   uint skip_aov_ray;
+  // Non-zero: the camera's origin is inside a solid (pinhole cameras; decided
+  // per frame and time on the CPU by runtime/camera_inside.h with the kernel's
+  // float threshold). Thin-lens kernels test each ray's origin instead.
+  uint camera_inside;
 };
 
 // Fragment outputs (all RGBA32F attachments, one pixel per invocation):
@@ -70,7 +74,7 @@ struct FrameParams {
 SDFC_CONST uint kAovJittered = 2u;
 
 #ifdef __cplusplus
-static_assert(sizeof(FrameParams) == 112, "push constant layout");
+static_assert(sizeof(FrameParams) == 116, "push constant layout");
 }  // namespace sdfc::gpu
 #endif
 #endif

@@ -111,6 +111,7 @@ Stats measure(const char* name, const std::vector<Prim>& prims) {
   RenderOutput out;
   {
     Renderer renderer(context, c.spirv);
+    renderer.setCameraInsideTest(cameraInsideTest(c.scene, c.emitted.limits));
     out = renderer.render(cameraFor(c.scene), settings);
   }
   // The rays the kernel traces (cameraRay at pixel centres) from the same

@@ -141,6 +141,8 @@ class FarmRender : public ::testing::Test {
     cl_.shards = slices;
     ShardJob job = shardJobFor(cl_, o_, loaded_.compiled);
     Renderer renderer(context_, loaded_.compiled.spirv);
+  renderer.setCameraInsideTest(cameraInsideTest(loaded_.compiled.scene, loaded_.compiled.emitted.limits));
+    renderer.setCameraInsideTest(cameraInsideTest(loaded_.compiled.scene, loaded_.compiled.emitted.limits));
     for (uint32_t i = 0; i < job.plan.taskCount(); ++i) {
       farm::ShardImage shard;
       shard.header = expectedHeader(job, i);
@@ -168,6 +170,7 @@ VulkanContext FarmRender::context_;
 
 TEST_F(FarmRender, MergedShardsEqualTheSingleRenderBitForBit) {
   Renderer renderer(context_, loaded_.compiled.spirv);
+  renderer.setCameraInsideTest(cameraInsideTest(loaded_.compiled.scene, loaded_.compiled.emitted.limits));
   const RenderOutput single =
       renderer.render(cameraFor(loaded_.compiled.scene), renderSettingsFor(loaded_.compiled, o_));
   const fs::path dir = scratch("bits");

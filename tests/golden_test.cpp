@@ -87,6 +87,7 @@ TEST(GoldenImages, EveryExampleMatchesItsReferenceRender) {
     const CompiledScene c = compileExample(path, options);
     if (!c.ok) continue;
     Renderer renderer(context, c.spirv);
+    renderer.setCameraInsideTest(cameraInsideTest(c.scene, c.emitted.limits));
     RenderOverrides o;
     o.width = 96;
     o.height = 54;

@@ -373,7 +373,9 @@ TEST_F(InstancesGpu, ImageEqualsTheInlineFormAndStaysUnderTheLoopCap) {
   o.height = 36;
   o.spp = 8;
   Renderer rd(*context_, data.spirv, data.emitted.scene_data);
+  rd.setCameraInsideTest(cameraInsideTest(data.scene, data.emitted.limits));
   Renderer ri(*context_, inline_form.spirv);
+  ri.setCameraInsideTest(cameraInsideTest(inline_form.scene, inline_form.emitted.limits));
   const FloatImage a = rd.render(cameraFor(data.scene), renderSettingsFor(data, o)).color;
   const FloatImage b = ri.render(cameraFor(inline_form.scene), renderSettingsFor(inline_form, o)).color;
   double sum_a = 0, sum_b = 0, diff = 0;
@@ -411,7 +413,9 @@ TEST_F(InstancesGpu, DenseCloudThroughTheGridEqualsTheInlineForm) {
   o.height = 36;
   o.spp = 8;
   Renderer rd(*context_, data.spirv, data.emitted.scene_data);
+  rd.setCameraInsideTest(cameraInsideTest(data.scene, data.emitted.limits));
   Renderer ri(*context_, inline_form.spirv);
+  ri.setCameraInsideTest(cameraInsideTest(inline_form.scene, inline_form.emitted.limits));
   const FloatImage a = rd.render(cameraFor(data.scene), renderSettingsFor(data, o)).color;
   const FloatImage b = ri.render(cameraFor(inline_form.scene), renderSettingsFor(inline_form, o)).color;
   double sum_b = 0, diff = 0, worst = 0;

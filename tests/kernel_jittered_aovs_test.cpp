@@ -30,6 +30,7 @@ TEST(KernelJitteredAovs, MeansOverTheSamples) {
   createContext(context);
   {
     Renderer renderer(context, compiled.spirv, compiled.emitted.scene_data);
+    renderer.setCameraInsideTest(cameraInsideTest(compiled.scene, compiled.emitted.limits));
     RenderOverrides o;
     o.width = 160;
     o.height = 90;

@@ -363,14 +363,15 @@ TEST_F(KernelRender, DebugViewsAndAovs) {
   im = render(*renderer, p);
   EXPECT_GE(im.color.at(c, c)[2], 0.0f);
   // With no samples, the iteration count is exact: s loop 1 + bounce 1 + primary
-  // march steps + (on a hit) the refinement steps and 4 normal taps.
+  // march steps + (on a hit) the refinement steps and the normal's loop (4 taps
+  // and the material).
   p.view = gpu::kViewIterations;
   p.sample_count = 0;
   im = render(*renderer, p);
   for (uint32_t y = 0; y < size; ++y)
     for (uint32_t x = 0; x < size; ++x) {
       const float steps = im.albedo_steps.at(x, y)[3];
-      const float hit = im.normal_depth.at(x, y)[3] > 0 ? 4.0f + float(kRefineSteps) : 0.0f;
+      const float hit = im.normal_depth.at(x, y)[3] > 0 ? float(kNormalLoopIterations + kRefineSteps) : 0.0f;
       ASSERT_EQ(im.color.at(x, y)[0], 2.0f + steps + hit) << x << "," << y;
     }
 }

@@ -54,8 +54,8 @@ TEST(KernelViews, DebugViewKernelsHoldNoPathTracing) {
       EXPECT_FALSE(spirvNames(c.spirv, symbol)) << symbol;
     }
     EXPECT_EQ(c.emitted.glsl.find("frame.view"), std::string::npos);  // no run-time view choice
-    // Only the albedo view reads materials.
-    EXPECT_EQ(c.emitted.glsl.find("sdMaterialId(material_point)") != std::string::npos,
+    // Only the albedo view reads materials (the normal's loop evaluates sdSceneMaterial).
+    EXPECT_EQ(c.emitted.glsl.find("= sdSceneMaterial(q)") != std::string::npos,
               view == KernelView::Albedo);
   }
   // The beauty kernel has the tracer and no debug views.
@@ -93,12 +93,14 @@ TEST(KernelViews, EachViewEqualsTheAllInOneKernel) {
     const CompiledScene all = compileView(name, text, KernelView::All);
     ASSERT_TRUE(all.ok);
     Renderer all_renderer(context, all.spirv, all.emitted.scene_data);
+    all_renderer.setCameraInsideTest(cameraInsideTest(all.scene, all.emitted.limits));
     for (KernelView view : {KernelView::Normal, KernelView::Steps, KernelView::Depth, KernelView::Albedo,
                             KernelView::Beauty, KernelView::Iterations}) {
       SCOPED_TRACE(kernelViewName(view));
       const CompiledScene one = compileView(name, text, view);
       ASSERT_TRUE(one.ok);
       Renderer renderer(context, one.spirv, one.emitted.scene_data);
+      renderer.setCameraInsideTest(cameraInsideTest(one.scene, one.emitted.limits));
       RenderOverrides o;
       o.width = 160;
       o.height = 90;

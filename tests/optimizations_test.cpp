@@ -156,6 +156,7 @@ scene {
   o.height = 48;
   auto work = [&](const CompiledScene& c) {
     Renderer renderer(context, c.spirv);
+    renderer.setCameraInsideTest(cameraInsideTest(c.scene, c.emitted.limits));
     RenderOverrides v = o;
     v.view = gpu::kViewIterations;
     v.spp = 1;
@@ -173,6 +174,7 @@ scene {
   // Same image: the difference is below the noise between two seeds.
   auto image = [&](const CompiledScene& c, uint32_t seed) {
     Renderer renderer(context, c.spirv);
+    renderer.setCameraInsideTest(cameraInsideTest(c.scene, c.emitted.limits));
     RenderOverrides v = o;
     v.spp = 16;
     v.seed = seed;
@@ -218,6 +220,7 @@ scene {
   o.height = 48;
   auto iterations = [&](const CompiledScene& c) {
     Renderer renderer(context, c.spirv);
+    renderer.setCameraInsideTest(cameraInsideTest(c.scene, c.emitted.limits));
     RenderOverrides v = o;
     v.view = gpu::kViewIterations;
     v.spp = 1;
@@ -233,6 +236,7 @@ scene {
               work_without);
   auto image = [&](const CompiledScene& c, uint32_t seed) {
     Renderer renderer(context, c.spirv);
+    renderer.setCameraInsideTest(cameraInsideTest(c.scene, c.emitted.limits));
     RenderOverrides v = o;
     v.spp = 16;
     v.seed = seed;
@@ -285,6 +289,7 @@ scene {
   o.height = 48;
   auto render = [&](const CompiledScene& c, int view, uint32_t spp, uint32_t seed) {
     Renderer renderer(context, c.spirv);
+    renderer.setCameraInsideTest(cameraInsideTest(c.scene, c.emitted.limits));
     RenderOverrides v = o;
     v.view = view;
     v.spp = spp;

@@ -23,6 +23,7 @@ TEST(RuntimeAccumulation, PassByPassMeanEqualsRender) {
   createContext(context);
   {
     Renderer renderer(context, c.spirv);
+    renderer.setCameraInsideTest(cameraInsideTest(c.scene, c.emitted.limits));
     RenderOverrides o;
     o.width = 512;
     o.height = 300;  // two bands

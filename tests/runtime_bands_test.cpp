@@ -22,6 +22,7 @@ TEST(RuntimeBands, BandedRenderEqualsOneFullSizePass) {
   createContext(context);
   {
     Renderer renderer(context, c.spirv);
+    renderer.setCameraInsideTest(cameraInsideTest(c.scene, c.emitted.limits));
     RenderOverrides o;
     o.width = 512;
     o.height = 300;  // 153,600 pixels: two bands of kBandPixels / 512 rows

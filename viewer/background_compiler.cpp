@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <future>
 
 #include "spirv/glsl_to_spirv.h"
 
@@ -92,19 +93,40 @@ std::unique_ptr<BuiltScene> BackgroundCompiler::buildReload(uint32_t view) {
   }
   auto compiled = std::make_shared<CompiledScene>(std::move(loaded.compiled));
   built->compiled = compiled;
-  createRenderer(*built, compiled->spirv, compiled->emitted.scene_data);
+  createRenderer(*built, compiled->spirv, compiled->emitted.scene_data, compiled->emitted.limits);
   return built;
 }
 
 void BackgroundCompiler::createRenderer(BuiltScene& built, const std::vector<uint32_t>& spirv,
-                                        const std::vector<float>& scene_data) {
+                                        const std::vector<float>& scene_data,
+                                        const MarchLimits& limits) {
+  // Unless the compile validated it, the SPIR-V is validated on a second thread
+  // while this one has the driver build the pipeline (lavapipe does that on the
+  // calling thread): on the castle they take about as long each, and the
+  // renderer is kept, and so drawn with, only if the module is valid.
+  std::future<std::string> validation;
+  if (!options_.validate_spirv)
+    validation = std::async(std::launch::async, [&spirv] { return validateSpirv(spirv); });
   try {
     built.renderer = std::make_unique<Renderer>(context_, spirv, scene_data);
+    // built.compiled (shared) outlives the renderer it holds the scene for.
+    built.renderer->setCameraInsideTest(cameraInsideTest(built.compiled->scene, limits));
     built.pipeline_seconds = built.renderer->pipelineSeconds();
     built.ok = true;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "sdfc: error: pipeline creation: %s\n", e.what());
     built.error = "pipeline creation failed";
+  }
+  if (!validation.valid()) return;
+  const auto waited = Clock::now();
+  const std::string errors = validation.get();
+  built.validation_wait_seconds = std::chrono::duration<double>(Clock::now() - waited).count();
+  if (!errors.empty()) {
+    std::fprintf(stderr, "sdfc: error: internal error: the generated shader is not valid SPIR-V:\n%s",
+                 errors.c_str());
+    built.renderer.reset();
+    built.ok = false;
+    built.error = "kernel compile failed";
   }
 }
 
@@ -120,7 +142,7 @@ std::unique_ptr<BuiltScene> BackgroundCompiler::buildVariant(std::shared_ptr<con
   if (image_height_ > 0) emit.march.image_height = int(image_height_);
   const EmitResult emitted = emitGlsl(scene->scene, emit);
   SpirvResult spv = glslToSpirv(emitted.glsl, ShaderStage::Fragment, scene->source->path + ".glsl",
-                                options_.optimize_spirv);
+                                options_.optimize_spirv, options_.validate_spirv);
   built->compile_seconds = std::chrono::duration<double>(Clock::now() - start).count();
   if (!spv.ok()) {
     std::fprintf(stderr, "sdfc: error: internal error: the %s kernel does not compile:\n%s\n",
@@ -128,7 +150,7 @@ std::unique_ptr<BuiltScene> BackgroundCompiler::buildVariant(std::shared_ptr<con
     built->error = "kernel compile failed";
     return built;
   }
-  createRenderer(*built, spv.words, emitted.scene_data);
+  createRenderer(*built, spv.words, emitted.scene_data, emitted.limits);
   return built;
 }
 

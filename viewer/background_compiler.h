@@ -36,6 +36,9 @@ struct BuiltScene {
   std::string error;  // a short reason for the title bar
   Clock::time_point requested, finished;
   double compile_seconds = 0, pipeline_seconds = 0;
+  // How long the build waited, after pipeline creation, for the SPIR-V
+  // validation running beside it (CompileOptions::validate_spirv off).
+  double validation_wait_seconds = 0;
 };
 
 class BackgroundCompiler {
@@ -72,8 +75,9 @@ class BackgroundCompiler {
   std::unique_ptr<BuiltScene> buildReload(uint32_t view);
   std::unique_ptr<BuiltScene> buildVariant(std::shared_ptr<const CompiledScene> scene, uint32_t view);
   // The pipeline for `built` (its ok, renderer and pipeline time, or its error).
+  // `limits`: the kernel's, for the camera-inside test (built.compiled's scene).
   void createRenderer(BuiltScene& built, const std::vector<uint32_t>& spirv,
-                      const std::vector<float>& scene_data);
+                      const std::vector<float>& scene_data, const MarchLimits& limits);
 
   const VulkanContext& context_;
   const CommandLine command_line_;

@@ -120,7 +120,19 @@ int main(int argc, char** argv) {
     spirv = r.words;
   }
 
-  std::printf("{\"scene\": \"%s\", \"view\": \"%s\", \"glsl\": \"%s\", \"device\": \"%s\", "
+  // What the CPU camera-inside test costs at each accumulation start (the view
+  // calls it on the frame loop, between a save's pipeline and its first frame).
+  std::vector<double> inside_us;
+  const CameraDesc file_camera = cameraFor(compiled.scene);
+  for (int r = 0; r < 9; ++r) {
+    const auto start = Clock::now();
+    volatile bool inside = cameraInside(compiled.scene, compiled.emitted.limits, file_camera.position, float(r));
+    (void)inside;
+    inside_us.push_back(msSince(start) * 1000);
+  }
+  std::printf("{\"camera_inside_us\": %s, \"median_camera_inside_us\": %.1f, ", list(inside_us).c_str(),
+              median(inside_us));
+  std::printf("\"scene\": \"%s\", \"view\": \"%s\", \"glsl\": \"%s\", \"device\": \"%s\", "
               "\"driver\": \"%s\", \"spirv_bytes\": %zu, \"sizes\": [",
               scene_path.c_str(), view_name.c_str(), glsl_path.c_str(), context.deviceName().c_str(),
               driverText(context.physical_device).c_str(), spirv.size() * 4);
@@ -130,6 +142,7 @@ int main(int argc, char** argv) {
       auto start = Clock::now();
       double cpu = cpuMs();
       Renderer renderer(context, spirv, compiled.emitted.scene_data);
+      renderer.setCameraInsideTest(cameraInsideTest(compiled.scene, compiled.emitted.limits));
       pipeline.push_back(msSince(start));
       pipeline_cpu.push_back(cpuMs() - cpu);
       RenderOverrides o;

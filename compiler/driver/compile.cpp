@@ -86,7 +86,7 @@ CompiledScene compileSource(const std::string& path, std::string text, const Com
   if (options.produce_spirv) {
     t0 = std::chrono::steady_clock::now();
     SpirvResult spv = glslToSpirv(out.emitted.glsl, ShaderStage::Fragment, path + ".glsl",
-                                  options.optimize_spirv);
+                                  options.optimize_spirv, options.validate_spirv);
     out.times.spirv = secondsSince(t0);
     if (!spv.ok()) {
       // A shader the compiler wrote that glslang rejects is a compiler bug;

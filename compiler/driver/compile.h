@@ -20,6 +20,9 @@ struct CompileOptions {
   InstancingOptions instancing;
   bool produce_spirv = true;
   bool optimize_spirv = false;
+  // false: SPIR-V comes out unvalidated and the caller runs validateSpirv
+  // before it reaches a driver (sdfc view, alongside pipeline creation).
+  bool validate_spirv = true;
 };
 
 struct StageTimes {

@@ -129,7 +129,7 @@ class SceneWriter {
       : scene_(scene), options_(options) {}
 
   // Returns the scene code: helper and primitive functions, definitions,
-  // sdScene, sdMaterialId, sdMaterial, sdSky and the constants.
+  // sdScene, sdSceneMaterial, sdMaterialId, sdMaterial, sdSky and the constants.
   std::string write(const MarchLimits& limits, EmitStats& stats) {
     // Planes directly in the scene are intersected analytically by the
     // kernel, not marched: a ray grazing a ground plane would otherwise crawl
@@ -174,18 +174,24 @@ class SceneWriter {
       f.code << "  return " << d << ";\n}\n";
       functions_ << f.code.str();
     }
-    // Material id of the nearest surface.
+    // Distance and material id of the nearest surface in one evaluation: the
+    // kernel's normal taps call it, so the scene is inlined there once for both
+    // (a separate sdMaterialId call site was a whole further inlined copy).
+    // Its distance is sdScene's: the same operations (bounding volumes aside,
+    // whose box distances stand in only far from every surface).
     const int uniform = uniformMaterial(root, -1);
     {
       std::ostringstream f;
       if (uniform != kMixed) {
-        f << "int sdMaterialId(vec3 p) { return " << std::max(uniform, 0) << "; }\n";
+        f << "vec2 sdSceneMaterial(vec3 p) { return vec2(sdScene(p), " << glslFloat(std::max(uniform, 0))
+          << "); }\n";
       } else {
-        Function fn = beginFunction("int sdMaterialId(vec3 p)");
+        Function fn = beginFunction("vec2 sdSceneMaterial(vec3 p)");
         const std::string dm = node(root, "p", fn, true, "-1.0");
-        fn.code << "  return int(" << dm << ".y);\n}\n";
+        fn.code << "  return " << dm << ";\n}\n";
         f << fn.code.str();
       }
+      f << "int sdMaterialId(vec3 p) { return int(sdSceneMaterial(p).y); }\n";
       functions_ << f.str();
     }
     stats.bounded_subtrees = bounded_;

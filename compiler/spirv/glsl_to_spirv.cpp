@@ -25,7 +25,7 @@ EShLanguage toGlslang(ShaderStage stage) {
 }  // namespace
 
 SpirvResult glslToSpirv(const std::string& source, ShaderStage stage, const std::string& name,
-                        bool optimize) {
+                        bool optimize, bool validate) {
   ensureGlslangInitialized();
   SpirvResult result;
   const EShLanguage lang = toGlslang(stage);
@@ -55,20 +55,32 @@ SpirvResult glslToSpirv(const std::string& source, ShaderStage stage, const std:
   glslang::GlslangToSpv(*program.getIntermediate(lang), words, &logger, &spv_options);
   result.log = logger.getAllMessages();
 
-  spvtools::SpirvTools tools(SPV_ENV_VULKAN_1_1);
-  tools.SetMessageConsumer([&](spv_message_level_t, const char*, const spv_position_t& pos,
-                               const char* msg) {
-    result.log += "spirv-val: word " + std::to_string(pos.index) + ": " + msg + "\n";
-  });
   if (optimize) {
     spvtools::Optimizer opt(SPV_ENV_VULKAN_1_1);
     opt.RegisterPerformancePasses();
     std::vector<std::uint32_t> optimized;
     if (opt.Run(words.data(), words.size(), &optimized)) words.swap(optimized);
   }
-  if (!tools.Validate(words)) return result;
+  if (validate) {
+    const std::string errors = validateSpirv(words);
+    if (!errors.empty()) {
+      result.log += errors;
+      return result;
+    }
+  }
   result.words = std::move(words);
   return result;
+}
+
+std::string validateSpirv(const std::vector<std::uint32_t>& words) {
+  spvtools::SpirvTools tools(SPV_ENV_VULKAN_1_1);
+  std::string log;
+  tools.SetMessageConsumer([&](spv_message_level_t, const char*, const spv_position_t& pos,
+                               const char* msg) {
+    log += "spirv-val: word " + std::to_string(pos.index) + ": " + msg + "\n";
+  });
+  if (tools.Validate(words)) return "";
+  return log.empty() ? "spirv-val: invalid module\n" : log;
 }
 
 std::string disassembleSpirv(const std::vector<std::uint32_t>& words) {

@@ -16,9 +16,15 @@ struct SpirvResult {
 };
 
 // `name` is used in messages ("castle.sdf.glsl:12: ..."). When `optimize` is
-// set, spirv-opt's performance passes run before validation.
+// set, spirv-opt's performance passes run before validation. Without
+// `validate` the caller must run validateSpirv before the words reach a driver
+// (sdfc view validates on a second thread while the driver builds the pipeline:
+// on the castle validation is about half of GLSL -> SPIR-V).
 SpirvResult glslToSpirv(const std::string& source, ShaderStage stage, const std::string& name,
-                        bool optimize = false);
+                        bool optimize = false, bool validate = true);
+
+// SPIRV-Tools' validator (Vulkan 1.1 rules): "" when valid, else its messages.
+std::string validateSpirv(const std::vector<std::uint32_t>& words);
 
 // Human-readable SPIR-V assembly, for --emit spvasm.
 std::string disassembleSpirv(const std::vector<std::uint32_t>& words);

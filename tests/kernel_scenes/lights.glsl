@@ -20,6 +20,7 @@ const vec3 kSphereLightRadiance[kNumSphereLights] = vec3[](vec3(4.0, 3.0, 2.0), 
 #endif
 float sdScene(vec3 p) { return min(p.y + 1.0, length(p) - 1.0); }
 int sdMaterialId(vec3 p) { return p.y + 1.0 < length(p) - 1.0 ? 0 : 1; }
+vec2 sdSceneMaterial(vec3 p) { return vec2(sdScene(p), float(sdMaterialId(p))); }
 Material sdMaterial(int id) {
   if (id == 0) return Material(MAT_DIFFUSE, vec3(0.7), vec3(0.0), 1.0, 0.0);
   return TEST_MATERIAL_B;

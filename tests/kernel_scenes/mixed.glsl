@@ -37,6 +37,7 @@ int sdMaterialId(vec3 p) {
   float m = min(min(d.x, d.y), min(d.z, d.w));
   return m == d.x ? 0 : m == d.y ? 1 : m == d.z ? 2 : 3;
 }
+vec2 sdSceneMaterial(vec3 p) { return vec2(sdScene(p), float(sdMaterialId(p))); }
 Material sdMaterial(int id) {
   if (id == 0) return Material(MAT_DIFFUSE, vec3(0.6), vec3(0.0), 1.0, 0.0);
   if (id == 1) return Material(MAT_GLASS, vec3(0.9, 1.0, 0.9), vec3(0.0), 1.5, 0.0);

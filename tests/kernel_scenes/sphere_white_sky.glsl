@@ -10,5 +10,6 @@ const float kScenePixelCone = 0.0;
 const float kSceneStepScale = 1.0;
 float sdScene(vec3 p) { return length(p) - 1.0; }
 int sdMaterialId(vec3 p) { return 0; }
+vec2 sdSceneMaterial(vec3 p) { return vec2(sdScene(p), float(sdMaterialId(p))); }
 Material sdMaterial(int id) { return TEST_MATERIAL; }
 vec3 sdSky(vec3 dir) { return vec3(1.0); }

@@ -234,26 +234,6 @@ float march(vec3 ro, vec3 rd, float t_max, float side, out int steps) {
   return t_hit >= 0.0 ? max(t_hit, 0.0) : -1.0;
 }
 
-// Gradient from 4 taps on a tetrahedron's vertices (cheaper than the paper's 6
-// central differences, sec. 2.4). A loop, so sdScene is emitted once, not 4 times.
-// field_mean: the taps' mean, the field at p to O(h^2).
-vec3 sceneNormal(vec3 p, float h, out float field_mean) {
-  vec3 n = vec3(0.0);
-  field_mean = 0.0;
-  for (int i = loopZero(); i < 4; i++) {
-    g_loop_iterations++;
-    // (+,-,-), (-,-,+), (-,+,-), (+,+,+): the even-parity cube corners
-    vec3 k = vec3(i == 0 || i == 3, i >= 2, i == 1 || i == 3) * 2.0 - 1.0;
-    float d = sdScene(p + k * h);
-    n += k * d;
-    field_mean += 0.25 * d;
-  }
-  // A degenerate field (coplanar CSG faces make a zero-width sheet whose
-  // taps cancel) has no gradient: a NaN here would poison the denoisers.
-  float len = length(n);
-  return len > 0.0 ? n / len : vec3(0.0, 1.0, 0.0);
-}
-
 // ---- lights ----
 #ifdef SDFC_HAS_SPHERE_LIGHTS
 // Nearest t > 0 where the ray meets sphere s (xyz centre, w radius), or -1.
@@ -433,8 +413,22 @@ void cameraRay(vec2 film, bool lens, out vec3 ro, out vec3 rd) {
 #endif
 }
 
+// -1 when the camera ray's origin ro is inside a solid (deeper than float
+// error), else 1. A pinhole camera's rays all start at frame.cam_origin, so the
+// renderer decides it once per frame on the CPU with the same float threshold
+// (frame.camera_inside; runtime/camera_inside.h): no inlined copy of the scene
+// here. A thin lens moves ro per sample and keeps the per-ray test.
+float cameraSide(vec3 ro) {
+#ifdef SDFC_HAS_APERTURE
+  return sdScene(ro) < -fpEps(maxComponent(abs(ro)), 0.0) ? -1.0 : 1.0;
+#else
+  return frame.camera_inside != 0u ? -1.0 : 1.0;
+#endif
+}
+
 // The surface a marched ray hit at p = ro + t rd (not an analytic plane): its
-// outward normal, and in `material_point` where its material is read.
+// outward normal, and its material id (kernels that shade: the path tracer
+// and the albedo view; the other views read no material).
 // The surface is that of the solid the ray enters, or of the one it leaves
 // when it enters none: the normal is the field's gradient just past p along
 // the ray (inside the solid entered, outside the one left), and the
@@ -444,14 +438,45 @@ void cameraRay(vec2 film, bool lens, out vec3 ro, out vec3 rd) {
 // h: 16x float resolution at p, or 1/400 of a pixel at t if wider (the
 // width of the strip along an edge whose normal mixes the two faces);
 // the point ahead lies past p's offset from the surface.
-vec3 surfaceNormal(vec3 p, vec3 rd, float t, out vec3 material_point) {
+// The gradient comes from 4 taps on a tetrahedron's vertices (cheaper than the
+// paper's 6 central differences, sec. 2.4) and the material from a 5th
+// evaluation, all in one loop: sdSceneMaterial is inlined once for the taps and
+// the material (each call site of a scene function is a whole inlined copy, and
+// lavapipe's compile of it at the first draw is most of a reload's latency).
+vec3 surfaceNormal(vec3 p, vec3 rd, float t, out int material) {
   float h = max(16.0 * fpEps(maxComponent(abs(p)), 0.0), 0.01 * t * kScenePixelCone);
   float ahead = 2.0 * h + 2.0 * g_hit_offness;
-  float field;
-  vec3 n = sceneNormal(p + rd * ahead, h, field);  // outward: the gradient of sdScene
-  bool ahead_solid = field < 0.0;
-  material_point = ahead_solid ? p + rd * ahead : p - rd * ahead;
-  return n;
+  vec3 centre = p + rd * ahead;
+  vec3 n = vec3(0.0);
+  float field = 0.0;  // the taps' mean: the field at centre to O(h^2)
+  material = 0;
+#if defined(SDFC_TRACE) || defined(SDFC_VIEW_ALBEDO)
+  const int kEvaluations = 5;
+#else
+  const int kEvaluations = 4;
+#endif
+  for (int i = loopZero(); i < kEvaluations; i++) {
+    g_loop_iterations++;
+    // (+,-,-), (-,-,+), (-,+,-), (+,+,+): the even-parity cube corners
+    vec3 k = vec3(i == 0 || i == 3, i >= 2, i == 1 || i == 3) * 2.0 - 1.0;
+    // The 5th: where the material is read, ahead when that is inside a solid.
+    vec3 q = i < 4 ? centre + k * h : (field < 0.0 ? centre : p - rd * ahead);
+#if defined(SDFC_TRACE) || defined(SDFC_VIEW_ALBEDO)
+    vec2 dm = sdSceneMaterial(q);
+#else
+    vec2 dm = vec2(sdScene(q), 0.0);
+#endif
+    if (i < 4) {
+      n += k * dm.x;
+      field += 0.25 * dm.x;
+    } else {
+      material = int(dm.y);
+    }
+  }
+  // A degenerate field (coplanar CSG faces make a zero-width sheet whose
+  // taps cancel) has no gradient: a NaN here would poison the denoisers.
+  float len = length(n);
+  return len > 0.0 ? n / len : vec3(0.0, 1.0, 0.0);
 }
 
 #ifdef SDFC_TRACE
@@ -492,7 +517,7 @@ vec3 tracePath(vec3 ro, vec3 rd, int max_bounces, bool record_aov) {
   // an object: it then sees the object's inside, not a hit at t = 0).
   // A camera on a surface (within float error of it) is outside: march() then
   // tells a ray leaving the surface from one entering it.
-  float side = sdScene(ro) < -fpEps(maxComponent(abs(ro)), 0.0) ? -1.0 : 1.0;
+  float side = cameraSide(ro);
   float prev_pdf = 0.0;   // BSDF pdf of the last scattering; 0 = delta or camera
   vec3 prev_pos = ro;
   int depth = 0;
@@ -551,9 +576,9 @@ vec3 tracePath(vec3 ro, vec3 rd, int max_bounces, bool record_aov) {
       } else
 #endif
       {
-        vec3 material_point;
-        n = surfaceNormal(p, rd, t, material_point);
-        m = sdMaterial(sdMaterialId(material_point));
+        int surface_material;
+        n = surfaceNormal(p, rd, t, surface_material);
+        m = sdMaterial(surface_material);
       }
       if (record_aov && depth == 0) {
         g_aov_normal = n;
@@ -776,7 +801,7 @@ void main() {
   vec3 ro, rd;
   cameraRay(vec2(pixel) + vec2(0.5), false, ro, rd);
   // A camera inside a solid sees its inside (as the path tracer).
-  float side = sdScene(ro) < -fpEps(maxComponent(abs(ro)), 0.0) ? -1.0 : 1.0;
+  float side = cameraSide(ro);
   int steps;
   float t = march(ro, rd, 3.0e38, side, steps);
   vec3 normal = vec3(0.0);
@@ -800,11 +825,7 @@ void main() {
     } else
 #endif
     {
-      vec3 material_point;
-      normal = surfaceNormal(ro + rd * t, rd, t, material_point);
-#ifdef SDFC_VIEW_ALBEDO
-      material = sdMaterialId(material_point);
-#endif
+      normal = surfaceNormal(ro + rd * t, rd, t, material);
     }
 #ifdef SDFC_VIEW_ALBEDO
     albedo = sdMaterial(material).albedo;
