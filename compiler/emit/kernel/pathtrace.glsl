@@ -87,11 +87,17 @@ float march(vec3 ro, vec3 rd, float t_max, float side, out int steps) {
   bool probe = false;                 // started on a surface: the next sample decides
   float d_peak = 0.0;                 // largest d since leaving the start surface
   bool relaxed = false;               // the last step was over-relaxed
+#ifdef SDFC_HAS_RAY_SKIP
+  g_ray_dir = rd;
+#endif
   int refined = 0;
   steps = 0;
   // (t > t_max: no marched surface on this ray; the loop body breaks at once.)
   for (int i = loopZero(); i < kSceneMaxSteps + kRefineSteps && t <= t_max; i++) {
     g_loop_iterations++;
+#ifdef SDFC_HAS_RAY_SKIP
+    g_ray_skip = 0.0;
+#endif
     float d = side * sdScene(ro + rd * t);
     if (i > 0) slope = (d - d_prev) / max(t - t_prev, 1e-30);
     if (probe) {
@@ -195,6 +201,15 @@ float march(vec3 ro, vec3 rd, float t_max, float side, out int steps) {
     }
     relaxed = omega > 1.0;
     float t_next = t + d * kSceneStepScale * omega;
+#ifdef SDFC_HAS_RAY_SKIP
+    // The root grid's ray skip (docs/large_scenes.md), where longer, is safe
+    // by itself: no overlap check after it, and it may pass t_max. Inside
+    // solids (side < 0) it does not apply.
+    if (t_stop < 0.0 && side > 0.0 && g_ray_skip > d * kSceneStepScale * omega) {
+      t_next = t + g_ray_skip;
+      relaxed = false;
+    }
+#endif
     if (t_stop >= 0.0) {
       // Secant on d(t) through the last two samples; a plain step if they
       // do not bracket a descent, and never farther than 8 |d| from the hit:
