@@ -178,6 +178,11 @@ float march(vec3 ro, vec3 rd, float t_max, float side, out int steps) {
         t_hit = t;
         d_hit = d;
         crossed = d <= 0.0;
+#ifdef SDFC_HAS_RAY_SKIP
+        // A ray skip lands on an analytic hit: within float error of the
+        // surface there is nothing for the secant steps to refine.
+        if (abs(d) <= dErr(ro_mag, t)) break;
+#endif
       } else if (i + 1 >= kSceneMaxSteps) {
         // Out of steps: a miss, unless still closing in.
         exhausted = slope < 0.0;
