@@ -262,6 +262,12 @@ vec3 sceneNormal(vec3 p, float h, out float field_mean) {
   field_mean = 0.0;
   for (int i = loopZero(); i < 4; i++) {
     g_loop_iterations++;
+#ifdef SDFC_HAS_SPHERE_NORMALS
+    // The root grid's spheres: the nearest one's radial direction, exact
+    // (one lookup in this iteration instead of 4 taps; docs/large_scenes.md).
+    vec3 radial;
+    if (i == 0 && sdRootSphereNormal(p, radial, field_mean)) return radial;
+#endif
     // (+,-,-), (-,-,+), (-,+,-), (+,+,+): the even-parity cube corners
     vec3 k = vec3(i == 0 || i == 3, i >= 2, i == 1 || i == 3) * 2.0 - 1.0;
     float d = sdScene(p + k * h);
