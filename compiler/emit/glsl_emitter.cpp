@@ -235,7 +235,8 @@ class SceneWriter {
     if (ray_skip_set_) {
       out << "\n// The ray march() steps along; the root grid's lookup writes how far it may\n"
              "// go from p with no surface (0: no more than the distance).\n";
-      out << "vec3 g_ray_dir = vec3(0.0);\nfloat g_ray_skip = 0.0;\n";
+      out << "// g_ray_met: a sphere's surface lies exactly at g_ray_skip (its analytic hit).\n";
+      out << "vec3 g_ray_dir = vec3(0.0);\nfloat g_ray_skip = 0.0;\nbool g_ray_met = false;\n";
     }
     out << "\n// ---- scene helpers and primitives (only those the scene uses) ----\n";
     out << helpers_.str();
@@ -581,7 +582,12 @@ class SceneWriter {
       g.code << "    vec2 r = " << one << "(p, rec, inherited);\n    if (r.x < best.x) best = r;\n";
     } else if (skip) {
       g.code << "    float di = " << one << "(p, rec);\n    best = min(best, di);\n";
-      g.code << "    skip = min(skip, " << (ray_hit.empty() ? "di" : ray_hit + "(p, rd, rec)") << ");\n";
+      if (ray_hit.empty()) {
+        g.code << "    skip = min(skip, di);\n";
+      } else {
+        g.code << "    float th = " << ray_hit << "(p, rd, rec);\n";
+        g.code << "    if (th < skip) {\n      skip = th;\n      g_ray_met = th > 0.0;\n    }\n";
+      }
     } else {
       g.code << "    best = min(best, " << one << "(p, rec));\n";
     }

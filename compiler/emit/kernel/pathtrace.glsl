@@ -97,6 +97,7 @@ float march(vec3 ro, vec3 rd, float t_max, float side, out int steps) {
     g_loop_iterations++;
 #ifdef SDFC_HAS_RAY_SKIP
     g_ray_skip = 0.0;
+    g_ray_met = false;
 #endif
     float d = side * sdScene(ro + rd * t);
     if (i > 0) slope = (d - d_prev) / max(t - t_prev, 1e-30);
@@ -207,6 +208,13 @@ float march(vec3 ro, vec3 rd, float t_max, float side, out int steps) {
     relaxed = omega > 1.0;
     float t_next = t + d * kSceneStepScale * omega;
 #ifdef SDFC_HAS_RAY_SKIP
+    // The skip ends on a sphere's analytic hit short of t_max: that is the
+    // hit (exact to float rounding; a shadow ray is blocked), no step there.
+    if (t_stop < 0.0 && side > 0.0 && g_ray_met && t + g_ray_skip <= t_max) {
+      t_hit = t + g_ray_skip;
+      d_hit = 0.0;
+      break;
+    }
     // The root grid's ray skip (docs/large_scenes.md), where longer, is safe
     // by itself: no overlap check after it, and it may pass t_max. Inside
     // solids (side < 0) it does not apply.
