@@ -20,6 +20,7 @@ same filled volume. Figures:
      100,000 against the target (100k at >= 1/3 the speed of 100);
   3b. with --before OLD_SDFC: the same 100 and 100,000 scenes rendered by an
      older binary and this one, interleaved, in the same run (before/after);
+     CPU ms per sample too ((9 spp - 1 spp) / 8, user + sys), steadier on a shared machine;
   4. peak RSS of one 640x360 1 spp render of 1,000,000 instances (target < 1 GiB);
   5. `sdfc check` of 200,000 spheres written as union children vs instances(file).
 Needs numpy (Debian python3-numpy: run with /usr/bin/python3) and /usr/bin/time (package `time`).
@@ -116,6 +117,22 @@ def ms_once(sdfc, scene, dir_, spp):
     png = os.path.join(dir_, "big.png")
     _, _, err = timed([sdfc, "render", scene, "-o", png, "--size", "640x360", "--spp", str(spp)])
     return 1000.0 / field(r"spp in [^,]*, ([0-9.eE+-]+) spp/s", err)
+
+
+def cpu_ms_per_sample(sdfc, scene, dir_):
+    """CPU time (user + sys, all threads) per sample at 640x360: (9 spp - 1 spp) / 8. Less
+    disturbed by other processes on a shared machine than wall time, and free of the
+    per-process costs (startup, compile, pipeline, the first pass's overheads)."""
+    png = os.path.join(dir_, "cpu.png")
+    cpu = []
+    for spp in (1, 9):
+        proc = subprocess.run(["/usr/bin/time", "-f", "SDFC_BENCH_CPU %U %S", sdfc, "render", scene, "-o", png,
+                               "--size", "640x360", "--spp", str(spp)], capture_output=True, text=True)
+        m = re.search(r"SDFC_BENCH_CPU ([0-9.]+) ([0-9.]+)", proc.stderr)
+        if proc.returncode != 0 or not m:
+            raise RuntimeError("render failed:\n" + proc.stderr[-2000:])
+        cpu.append(float(m.group(1)) + float(m.group(2)))
+    return 1000.0 * (cpu[1] - cpu[0]) / 8
 
 
 def iterations(sdfc, scene, dir_):
@@ -223,20 +240,31 @@ def main():
                  % (args.before, args.sdfc, args.spp, args.repeats))
             emit("")
             ab = {(b, n): [] for b in ("before", "after") for n in speed_counts}
+            cpu = {(b, n): [] for b in ("before", "after") for n in speed_counts}
             for _ in range(args.repeats):
                 for n in speed_counts:
                     ab[("before", n)].append(ms_once(args.before, scenes[n], dir_, args.spp))
                     ab[("after", n)].append(ms_once(args.sdfc, scenes[n], dir_, args.spp))
-            emit("| instances | before ms/sample | after ms/sample | before/after | before iterations / pixel | after |")
-            emit("|---:|---:|---:|---:|---:|---:|")
+                    cpu[("before", n)].append(cpu_ms_per_sample(args.before, scenes[n], dir_))
+                    cpu[("after", n)].append(cpu_ms_per_sample(args.sdfc, scenes[n], dir_))
+            emit("Wall ms per sample at %d spp (as above), and CPU ms per sample (user + sys, (9 spp - 1 spp) / 8),"
+                 " medians:" % args.spp)
+            emit("")
+            emit("| instances | before ms/sample | after ms/sample | before/after | before CPU ms/sample | after |"
+                 " before/after | before iterations / pixel | after |")
+            emit("|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
             for n in speed_counts:
                 b, a = statistics.median(ab[("before", n)]), statistics.median(ab[("after", n)])
-                emit("| %d | %.0f | %.0f | %.2f | %.0f | %.0f |" % (n, b, a, b / a, iterations(args.before, scenes[n], dir_)[0],
-                                                           iterations(args.sdfc, scenes[n], dir_)[0]))
+                cb, ca = statistics.median(cpu[("before", n)]), statistics.median(cpu[("after", n)])
+                emit("| %d | %.0f | %.0f | %.2f | %.0f | %.0f | %.2f | %.0f | %.0f |"
+                     % (n, b, a, b / a, cb, ca, cb / ca, iterations(args.before, scenes[n], dir_)[0],
+                        iterations(args.sdfc, scenes[n], dir_)[0]))
             emit("")
-            emit("Ratio %d vs 100: before %.2f, after %.2f." % (big,
-                statistics.median(ab[("before", 100)]) / statistics.median(ab[("before", big)]),
-                statistics.median(ab[("after", 100)]) / statistics.median(ab[("after", big)])))
+
+            def ratio(d, b):
+                return statistics.median(d[(b, 100)]) / statistics.median(d[(b, big)])
+            emit("Ratio %d vs 100, wall: before %.2f, after %.2f; CPU: before %.2f, after %.2f." % (
+                big, ratio(ab, "before"), ratio(ab, "after"), ratio(cpu, "before"), ratio(cpu, "after")))
             emit("")
             emit("Primary rays of %d instances whose depth differs by over 1%% between the before binary and"
                  " this one (`--view depth`, 640x360): %.2f%% of pixels." % (big, 100 * depth_disagreement(
@@ -245,14 +273,19 @@ def main():
             # No regression on a scene without instances: the castle, before/after interleaved.
             castle = os.path.join(root, "examples", "castle.sdf")
             cr = {"before": [], "after": []}
+            cc = {"before": [], "after": []}
             for _ in range(args.repeats):
                 cr["before"].append(ms_once(args.before, castle, dir_, args.spp))
                 cr["after"].append(ms_once(args.sdfc, castle, dir_, args.spp))
+                cc["before"].append(cpu_ms_per_sample(args.before, castle, dir_))
+                cc["after"].append(cpu_ms_per_sample(args.sdfc, castle, dir_))
             b, a = statistics.median(cr["before"]), statistics.median(cr["after"])
+            cb, ca = statistics.median(cc["before"]), statistics.median(cc["after"])
             emit("examples/castle.sdf, 640x360 %d spp, median of %d interleaved: before %.0f ms/sample (%.2f spp/s),"
-                 " after %.0f ms/sample (%.2f spp/s), before/after %.2f; loop iterations / pixel %.1f -> %.1f."
-                 % (args.spp, args.repeats, b, 1000 / b, a, 1000 / a, b / a, iterations(args.before, castle, dir_)[0],
-                    iterations(args.sdfc, castle, dir_)[0]))
+                 " after %.0f ms/sample (%.2f spp/s), before/after %.2f; CPU ms/sample %.0f -> %.0f;"
+                 " loop iterations / pixel %.1f -> %.1f."
+                 % (args.spp, args.repeats, b, 1000 / b, a, 1000 / a, b / a, cb, ca,
+                    iterations(args.before, castle, dir_)[0], iterations(args.sdfc, castle, dir_)[0]))
             emit("")
 
         n_rss = max(counts)

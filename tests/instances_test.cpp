@@ -114,15 +114,18 @@ TEST(Instances, HierarchyEqualsBruteForceAtRandomPoints) {
 // A dense cloud: 600 spheres in a 4 x 2 x 4 box, so that many grid cells
 // hold more than kGridListMax candidates (their reach shrinks) and a few are
 // crowded (left to the hierarchy).
-std::string denseCloud(int count = 600) {
+// radius 0: varied radii (per-instance parameters), else that radius for all.
+std::string denseCloud(int count = 600, double radius = 0) {
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> u(-2, 2), h(0, 2), r(0.1, 0.3);
   std::ostringstream s;
   s << "camera(position: [0, 5, 9], target: [0, 1, 0], fov: 40)\nsun(direction: [-0.4, 0.8, 0.5])\n"
        "scene {\n  plane(offset: 0)\n";
-  for (int i = 0; i < count; ++i)
-    s << "  translate([" << u(rng) << ", " << h(rng) << ", " << u(rng) << "]) { sphere(radius: " << r(rng)
+  for (int i = 0; i < count; ++i) {
+    const double x = u(rng), y = h(rng), z = u(rng), varied = r(rng);
+    s << "  translate([" << x << ", " << y << ", " << z << "]) { sphere(radius: " << (radius > 0 ? radius : varied)
       << ") }\n";
+  }
   s << "}\n";
   return s.str();
 }
@@ -179,6 +182,73 @@ TEST(Instances, GridBoundIsALowerBoundAndExactWithinReach) {
                   set.origin.c_str(), exact, bounded, crowded, shrunk);
       EXPECT_GT(exact, 50);
     }
+  }
+}
+
+// Where a ray from p along dir (unit) first meets the sphere (centre, r): 0 inside.
+double rayHitSphere(const dvec3& p, const dvec3& dir, const dvec3& centre, double r) {
+  const dvec3 q = p - centre;
+  const double b = glm::dot(q, dir), c = glm::dot(q, q) - r * r, h = b * b - c;
+  if (c <= 0) return 0;
+  if (b >= 0 || h < 0) return 1e300;
+  return c / (std::sqrt(h) - b);
+}
+
+// The root grid's ray skip (instanceGridRaySkip, the shader's arithmetic in
+// float64) against the first hit along the ray over every sphere: never
+// beyond it, equal to it where a listed sphere is met in the cell, and longer
+// than the grid's distance bound (what the march stepped before).
+TEST(Instances, GridRaySkipNeverPassesAHit) {
+  for (const std::string& text : {denseCloud(), denseCloud(600, 0.2)}) {
+    const CompiledScene c = checked(text, 32);
+    std::vector<const ir::Node*> sets;
+    collectSets(c.scene.root, sets);
+    ASSERT_EQ(sets.size(), 1u);
+    const ir::Node& n = *sets[0];
+    const ir::InstanceSet& set = *n.instances;
+    ASSERT_FALSE(set.grid.empty());
+    ASSERT_EQ(n.children[0]->primitive, PrimitiveKind::Sphere);
+    auto radius = [&](size_t k) {
+      return set.param_count > 0 ? set.paramsOf(k)[0] : n.children[0]->args[0].value;
+    };
+    const Evaluator eval(c.scene);
+    const ir::InstanceGrid& g = set.grid;
+    const dvec3 hi = g.lo + dvec3(g.dims) * g.cell;
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> ux(g.lo.x, hi.x), uy(g.lo.y, hi.y), uz(g.lo.z, hi.z), s(-1, 1);
+    int rays = 0, exact = 0, longer = 0, met = 0;
+    for (int i = 0; i < 4000; ++i) {
+      const dvec3 p(ux(rng), uy(rng), uz(rng));
+      dvec3 dir(s(rng), s(rng), s(rng));
+      if (glm::length(dir) < 0.1) continue;
+      dir = glm::normalize(dir);
+      if (i % 7 == 0) dir = dvec3(0, 0, i % 2 ? 1 : -1);  // along an axis: other components 0
+      auto hit = [&](size_t k) { return rayHitSphere(p, dir, -set.instances[k].offset, radius(k)); };
+      auto one = [&](size_t k) { return eval.instanceDistance(n, k, p); };
+      double first = 1e300;
+      for (size_t k = 0; k < set.size(); ++k) first = std::min(first, hit(k));
+      const double skip = instanceGridRaySkip(set, p, dir, hit);
+      ++rays;
+      ASSERT_LE(skip, first + 1e-12) << p.x << " " << p.y << " " << p.z << " dir " << dir.x << " " << dir.y
+                                     << " " << dir.z;
+      // Short of the cell's exit plus reach, the skip is a listed sphere's hit
+      // (g_ray_met): the march takes it as the hit, so it must be the first.
+      const double cell_bound = instanceGridRaySkip(set, p, dir, [](size_t) { return 1e300; });
+      if (skip < cell_bound) {
+        ASSERT_EQ(skip, first) << p.x << " " << p.y << " " << p.z;
+        ++met;
+      }
+      const double bound = instanceGridBound(set, p, one);
+      if (std::isnan(bound)) continue;
+      exact += skip == first;
+      longer += skip > bound + 1e-12;
+      ASSERT_GE(skip, std::min(bound, first) - 1e-12);
+    }
+    std::printf("%s: %d rays, skip = first hit on %d (a listed hit short of the cell bound on %d), longer than"
+                " the distance bound on %d\n", set.origin.c_str(), rays, exact, met, longer);
+    EXPECT_GT(exact, rays / 10);
+    EXPECT_GT(met, rays / 10);
+    EXPECT_GT(longer, rays / 2);
   }
 }
 
@@ -403,34 +473,39 @@ TEST_F(InstancesGpu, ImageEqualsTheInlineFormAndStaysUnderTheLoopCap) {
 
 // A dense cloud through the grid (lists cut to kGridListMax, shrunk reaches,
 // crowded cells answered by the hierarchy) renders as the inline union does:
-// no ray stops early on a bound.
+// no ray stops early on a bound, and none passes a sphere by a ray skip (the
+// root grid's; analytic hits when every sphere has one radius).
 TEST_F(InstancesGpu, DenseCloudThroughTheGridEqualsTheInlineForm) {
-  const std::string text = denseCloud(300);
-  const CompiledScene data = compiled(text, 32), inline_form = compiled(text, 0);
-  ASSERT_EQ(data.emitted.stats.instance_sets, 1);
-  RenderOverrides o;
-  o.width = 64;
-  o.height = 36;
-  o.spp = 8;
-  Renderer rd(*context_, data.spirv, data.emitted.scene_data);
-  rd.setCameraInsideTest(cameraInsideTest(data.scene, data.emitted.limits));
-  Renderer ri(*context_, inline_form.spirv);
-  ri.setCameraInsideTest(cameraInsideTest(inline_form.scene, inline_form.emitted.limits));
-  const FloatImage a = rd.render(cameraFor(data.scene), renderSettingsFor(data, o)).color;
-  const FloatImage b = ri.render(cameraFor(inline_form.scene), renderSettingsFor(inline_form, o)).color;
-  double sum_b = 0, diff = 0, worst = 0;
-  for (size_t i = 0; i < a.rgba.size(); i += 4) {
-    double pixel = 0;
-    for (int ch = 0; ch < 3; ++ch) {
-      sum_b += b.rgba[i + ch];
-      pixel += std::fabs(a.rgba[i + ch] - b.rgba[i + ch]);
+  for (double radius : {0.0, 0.2}) {
+    const std::string text = denseCloud(300, radius);
+    const CompiledScene data = compiled(text, 32), inline_form = compiled(text, 0);
+    ASSERT_EQ(data.emitted.stats.instance_sets, 1);
+    EXPECT_EQ(data.emitted.stats.features.count("SDFC_HAS_RAY_SKIP"), 1u);
+    EXPECT_EQ(data.emitted.glsl.find("_one_ray(") != std::string::npos, radius > 0);
+    RenderOverrides o;
+    o.width = 64;
+    o.height = 36;
+    o.spp = 8;
+    Renderer rd(*context_, data.spirv, data.emitted.scene_data);
+    rd.setCameraInsideTest(cameraInsideTest(data.scene, data.emitted.limits));
+    Renderer ri(*context_, inline_form.spirv);
+    ri.setCameraInsideTest(cameraInsideTest(inline_form.scene, inline_form.emitted.limits));
+    const FloatImage a = rd.render(cameraFor(data.scene), renderSettingsFor(data, o)).color;
+    const FloatImage b = ri.render(cameraFor(inline_form.scene), renderSettingsFor(inline_form, o)).color;
+    double sum_b = 0, diff = 0, worst = 0;
+    for (size_t i = 0; i < a.rgba.size(); i += 4) {
+      double pixel = 0;
+      for (int ch = 0; ch < 3; ++ch) {
+        sum_b += b.rgba[i + ch];
+        pixel += std::fabs(a.rgba[i + ch] - b.rgba[i + ch]);
+      }
+      diff += pixel;
+      worst = std::max(worst, pixel);
     }
-    diff += pixel;
-    worst = std::max(worst, pixel);
+    std::printf("dense cloud (radius %g), grid vs inline: mean |diff| %.3g of mean %.3g, worst pixel %.3g\n",
+                radius, diff / (a.rgba.size() * 0.75), sum_b / (b.rgba.size() * 0.75), worst);
+    EXPECT_LT(diff / sum_b, 5e-3);
   }
-  std::printf("dense cloud, grid vs inline: mean |diff| %.3g of mean %.3g, worst pixel %.3g\n",
-              diff / (a.rgba.size() * 0.75), sum_b / (b.rgba.size() * 0.75), worst);
-  EXPECT_LT(diff / sum_b, 5e-3);
 }
 
 }  // namespace

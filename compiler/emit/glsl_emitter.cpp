@@ -167,6 +167,15 @@ class SceneWriter {
         }
       }
     }
+    // The root's grid may tell march() how far the ray can go with no
+    // surface, when the set is all the marched scene is (docs/large_scenes.md).
+    if (options_.with_kernel) {
+      const ir::Node* only = &root;
+      if (root.kind == ir::NodeKind::Union && root.smooth.isConst() && root.smooth.value == 0 &&
+          root.children.size() == 1)
+        only = root.children[0].get();
+      if (only->kind == ir::NodeKind::Instances && !only->instances->grid.empty()) ray_skip_set_ = only;
+    }
     // Distance function.
     {
       Function f = beginFunction("float sdScene(vec3 p)");
@@ -229,6 +238,12 @@ class SceneWriter {
       out << "\n// Instance hierarchies and records (the runtime binds the compiler's scene data).\n";
       out << "layout(std430, set = 0, binding = 0) readonly buffer SdfcSceneData { vec4 sd_data[]; };\n";
     }
+    if (ray_skip_set_) {
+      out << "\n// The ray march() steps along; the root grid's lookup writes how far it may\n"
+             "// go from p with no surface (0: no more than the distance).\n";
+      out << "// g_ray_met: a sphere's surface lies exactly at g_ray_skip (its analytic hit).\n";
+      out << "vec3 g_ray_dir = vec3(0.0);\nfloat g_ray_skip = 0.0;\nbool g_ray_met = false;\n";
+    }
     out << "\n// ---- scene helpers and primitives (only those the scene uses) ----\n";
     out << helpers_.str();
     out << "\n// ---- scene distance ----\n";
@@ -264,6 +279,9 @@ class SceneWriter {
   };
   std::vector<AnalyticSphere> spheres_;
   bool has_scene_box_ = false;
+  // The instance set whose grid computes g_ray_skip (SDFC_HAS_RAY_SKIP), if any.
+  const ir::Node* ray_skip_set_ = nullptr;
+  bool has_sphere_normals_ = false;  // sdRootSphereNormal was emitted
 
   // A top-level sphere with constant radius, bare or under one Affine that is
   // a similarity (scale * linear orthonormal), of a non-emissive material in a
@@ -349,6 +367,8 @@ class SceneWriter {
  public:
   bool hasAnalyticPlanes() const { return !planes_.empty() || !spheres_.empty(); }
   bool hasSceneBox() const { return has_scene_box_; }
+  bool hasRaySkip() const { return ray_skip_set_ != nullptr; }
+  bool hasSphereNormals() const { return has_sphere_normals_; }
 
  private:
   std::map<std::pair<const ir::Node*, bool>, std::string> node_functions_;
@@ -546,23 +566,98 @@ class SceneWriter {
                             : "float best = cell.z + g0.w * max(face, 0.0);")
            << "\n";
     g.code << "  int first = int(cell.x);\n";
+    // The root set's lookup also bounds the first hit along g_ray_dir (the
+    // same argument along the ray, instance_grid.cpp): to the cell's exit plus
+    // the reach, or to a listed instance, exactly for a sphere.
+    const bool skip = !mat && ray_skip_set_ == &n;
+    const std::string ray_hit = skip ? rayHitFunction(n, l, one) : "";
+    if (!ray_hit.empty()) sphereNormalFunction(n, l, visits);
+    if (skip) {
+      g.code << "  vec3 rd = g_ray_dir;\n";
+      g.code << "  vec3 to_exit = mix(q, 1.0 - q, greaterThan(rd, vec3(0.0))) / max(abs(rd), 1e-30);\n";
+      g.code << "  float skip = cell.z + g0.w * max(min(min(to_exit.x, to_exit.y), to_exit.z), 0.0);\n";
+    }
     if (options_.with_kernel) {
       g.code << "  for (int it = loopZero(); it < count; it++) {\n    g_loop_iterations++;\n";
     } else {
       g.code << "  for (int it = 0; it < count; it++) {\n";
     }
     g.code << "    int e = first + it;\n";
-    if (l.grid_records)
-      g.code << "    int rec = " << ge << " + e;\n";
-    else
-      g.code << "    int rec = " << ib << " + int(sd_data[" << ge << " + (e >> 2)][e & 3]) * " << l.stride << ";\n";
+    g.code << "    int rec = " << listedRecord(l) << ";\n";
     if (mat) {
       g.code << "    vec2 r = " << one << "(p, rec, inherited);\n    if (r.x < best.x) best = r;\n";
+    } else if (skip) {
+      g.code << "    float di = " << one << "(p, rec);\n    best = min(best, di);\n";
+      if (ray_hit.empty()) {
+        g.code << "    skip = min(skip, di);\n";
+      } else {
+        g.code << "    float th = " << ray_hit << "(p, rd, rec);\n";
+        g.code << "    if (th < skip) {\n      skip = th;\n      g_ray_met = th > 0.0;\n    }\n";
+      }
     } else {
       g.code << "    best = min(best, " << one << "(p, rec));\n";
     }
-    g.code << "  }\n  return best;\n}\n";
+    g.code << "  }\n";
+    if (skip) g.code << "  g_ray_skip = skip;\n";
+    g.code << "  return best;\n}\n";
     functions_ << g.code.str();
+  }
+
+  // The record of list entry e (in scope as `e`).
+  std::string listedRecord(const InstanceLayout& l) const {
+    const std::string ge = std::to_string(l.grid_entries);
+    if (l.grid_records) return ge + " + e";
+    return std::to_string(l.records) + " + int(sd_data[" + ge + " + (e >> 2)][e & 3]) * " +
+           std::to_string(l.stride);
+  }
+
+  // The root grid's spheres (SDFC_HAS_SPHERE_NORMALS): the gradient at p is
+  // the radial direction of the nearest listed sphere, one lookup instead of
+  // the normal's 4 taps. False, having spent no loop iterations, where the
+  // cell has no usable list; the kernel then takes the taps.
+  void sphereNormalFunction(const ir::Node& n, const InstanceLayout& l, const std::string& visits) {
+    has_sphere_normals_ = true;
+    const std::string gh = std::to_string(l.grid_header), gc = std::to_string(l.grid_cells);
+    Function g;
+    g.code << "bool sdRootSphereNormal(vec3 p, out vec3 normal, out float field) {\n";
+    g.code << "  vec4 g0 = sd_data[" << gh << "], g1 = sd_data[" << gh << " + 1];\n";
+    g.code << "  if (any(lessThan(p, g0.xyz)) || any(greaterThan(p, g0.xyz + g1.xyz * g0.w))) return false;\n";
+    g.code << "  ivec3 dims = ivec3(g1.xyz);\n";
+    g.code << "  ivec3 c = clamp(ivec3(floor((p - g0.xyz) / g0.w)), ivec3(0), dims - 1);\n";
+    g.code << "  vec4 cell = sd_data[" << gc << " + c.x + dims.x * (c.y + dims.y * c.z)];\n";
+    g.code << "  int count = int(cell.y), first = int(cell.x);\n";
+    g.code << "  if (count <= 0 || count > " << visits << ") return false;\n";
+    g.code << "  float r = " << glslFloat(n.children[0]->args[0].value) << ";\n";
+    g.code << "  field = 1e30;\n  vec3 q_near = vec3(0.0, 1.0, 0.0);\n";
+    g.code << "  for (int it = loopZero(); it < count; it++) {\n    g_loop_iterations++;\n";
+    g.code << "    int e = first + it;\n    vec3 q = p + sd_data[" << listedRecord(l) << "].xyz;\n";
+    g.code << "    float d = length(q) - r;\n";
+    g.code << "    if (d < field) {\n      field = d;\n      q_near = q;\n    }\n  }\n";
+    g.code << "  float len = length(q_near);\n";
+    g.code << "  normal = len > 0.0 ? q_near / len : vec3(0.0, 1.0, 0.0);\n  return true;\n}\n";
+    functions_ << g.code.str();
+  }
+
+  // Where the ray p + t rd (|rd| = 1) first meets the sphere at record `rec`
+  // (0 inside, 1e30 if it misses), for sets of one constant sphere placed by
+  // offsets; else "" and the caller bounds the hit by the distance.
+  std::string rayHitFunction(const ir::Node& n, const InstanceLayout& l, const std::string& one) {
+    const ir::Node& templ = *n.children[0];
+    if (l.affine || n.instances->param_count > 0 || templ.kind != ir::NodeKind::Primitive ||
+        templ.primitive != PrimitiveKind::Sphere || templ.args.empty() || !templ.args[0].isConst())
+      return "";
+    const std::string name = one + "_ray";
+    if (!helper_names_.insert(name).second) return name;
+    Function g;
+    g.code << "float " << name << "(vec3 p, vec3 rd, int rec) {\n";
+    g.code << "  vec3 q = p + sd_data[rec].xyz;\n";
+    g.code << "  float r = " << glslFloat(templ.args[0].value) << ";\n";
+    g.code << "  float b = dot(q, rd), c = dot(q, q) - r * r, h = b * b - c;\n";
+    g.code << "  if (c <= 0.0) return 0.0;\n  if (b >= 0.0 || h < 0.0) return 1e30;\n";
+    g.code << "  // The near root c / (-b + sqrt(h)): no cancellation (b < 0).\n";
+    g.code << "  return c / (sqrt(h) - b);\n}\n";
+    functions_ << g.code.str();
+    return name;
   }
 
   // One instance at record `rec`: its placement, then the template.
@@ -1146,6 +1241,8 @@ EmitResult emitGlsl(const ir::Scene& scene, const EmitOptions& options) {
   const std::string scene_code = writer.write(result.limits, result.stats);
   if (writer.hasAnalyticPlanes()) result.stats.features.insert("SDFC_HAS_PLANES");
   if (writer.hasSceneBox()) result.stats.features.insert("SDFC_HAS_SCENE_BOX");
+  if (writer.hasRaySkip()) result.stats.features.insert("SDFC_HAS_RAY_SKIP");
+  if (writer.hasSphereNormals()) result.stats.features.insert("SDFC_HAS_SPHERE_NORMALS");
   result.stats.instance_sets = writer.instanceSets();
   result.stats.traversals_per_evaluation = scene.root ? traversalsPerEvaluation(*scene.root) : 0;
   result.scene_data = writer.takeData();

@@ -161,4 +161,26 @@ double instanceGridBound(const ir::InstanceSet& set, const glm::dvec3& p,
   return best;
 }
 
+// Along a ray from p in a listed cell C the same argument holds for every
+// point of the ray up to C's exit plus the reach: such a point lies in C or
+// within the reach of it, where no unlisted box is. So nothing unlisted is
+// met before t_exit + reach, and the first listed hit bounds the rest.
+double instanceGridRaySkip(const ir::InstanceSet& set, const glm::dvec3& p, const glm::dvec3& dir,
+                           const std::function<double(size_t)>& hit_of) {
+  const ir::InstanceGrid& g = set.grid;
+  const dvec3 hi = g.lo + dvec3(g.dims) * g.cell;
+  if (glm::any(glm::lessThan(p, g.lo)) || glm::any(glm::greaterThan(p, hi))) return 0;
+  const dvec3 f = (p - g.lo) / g.cell;
+  const glm::ivec3 c = glm::clamp(glm::ivec3(glm::floor(f)), glm::ivec3(0), g.dims - 1);
+  const size_t index = size_t(c.x) + size_t(g.dims.x) * (size_t(c.y) + size_t(g.dims.y) * c.z);
+  if (g.count[index] < 0) return 0;
+  const dvec3 q = f - dvec3(c);
+  double exit = 1e300;
+  for (int a = 0; a < 3; ++a)
+    if (dir[a] != 0) exit = std::min(exit, (dir[a] > 0 ? 1 - q[a] : q[a]) / std::fabs(dir[a]));
+  double skip = g.reach[index] + g.cell * std::max(exit, 0.0);
+  for (std::int32_t k = 0; k < g.count[index]; ++k) skip = std::min(skip, hit_of(g.entries[g.first[index] + k]));
+  return skip;
+}
+
 }  // namespace sdfc

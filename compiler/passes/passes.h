@@ -28,6 +28,12 @@ void buildInstanceHierarchy(ir::InstanceSet& set, const ir::Node& templ);
 void buildInstanceGrid(ir::InstanceSet& set, const ir::Node& templ);
 double instanceGridBound(const ir::InstanceSet& set, const glm::dvec3& p,
                          const std::function<double(size_t)>& distance_of);
+// How far the ray p + t dir (unit) may go with no instance surface, given a
+// lower bound on each instance's first hit (exact for spheres in the shader):
+// the cell's exit plus its reach, or a listed hit; 0 outside the grid or in a
+// crowded cell. What the shader's root grid writes to g_ray_skip.
+double instanceGridRaySkip(const ir::InstanceSet& set, const glm::dvec3& p, const glm::dvec3& dir,
+                           const std::function<double(size_t)>& hit_of);
 // The box holding b mapped by p -> m * p + t (infinite and empty boxes stay so).
 Aabb transformBox(const Aabb& b, const glm::dmat3& m, const glm::dvec3& t);
 Aabb instanceLocalBounds(const ir::InstanceSet& set, size_t i, const ir::Node& templ);

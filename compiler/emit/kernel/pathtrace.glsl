@@ -87,11 +87,18 @@ float march(vec3 ro, vec3 rd, float t_max, float side, out int steps) {
   bool probe = false;                 // started on a surface: the next sample decides
   float d_peak = 0.0;                 // largest d since leaving the start surface
   bool relaxed = false;               // the last step was over-relaxed
+#ifdef SDFC_HAS_RAY_SKIP
+  g_ray_dir = rd;
+#endif
   int refined = 0;
   steps = 0;
   // (t > t_max: no marched surface on this ray; the loop body breaks at once.)
   for (int i = loopZero(); i < kSceneMaxSteps + kRefineSteps && t <= t_max; i++) {
     g_loop_iterations++;
+#ifdef SDFC_HAS_RAY_SKIP
+    g_ray_skip = 0.0;
+    g_ray_met = false;
+#endif
     float d = side * sdScene(ro + rd * t);
     if (i > 0) slope = (d - d_prev) / max(t - t_prev, 1e-30);
     if (probe) {
@@ -172,6 +179,11 @@ float march(vec3 ro, vec3 rd, float t_max, float side, out int steps) {
         t_hit = t;
         d_hit = d;
         crossed = d <= 0.0;
+#ifdef SDFC_HAS_RAY_SKIP
+        // A ray skip lands on an analytic hit: within float error of the
+        // surface there is nothing for the secant steps to refine.
+        if (abs(d) <= dErr(ro_mag, t)) break;
+#endif
       } else if (i + 1 >= kSceneMaxSteps) {
         // Out of steps: a miss, unless still closing in.
         exhausted = slope < 0.0;
@@ -195,6 +207,22 @@ float march(vec3 ro, vec3 rd, float t_max, float side, out int steps) {
     }
     relaxed = omega > 1.0;
     float t_next = t + d * kSceneStepScale * omega;
+#ifdef SDFC_HAS_RAY_SKIP
+    // The skip ends on a sphere's analytic hit short of t_max: that is the
+    // hit (exact to float rounding; a shadow ray is blocked), no step there.
+    if (t_stop < 0.0 && side > 0.0 && g_ray_met && t + g_ray_skip <= t_max) {
+      t_hit = t + g_ray_skip;
+      d_hit = 0.0;
+      break;
+    }
+    // The root grid's ray skip (docs/large_scenes.md), where longer, is safe
+    // by itself: no overlap check after it, and it may pass t_max. Inside
+    // solids (side < 0) it does not apply.
+    if (t_stop < 0.0 && side > 0.0 && g_ray_skip > d * kSceneStepScale * omega) {
+      t_next = t + g_ray_skip;
+      relaxed = false;
+    }
+#endif
     if (t_stop >= 0.0) {
       // Secant on d(t) through the last two samples; a plain step if they
       // do not bracket a descent, and never farther than 8 |d| from the hit:
@@ -455,8 +483,22 @@ vec3 surfaceNormal(vec3 p, vec3 rd, float t, out int material) {
 #else
   const int kEvaluations = 4;
 #endif
+#ifdef SDFC_HAS_SPHERE_NORMALS
+  bool exact = false;
+  vec3 radial;
+#endif
   for (int i = loopZero(); i < kEvaluations; i++) {
     g_loop_iterations++;
+#ifdef SDFC_HAS_SPHERE_NORMALS
+    // The root grid's spheres: the nearest one's radial direction, exact (one
+    // lookup in this iteration instead of 4 taps; docs/large_scenes.md); the
+    // material is still read by the 5th evaluation.
+    if (i == 0 && sdRootSphereNormal(centre, radial, field)) {
+      exact = true;
+      i = 3;
+      continue;
+    }
+#endif
     // (+,-,-), (-,-,+), (-,+,-), (+,+,+): the even-parity cube corners
     vec3 k = vec3(i == 0 || i == 3, i >= 2, i == 1 || i == 3) * 2.0 - 1.0;
     // The 5th: where the material is read, ahead when that is inside a solid.
@@ -473,6 +515,9 @@ vec3 surfaceNormal(vec3 p, vec3 rd, float t, out int material) {
       material = int(dm.y);
     }
   }
+#ifdef SDFC_HAS_SPHERE_NORMALS
+  if (exact) return radial;
+#endif
   // A degenerate field (coplanar CSG faces make a zero-width sheet whose
   // taps cancel) has no gradient: a NaN here would poison the denoisers.
   float len = length(n);
