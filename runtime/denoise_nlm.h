@@ -41,10 +41,10 @@ struct NlmParams {
   float ridge = 1e-3f;  // on the slopes, times the sum of the weights
   // Non-empty: the last pass runs once per strength in select_k (instead of
   // k_second) and each pixel takes the candidate of least estimated error
-  // (denoise_select.h); with regression, each strength's weighted mean is a
-  // candidate too (select_means).
+  // (denoise_select.h); with select_means and regression, each strength's
+  // weighted mean is a candidate too.
   std::vector<float> select_k;
-  bool select_means = true;
+  bool select_means = false;  // measured: costs the castle and colonnade (docs/denoise.md)
   SelectParams select;
 };
 
