@@ -1,6 +1,7 @@
 #include "denoise_select.h"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 #include "denoise_features.h"
@@ -32,13 +33,16 @@ Plane boxMean(const Plane& in, int w, int h, int r) {
   return out;
 }
 
-// Smoothed per-pixel squared difference of each candidate of one half against
-// the other half, then the argmin per pixel.
-std::vector<int> chooseAgainst(const std::vector<Plane>& candidates, const Plane& other,
-                               const Plane& scale, int w, int h, int radius) {
+// Blends one half's candidates by their smoothed squared difference from the
+// other half, e_k: weight (min_j e_j / e_k)^sharpness. Returns the index of the
+// least e_k per pixel.
+std::vector<int> blendAgainst(const std::vector<Plane>& candidates, const Plane& other,
+                              const Plane& scale, int w, int h, const SelectParams& params,
+                              Plane& out) {
   const size_t n = size_t(w) * h;
+  std::vector<Plane> errors;
   std::vector<int> best(n, 0);
-  Plane best_error(n, 0.0f), error(n);
+  Plane error(n);
   for (size_t k = 0; k < candidates.size(); ++k) {
     const Plane& f = candidates[k];
     for (size_t i = 0; i < n; ++i) {
@@ -49,13 +53,25 @@ std::vector<int> chooseAgainst(const std::vector<Plane>& candidates, const Plane
       }
       error[i] = sum * scale[i];
     }
-    const Plane smooth = boxMean(error, w, h, radius);
+    errors.push_back(boxMean(error, w, h, params.radius));
     for (size_t i = 0; i < n; ++i)
-      if (k == 0 || smooth[i] < best_error[i]) {
-        best_error[i] = smooth[i];
-        best[i] = int(k);
-      }
+      if (errors.back()[i] < errors[size_t(best[i])][i]) best[i] = int(k);
   }
+  out.assign(n * 3, 0.0f);
+  forEachRow(h, [&](int y) {
+    for (size_t i = size_t(y) * w; i < size_t(y + 1) * w; ++i) {
+      const float least = errors[size_t(best[i])][i];
+      float weight_sum = 0, sum[3] = {0, 0, 0};
+      for (size_t k = 0; k < candidates.size(); ++k) {
+        // The least is weighted 1, so the sum is never 0; equal errors share.
+        const float weight =
+            errors[k][i] > least ? std::pow(least / errors[k][i], params.sharpness) : 1.0f;
+        weight_sum += weight;
+        for (int c = 0; c < 3; ++c) sum[c] += weight * candidates[k][i * 3 + c];
+      }
+      for (int c = 0; c < 3; ++c) out[i * 3 + c] = sum[c] / weight_sum;
+    }
+  });
   return best;
 }
 
@@ -81,15 +97,8 @@ void selectPerPixel(const std::vector<Plane>& candidates_a, const std::vector<Pl
       }
       scale[i] = 1.0f / (sum / 3.0f + params.relative_floor);
     }
-  const std::vector<int> pick_a = chooseAgainst(candidates_a, b, scale, w, h, params.radius);
-  const std::vector<int> pick_b = chooseAgainst(candidates_b, a, scale, w, h, params.radius);
-  out_a.resize(n * 3);
-  out_b.resize(n * 3);
-  for (size_t i = 0; i < n; ++i)
-    for (int c = 0; c < 3; ++c) {
-      out_a[i * 3 + c] = candidates_a[size_t(pick_a[i])][i * 3 + c];
-      out_b[i * 3 + c] = candidates_b[size_t(pick_b[i])][i * 3 + c];
-    }
+  const std::vector<int> pick_a = blendAgainst(candidates_a, b, scale, w, h, params, out_a);
+  blendAgainst(candidates_b, a, scale, w, h, params, out_b);
   if (choice) *choice = pick_a;
 }
 
