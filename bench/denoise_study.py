@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Where the denoisers' error lives, and what a denoise costs.
 
-    /usr/bin/python3 bench/denoise_study.py            # ~10 min on an idle machine
+    /usr/bin/python3 bench/denoise_study.py --mesa25 --reuse-refs   # ~12 min on an idle machine
 
 For each scene at --size: the undenoised image at --low-spp and --high-spp, and
 each denoiser at --low-spp, against the cached converged reference of
@@ -68,6 +68,13 @@ def regions(sdfc, scene, size, work, env):
     return ~hit, edge & hit
 
 
+def denoise_args(spec):
+    """`nlr` -> --denoise nlr; `nlr:0.7,1.25,2.5` also --denoise-select 0.7,1.25,2.5
+    (per-pixel choice among those last-pass strengths, docs/denoise.md)."""
+    name, _, select = spec.partition(":")
+    return ["--denoise", name] + (["--denoise-select", select] if select else [])
+
+
 def breakdown(img, ref, sky, edge):
     per = ((img - ref) ** 2 / (ref ** 2 + 0.01)).mean(-1)
     total = per.sum()
@@ -84,7 +91,8 @@ def main():
                                                    ("castle.sdf", "colonnade.sdf", "glass_menger.sdf")])
     p.add_argument("--low-spp", type=int, default=16)
     p.add_argument("--high-spp", type=int, default=256)
-    p.add_argument("--denoisers", nargs="+", default=["svgf", "nlm"])
+    p.add_argument("--denoisers", nargs="+", default=["svgf", "nlm", "nlr", "nlr:0.7,1.25,2.5"],
+                   help="names for --denoise; name:K,K,K adds --denoise-select K,K,K")
     p.add_argument("--timing-sizes", nargs="*", default=["640x360", "1280x720"])
     p.add_argument("--reps", type=int, default=3)
     p.add_argument("--mesa25", action="store_true",
@@ -108,9 +116,9 @@ def main():
         configs = [("none", args.low_spp), ("none", args.high_spp)] + \
                   [(d, args.low_spp) for d in args.denoisers]
         for denoiser, spp in configs:
-            out = os.path.join(work, f"{denoiser}_{spp}.pfm")
+            out = os.path.join(work, f"{denoiser.replace(':', '_')}_{spp}.pfm")
             info = sb.render(args.sdfc, scene, out, ["--size", args.size, "--spp", str(spp),
-                                                     "--seed", str(SEED), "--denoise", denoiser], env=env)
+                                                     "--seed", str(SEED)] + denoise_args(denoiser), env=env)
             img = sb.read_pfm(out)
             row = {"scene": name, "denoiser": denoiser, "spp": spp, "size": args.size,
                    "relmse": sb.relmse(img, ref), "flip": flip.mean_flip(img, ref),
@@ -130,7 +138,7 @@ def main():
             for denoiser in args.denoisers:
                 info = sb.render(args.sdfc, args.scenes[0], os.path.join(work, "t.pfm"),
                                  ["--size", size, "--spp", str(args.low_spp), "--seed", str(SEED),
-                                  "--denoise", denoiser], env=env)
+                                  ] + denoise_args(denoiser), env=env)
                 ms[denoiser].append(info["denoise_ms"])
                 cpu[denoiser].append(info["denoise_cpu_ms"])
         for denoiser in args.denoisers:
@@ -154,7 +162,8 @@ def main():
              "| scene | image | relMSE | FLIP | relMSE share: edges | rest | sky | top 1% of pixels |",
              "|---|---|---|---|---|---|---|---|"]
     for r in rows:
-        label = f"{r['spp']} spp, " + ("no denoiser" if r["denoiser"] == "none" else r["denoiser"])
+        label = f"{r['spp']} spp, " + ("no denoiser" if r["denoiser"] == "none" else
+                                       r["denoiser"].replace(":", ", select "))
         lines.append(f"| {r['scene']} | {label} | {r['relmse']:.2g} | {r['flip']:.4f} | "
                      f"{r['share_edge']:.2f} | {r['share_rest']:.2f} | {r['share_sky']:.2f} | "
                      f"{r['share_top1pct']:.2f} |")

@@ -148,7 +148,8 @@ int runRender(const CommandLine& cl) {
       // Process CPU time: the device is idle meanwhile, so this is the filter's
       // own, whatever else loads the machine.
       const std::clock_t cpu_start = std::clock();
-      denoised = denoise(*denoiser, out.color, out.normal_depth, out.albedo_steps, &halves);
+      denoised = denoise(*denoiser, out.color, out.normal_depth, out.albedo_steps, &halves,
+                         cl.denoise_select);
       // bench/denoise_study.py reads this line: the filter's own cost.
       if (!quiet)
         std::cerr << "sdfc: denoised (" << denoiserName(*denoiser) << ") in "

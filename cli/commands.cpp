@@ -75,6 +75,11 @@ void registerCommands(CLI::App& app, CommandLine& cl) {
                      "features of svgf, nlm, nlr: auto (jittered for nlr) | jittered (means over "
                      "the samples) | centre (one unjittered ray)")
       ->check(CLI::IsMember({"auto", "jittered", "centre"}));
+  render->add_option("--denoise-select", cl.denoise_select,
+                     "nlm, nlr: colour strengths of the last pass, e.g. 0.7,1.25,2.5; each pixel "
+                     "takes the one of least error estimated against the other half (docs/denoise.md)")
+      ->delimiter(',')
+      ->check(CLI::PositiveNumber);
   render->add_option("--view", cl.view, "beauty | normal | steps | depth | albedo | iterations")
       ->check(CLI::IsMember({"beauty", "normal", "steps", "depth", "albedo", "iterations"}));
   render->add_option("--time", cl.time, "scene time in seconds");

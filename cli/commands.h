@@ -42,6 +42,7 @@ struct CommandLine {
   int spp = 0, bounces = -1, light_samples = -1;
   std::string denoiser = "none";
   std::string denoise_aovs = "auto";  // the denoiser's features: auto | jittered | centre
+  std::vector<float> denoise_select;  // nlm/nlr last-pass strengths chosen per pixel; empty: off
   std::string view = "beauty";
   double time = 0;
   std::string frames;

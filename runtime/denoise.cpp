@@ -151,14 +151,19 @@ bool needsVariance(Denoiser denoiser) {
 bool wantsJitteredAovs(Denoiser denoiser) { return denoiser == Denoiser::Nlr; }
 
 FloatImage denoise(Denoiser denoiser, const FloatImage& color, const FloatImage& normal_depth,
-                   const FloatImage& albedo_steps, const SampleHalves* halves) {
+                   const FloatImage& albedo_steps, const SampleHalves* halves,
+                   const std::vector<float>& select_strengths) {
   if (needsVariance(denoiser) && (!halves || halves->samples_a == 0 || halves->samples_b == 0))
     throw std::invalid_argument(std::string("denoise: ") + denoiserName(denoiser) +
                                 " needs two half-sample renders");
   switch (denoiser) {
     case Denoiser::Svgf: return svgfDenoise(*halves, normal_depth, albedo_steps);
-    case Denoiser::Nlm: return nlmDenoise(*halves, normal_depth, albedo_steps);
-    case Denoiser::Nlr: return nlmDenoise(*halves, normal_depth, albedo_steps, nlrParams());
+    case Denoiser::Nlm:
+    case Denoiser::Nlr: {
+      NlmParams params = denoiser == Denoiser::Nlr ? nlrParams() : NlmParams();
+      params.select_k = select_strengths;
+      return nlmDenoise(*halves, normal_depth, albedo_steps, params);
+    }
     case Denoiser::Bilateral: return bilateralFilter(color);
     case Denoiser::ATrous: return atrousFilter(color, normal_depth, albedo_steps);
     case Denoiser::None: break;

@@ -17,6 +17,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "denoise_nlm.h"
 #include "denoise_svgf.h"
@@ -62,7 +63,10 @@ bool wantsJitteredAovs(Denoiser denoiser);
 
 // Dispatch with default parameters; None returns `color` unchanged. Svgf, Nlm and Nlr
 // need `halves` (with samples in both) and throw std::invalid_argument without them.
+// `select_strengths` (nlm, nlr; `--denoise-select`): the last pass's colour
+// strengths chosen among per pixel (NlmParams::select_k); empty: off.
 FloatImage denoise(Denoiser denoiser, const FloatImage& color, const FloatImage& normal_depth,
-                   const FloatImage& albedo_steps, const SampleHalves* halves = nullptr);
+                   const FloatImage& albedo_steps, const SampleHalves* halves = nullptr,
+                   const std::vector<float>& select_strengths = {});
 
 }  // namespace sdfc

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "denoise_features.h"
+#include "denoise_select.h"
 
 namespace sdfc {
 namespace {
@@ -148,12 +149,15 @@ void solveIntercept(const float* m, float ridge, float* out) {
 // weights from guide ga.
 void crossFilter(const Plane& ua, const Plane& ub, const Plane& ga, const Plane& gb,
                  const Plane& var_a, const Plane& var_b, const Features& f, float k,
-                 const NlmParams& params, bool regress, Plane& out_a, Plane& out_b) {
+                 const NlmParams& params, bool regress, Plane& out_a, Plane& out_b,
+                 Plane* mean_a = nullptr, Plane* mean_b = nullptr) {
   const int w = f.width, h = f.height, r = params.radius, pr = std::max(params.patch_radius, 0);
   const float k2 = k * k;
   const float patch_norm = 1.0f / float((2 * pr + 1) * (2 * pr + 1));
   out_a.assign(ua.size(), 0.0f);
   out_b.assign(ub.size(), 0.0f);
+  if (mean_a) mean_a->assign(ua.size(), 0.0f);
+  if (mean_b) mean_b->assign(ub.size(), 0.0f);
   const int tiles = (h + kTileRows - 1) / kTileRows;
   std::atomic<int> next_tile{0};
   auto worker = [&] {
@@ -254,6 +258,10 @@ void crossFilter(const Plane& ua, const Plane& ub, const Plane& ga, const Plane&
             out_a[p * 3 + c] = sum_a[t * 3 + c] / wsum_a[t];
             out_b[p * 3 + c] = sum_b[t * 3 + c] / wsum_b[t];
           }
+          if (mean_a)
+            for (int c = 0; c < 3; ++c) (*mean_a)[p * 3 + c] = out_a[p * 3 + c];
+          if (mean_b)
+            for (int c = 0; c < 3; ++c) (*mean_b)[p * 3 + c] = out_b[p * 3 + c];
           if (regress && f.hit[p]) {
             solveIntercept(&moments_a[t * kMoments], params.ridge, &out_a[p * 3]);
             solveIntercept(&moments_b[t * kMoments], params.ridge, &out_b[p * 3]);
@@ -294,8 +302,28 @@ FloatImage nlmDenoise(const SampleHalves& halves, const FloatImage& normal_depth
     // The previous pass's halves guide the next: less noise, better weights.
     const Plane guide_a = std::move(out_a), guide_b = std::move(out_b);
     guideVariances(guide_a, guide_b, w, h, params.variance_radius, n_a, n_b, var_a, var_b);
-    crossFilter(a, b, guide_a, guide_b, var_a, var_b, f, params.k_second, params,
-                params.regression && pass + 1 == params.passes, out_a, out_b);
+    const bool last = pass + 1 == params.passes;
+    if (!last || params.select_k.empty()) {
+      crossFilter(a, b, guide_a, guide_b, var_a, var_b, f, params.k_second, params,
+                  params.regression && last, out_a, out_b);
+      continue;
+    }
+    // Several strengths (and with regression, the weighted mean and the fit of
+    // each), chosen per pixel by their error against the other half.
+    std::vector<Plane> candidates_a, candidates_b;
+    for (float k : params.select_k) {
+      Plane fit_a, fit_b, mean_a, mean_b;
+      crossFilter(a, b, guide_a, guide_b, var_a, var_b, f, k, params, params.regression, fit_a,
+                  fit_b, params.regression && params.select_means ? &mean_a : nullptr,
+                  params.regression && params.select_means ? &mean_b : nullptr);
+      candidates_a.push_back(std::move(fit_a));
+      candidates_b.push_back(std::move(fit_b));
+      if (!mean_a.empty()) {
+        candidates_a.push_back(std::move(mean_a));
+        candidates_b.push_back(std::move(mean_b));
+      }
+    }
+    selectPerPixel(candidates_a, candidates_b, a, b, w, h, params.select, out_a, out_b);
   }
 
   FloatImage out(halves.a.width, halves.a.height, 1.0f);

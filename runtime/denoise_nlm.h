@@ -19,6 +19,9 @@
 // is the identity.
 #pragma once
 #include "denoise_svgf.h"  // SampleHalves
+#include <vector>
+
+#include "denoise_select.h"
 #include "float_image.h"
 
 namespace sdfc {
@@ -36,6 +39,13 @@ struct NlmParams {
   // (first order) and takes the fit at the pixel instead of the weighted mean.
   bool regression = false;
   float ridge = 1e-3f;  // on the slopes, times the sum of the weights
+  // Non-empty: the last pass runs once per strength in select_k (instead of
+  // k_second) and each pixel takes the candidate of least estimated error
+  // (denoise_select.h); with select_means and regression, each strength's
+  // weighted mean is a candidate too.
+  std::vector<float> select_k;
+  bool select_means = false;  // measured: costs the castle and colonnade (docs/denoise.md)
+  SelectParams select;
 };
 
 // `--denoise nlr`: NL-means-weighted first-order regression on features averaged
