@@ -105,8 +105,7 @@ int runRender(const CommandLine& cl) {
   if (loaded.exit_code != kExitOk) return loaded.exit_code;
   const CompiledScene& compiled = loaded.compiled;
 
-  Renderer renderer(context, compiled.spirv, compiled.emitted.scene_data);
-  renderer.setCameraInsideTest(cameraInsideTest(compiled.scene, compiled.emitted.limits));
+  Renderer renderer(context, compiled);
   const std::atomic<bool>* interrupt = installInterruptHandler();
   ToneMap tone;
   tone.exposure_stops = static_cast<float>(cl.exposure);

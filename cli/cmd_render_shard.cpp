@@ -64,8 +64,7 @@ int runRenderShard(const CommandLine& cl, const RenderOverrides& o) {
     return kExitOk;
   }
 
-  Renderer renderer(context, compiled.spirv);
-  renderer.setCameraInsideTest(cameraInsideTest(compiled.scene, compiled.emitted.limits));
+  Renderer renderer(context, compiled);
   const bool fault = faultArmed(uint32_t(cl.shard_index));
   ProgressCallback progress = cl.quiet ? ProgressCallback{} : makeTerminalProgress("shard");
   if (fault)

@@ -92,6 +92,11 @@ Renderer::Renderer(const VulkanContext& context, const std::vector<uint32_t>& fr
   createRenderPipeline(pipeline_, context_, frag_spirv, scene_data);
 }
 
+Renderer::Renderer(const VulkanContext& context, const CompiledScene& compiled)
+    : Renderer(context, compiled.spirv, compiled.emitted.scene_data) {
+  inside_test_ = cameraInsideTest(compiled.scene, compiled.emitted.limits);
+}
+
 Renderer::~Renderer() {
   destroyRenderTarget(target_, context_);
   destroyRenderPipeline(pipeline_, context_);

@@ -22,6 +22,7 @@
 #include "camera.h"
 #include "camera_inside.h"
 #include "denoise_svgf.h"
+#include "driver/compile.h"
 #include "float_image.h"
 #include "progress.h"
 #include "render_pipeline.h"
@@ -144,6 +145,9 @@ class Renderer {
   // when not empty (the emitter's EmitResult::scene_data).
   Renderer(const VulkanContext& context, const std::vector<uint32_t>& frag_spirv,
            const std::vector<float>& scene_data = {});
+  // A compiled scene's kernel, its scene data and its camera-inside test (the
+  // test reads `compiled.scene`, so `compiled` must outlive the renderer).
+  Renderer(const VulkanContext& context, const CompiledScene& compiled);
   ~Renderer();
   Renderer(const Renderer&) = delete;
   Renderer& operator=(const Renderer&) = delete;

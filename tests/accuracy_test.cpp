@@ -110,8 +110,7 @@ Stats measure(const char* name, const std::vector<Prim>& prims) {
   const RenderSettings settings = renderSettingsFor(c, o);
   RenderOutput out;
   {
-    Renderer renderer(context, c.spirv);
-    renderer.setCameraInsideTest(cameraInsideTest(c.scene, c.emitted.limits));
+    Renderer renderer(context, c);
     out = renderer.render(cameraFor(c.scene), settings);
   }
   // The rays the kernel traces (cameraRay at pixel centres) from the same

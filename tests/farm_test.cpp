@@ -140,9 +140,7 @@ class FarmRender : public ::testing::Test {
   ShardJob writeShards(const fs::path& dir, int slices) {
     cl_.shards = slices;
     ShardJob job = shardJobFor(cl_, o_, loaded_.compiled);
-    Renderer renderer(context_, loaded_.compiled.spirv);
-  renderer.setCameraInsideTest(cameraInsideTest(loaded_.compiled.scene, loaded_.compiled.emitted.limits));
-    renderer.setCameraInsideTest(cameraInsideTest(loaded_.compiled.scene, loaded_.compiled.emitted.limits));
+    Renderer renderer(context_, loaded_.compiled);
     for (uint32_t i = 0; i < job.plan.taskCount(); ++i) {
       farm::ShardImage shard;
       shard.header = expectedHeader(job, i);
@@ -169,8 +167,7 @@ class FarmRender : public ::testing::Test {
 VulkanContext FarmRender::context_;
 
 TEST_F(FarmRender, MergedShardsEqualTheSingleRenderBitForBit) {
-  Renderer renderer(context_, loaded_.compiled.spirv);
-  renderer.setCameraInsideTest(cameraInsideTest(loaded_.compiled.scene, loaded_.compiled.emitted.limits));
+  Renderer renderer(context_, loaded_.compiled);
   const RenderOutput single =
       renderer.render(cameraFor(loaded_.compiled.scene), renderSettingsFor(loaded_.compiled, o_));
   const fs::path dir = scratch("bits");

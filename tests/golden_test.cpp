@@ -86,8 +86,7 @@ TEST(GoldenImages, EveryExampleMatchesItsReferenceRender) {
     options.emit.march.image_height = 54;
     const CompiledScene c = compileExample(path, options);
     if (!c.ok) continue;
-    Renderer renderer(context, c.spirv);
-    renderer.setCameraInsideTest(cameraInsideTest(c.scene, c.emitted.limits));
+    Renderer renderer(context, c);
     RenderOverrides o;
     o.width = 96;
     o.height = 54;

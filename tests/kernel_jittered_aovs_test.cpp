@@ -29,8 +29,7 @@ TEST(KernelJitteredAovs, MeansOverTheSamples) {
   VulkanContext context;
   createContext(context);
   {
-    Renderer renderer(context, compiled.spirv, compiled.emitted.scene_data);
-    renderer.setCameraInsideTest(cameraInsideTest(compiled.scene, compiled.emitted.limits));
+    Renderer renderer(context, compiled);
     RenderOverrides o;
     o.width = 160;
     o.height = 90;

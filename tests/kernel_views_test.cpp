@@ -92,15 +92,13 @@ TEST(KernelViews, EachViewEqualsTheAllInOneKernel) {
     const std::string text = readExample(name);
     const CompiledScene all = compileView(name, text, KernelView::All);
     ASSERT_TRUE(all.ok);
-    Renderer all_renderer(context, all.spirv, all.emitted.scene_data);
-    all_renderer.setCameraInsideTest(cameraInsideTest(all.scene, all.emitted.limits));
+    Renderer all_renderer(context, all);
     for (KernelView view : {KernelView::Normal, KernelView::Steps, KernelView::Depth, KernelView::Albedo,
                             KernelView::Beauty, KernelView::Iterations}) {
       SCOPED_TRACE(kernelViewName(view));
       const CompiledScene one = compileView(name, text, view);
       ASSERT_TRUE(one.ok);
-      Renderer renderer(context, one.spirv, one.emitted.scene_data);
-      renderer.setCameraInsideTest(cameraInsideTest(one.scene, one.emitted.limits));
+      Renderer renderer(context, one);
       RenderOverrides o;
       o.width = 160;
       o.height = 90;

@@ -155,8 +155,7 @@ scene {
   o.width = 64;
   o.height = 48;
   auto work = [&](const CompiledScene& c) {
-    Renderer renderer(context, c.spirv);
-    renderer.setCameraInsideTest(cameraInsideTest(c.scene, c.emitted.limits));
+    Renderer renderer(context, c);
     RenderOverrides v = o;
     v.view = gpu::kViewIterations;
     v.spp = 1;
@@ -173,8 +172,7 @@ scene {
 
   // Same image: the difference is below the noise between two seeds.
   auto image = [&](const CompiledScene& c, uint32_t seed) {
-    Renderer renderer(context, c.spirv);
-    renderer.setCameraInsideTest(cameraInsideTest(c.scene, c.emitted.limits));
+    Renderer renderer(context, c);
     RenderOverrides v = o;
     v.spp = 16;
     v.seed = seed;
@@ -219,8 +217,7 @@ scene {
   o.width = 64;
   o.height = 48;
   auto iterations = [&](const CompiledScene& c) {
-    Renderer renderer(context, c.spirv);
-    renderer.setCameraInsideTest(cameraInsideTest(c.scene, c.emitted.limits));
+    Renderer renderer(context, c);
     RenderOverrides v = o;
     v.view = gpu::kViewIterations;
     v.spp = 1;
@@ -235,8 +232,7 @@ scene {
   std::printf("[ box      ] loop iterations per pixel: %.1f with the scene box, %.1f without\n", work_with,
               work_without);
   auto image = [&](const CompiledScene& c, uint32_t seed) {
-    Renderer renderer(context, c.spirv);
-    renderer.setCameraInsideTest(cameraInsideTest(c.scene, c.emitted.limits));
+    Renderer renderer(context, c);
     RenderOverrides v = o;
     v.spp = 16;
     v.seed = seed;
@@ -288,8 +284,7 @@ scene {
   o.width = 64;
   o.height = 48;
   auto render = [&](const CompiledScene& c, int view, uint32_t spp, uint32_t seed) {
-    Renderer renderer(context, c.spirv);
-    renderer.setCameraInsideTest(cameraInsideTest(c.scene, c.emitted.limits));
+    Renderer renderer(context, c);
     RenderOverrides v = o;
     v.view = view;
     v.spp = spp;

@@ -22,8 +22,7 @@ TEST(RuntimeAccumulation, PassByPassMeanEqualsRender) {
   VulkanContext context;
   createContext(context);
   {
-    Renderer renderer(context, c.spirv);
-    renderer.setCameraInsideTest(cameraInsideTest(c.scene, c.emitted.limits));
+    Renderer renderer(context, c);
     RenderOverrides o;
     o.width = 512;
     o.height = 300;  // two bands

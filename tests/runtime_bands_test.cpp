@@ -21,8 +21,7 @@ TEST(RuntimeBands, BandedRenderEqualsOneFullSizePass) {
   VulkanContext context;
   createContext(context);
   {
-    Renderer renderer(context, c.spirv);
-    renderer.setCameraInsideTest(cameraInsideTest(c.scene, c.emitted.limits));
+    Renderer renderer(context, c);
     RenderOverrides o;
     o.width = 512;
     o.height = 300;  // 153,600 pixels: two bands of kBandPixels / 512 rows
