@@ -2,6 +2,30 @@
 
 namespace sdfc {
 
+std::vector<float> boxMean(const std::vector<float>& in, int w, int h, int channels, int radius) {
+  std::vector<float> row(in.size()), out(in.size());
+  forEachRow(h, [&](int y) {
+    for (int x = 0; x < w; ++x) {
+      const int x0 = std::max(0, x - radius), x1 = std::min(w - 1, x + radius);
+      for (int c = 0; c < channels; ++c) {
+        float sum = 0;
+        for (int q = x0; q <= x1; ++q) sum += in[(size_t(y) * w + q) * channels + c];
+        row[(size_t(y) * w + x) * channels + c] = sum / float(x1 - x0 + 1);
+      }
+    }
+  });
+  forEachRow(h, [&](int y) {
+    const int y0 = std::max(0, y - radius), y1 = std::min(h - 1, y + radius);
+    for (int x = 0; x < w; ++x)
+      for (int c = 0; c < channels; ++c) {
+        float sum = 0;
+        for (int q = y0; q <= y1; ++q) sum += row[(size_t(q) * w + x) * channels + c];
+        out[(size_t(y) * w + x) * channels + c] = sum / float(y1 - y0 + 1);
+      }
+  });
+  return out;
+}
+
 Features::Features(const FloatImage& normal_depth, const FloatImage& albedo_steps)
   : width(int(normal_depth.width)), height(int(normal_depth.height)) {
   const size_t n = normal_depth.pixelCount();

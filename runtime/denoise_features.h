@@ -30,6 +30,10 @@ void forEachRow(int height, const Body& body) {
   for (std::thread& thread : pool) thread.join();
 }
 
+// Mean of `in` (w x h pixels of `channels` values) over each pixel's
+// (2 radius + 1)^2 box, counting only the pixels inside the image; separable.
+std::vector<float> boxMean(const std::vector<float>& in, int w, int h, int channels, int radius);
+
 // Everything the edge-stopping weights read, per pixel, in flat arrays.
 struct Features {
   int width = 0, height = 0;

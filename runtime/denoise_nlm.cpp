@@ -33,34 +33,16 @@ Plane rgbOf(const FloatImage& image) {
 void guideVariances(const Plane& ga, const Plane& gb, int w, int h, int radius, double n_a,
                     double n_b, Plane& var_a, Plane& var_b) {
   const size_t n = size_t(w) * h;
-  Plane d2(n * 3), row(n * 3);
+  Plane d2(n * 3);
   for (size_t i = 0; i < n * 3; ++i) d2[i] = (ga[i] - gb[i]) * (ga[i] - gb[i]);
-  // Separable box (mean over the pixels inside the image).
-  forEachRow(h, [&](int y) {
-    for (int x = 0; x < w; ++x)
-      for (int c = 0; c < 3; ++c) {
-        float sum = 0;
-        int count = 0;
-        for (int qx = std::max(0, x - radius); qx <= std::min(w - 1, x + radius); ++qx, ++count)
-          sum += d2[(size_t(y) * w + qx) * 3 + c];
-        row[(size_t(y) * w + x) * 3 + c] = sum / float(count);
-      }
-  });
+  const Plane mean = boxMean(d2, w, h, 3, radius);
   const float share_a = float(n_b / (n_a + n_b)), share_b = float(n_a / (n_a + n_b));
   var_a.resize(n * 3);
   var_b.resize(n * 3);
-  forEachRow(h, [&](int y) {
-    for (int x = 0; x < w; ++x)
-      for (int c = 0; c < 3; ++c) {
-        float sum = 0;
-        int count = 0;
-        for (int qy = std::max(0, y - radius); qy <= std::min(h - 1, y + radius); ++qy, ++count)
-          sum += row[(size_t(qy) * w + x) * 3 + c];
-        const size_t i = (size_t(y) * w + x) * 3 + c;
-        var_a[i] = share_a * sum / float(count);
-        var_b[i] = share_b * sum / float(count);
-      }
-  });
+  for (size_t i = 0; i < n * 3; ++i) {
+    var_a[i] = share_a * mean[i];
+    var_b[i] = share_b * mean[i];
+  }
 }
 
 // Per-pixel, per-offset colour distance before the patch average (Rousselle et
@@ -149,15 +131,12 @@ void solveIntercept(const float* m, float ridge, float* out) {
 // weights from guide ga.
 void crossFilter(const Plane& ua, const Plane& ub, const Plane& ga, const Plane& gb,
                  const Plane& var_a, const Plane& var_b, const Features& f, float k,
-                 const NlmParams& params, bool regress, Plane& out_a, Plane& out_b,
-                 Plane* mean_a = nullptr, Plane* mean_b = nullptr) {
+                 const NlmParams& params, bool regress, Plane& out_a, Plane& out_b) {
   const int w = f.width, h = f.height, r = params.radius, pr = std::max(params.patch_radius, 0);
   const float k2 = k * k;
   const float patch_norm = 1.0f / float((2 * pr + 1) * (2 * pr + 1));
   out_a.assign(ua.size(), 0.0f);
   out_b.assign(ub.size(), 0.0f);
-  if (mean_a) mean_a->assign(ua.size(), 0.0f);
-  if (mean_b) mean_b->assign(ub.size(), 0.0f);
   const int tiles = (h + kTileRows - 1) / kTileRows;
   std::atomic<int> next_tile{0};
   auto worker = [&] {
@@ -258,10 +237,6 @@ void crossFilter(const Plane& ua, const Plane& ub, const Plane& ga, const Plane&
             out_a[p * 3 + c] = sum_a[t * 3 + c] / wsum_a[t];
             out_b[p * 3 + c] = sum_b[t * 3 + c] / wsum_b[t];
           }
-          if (mean_a)
-            for (int c = 0; c < 3; ++c) (*mean_a)[p * 3 + c] = out_a[p * 3 + c];
-          if (mean_b)
-            for (int c = 0; c < 3; ++c) (*mean_b)[p * 3 + c] = out_b[p * 3 + c];
           if (regress && f.hit[p]) {
             solveIntercept(&moments_a[t * kMoments], params.ridge, &out_a[p * 3]);
             solveIntercept(&moments_b[t * kMoments], params.ridge, &out_b[p * 3]);
@@ -308,21 +283,11 @@ FloatImage nlmDenoise(const SampleHalves& halves, const FloatImage& normal_depth
                   params.regression && last, out_a, out_b);
       continue;
     }
-    // Several strengths (and with regression, the weighted mean and the fit of
-    // each), chosen per pixel by their error against the other half.
-    std::vector<Plane> candidates_a, candidates_b;
-    for (float k : params.select_k) {
-      Plane fit_a, fit_b, mean_a, mean_b;
-      crossFilter(a, b, guide_a, guide_b, var_a, var_b, f, k, params, params.regression, fit_a,
-                  fit_b, params.regression && params.select_means ? &mean_a : nullptr,
-                  params.regression && params.select_means ? &mean_b : nullptr);
-      candidates_a.push_back(std::move(fit_a));
-      candidates_b.push_back(std::move(fit_b));
-      if (!mean_a.empty()) {
-        candidates_a.push_back(std::move(mean_a));
-        candidates_b.push_back(std::move(mean_b));
-      }
-    }
+    // Several strengths, chosen per pixel by their error against the other half.
+    std::vector<Plane> candidates_a(params.select_k.size()), candidates_b(params.select_k.size());
+    for (size_t i = 0; i < params.select_k.size(); ++i)
+      crossFilter(a, b, guide_a, guide_b, var_a, var_b, f, params.select_k[i], params,
+                  params.regression, candidates_a[i], candidates_b[i]);
     selectPerPixel(candidates_a, candidates_b, a, b, w, h, params.select, out_a, out_b);
   }
 

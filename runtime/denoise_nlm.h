@@ -41,10 +41,9 @@ struct NlmParams {
   float ridge = 1e-3f;  // on the slopes, times the sum of the weights
   // Non-empty: the last pass runs once per strength in select_k (instead of
   // k_second) and each pixel takes the candidate of least estimated error
-  // (denoise_select.h); with select_means and regression, each strength's
-  // weighted mean is a candidate too.
+  // (denoise_select.h). (Each strength's weighted mean as a further candidate
+  // was measured worse on the castle and colonnade: docs/denoise.md.)
   std::vector<float> select_k;
-  bool select_means = false;  // measured: costs the castle and colonnade (docs/denoise.md)
   SelectParams select;
 };
 

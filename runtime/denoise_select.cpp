@@ -11,28 +11,6 @@ namespace {
 
 using Plane = std::vector<float>;
 
-// Mean over the (2r+1)^2 box of the pixels inside the image, separable.
-Plane boxMean(const Plane& in, int w, int h, int r) {
-  Plane row(in.size()), out(in.size());
-  forEachRow(h, [&](int y) {
-    for (int x = 0; x < w; ++x) {
-      float sum = 0;
-      const int x0 = std::max(0, x - r), x1 = std::min(w - 1, x + r);
-      for (int q = x0; q <= x1; ++q) sum += in[size_t(y) * w + q];
-      row[size_t(y) * w + x] = sum / float(x1 - x0 + 1);
-    }
-  });
-  forEachRow(h, [&](int y) {
-    const int y0 = std::max(0, y - r), y1 = std::min(h - 1, y + r);
-    for (int x = 0; x < w; ++x) {
-      float sum = 0;
-      for (int q = y0; q <= y1; ++q) sum += row[size_t(q) * w + x];
-      out[size_t(y) * w + x] = sum / float(y1 - y0 + 1);
-    }
-  });
-  return out;
-}
-
 // Blends one half's candidates by their smoothed squared difference from the
 // other half, e_k: weight (min_j e_j / e_k)^sharpness. Returns the index of the
 // least e_k per pixel.
@@ -53,7 +31,7 @@ std::vector<int> blendAgainst(const std::vector<Plane>& candidates, const Plane&
       }
       error[i] = sum * scale[i];
     }
-    errors.push_back(boxMean(error, w, h, params.radius));
+    errors.push_back(boxMean(error, w, h, 1, params.radius));
     for (size_t i = 0; i < n; ++i)
       if (errors.back()[i] < errors[size_t(best[i])][i]) best[i] = int(k);
   }

@@ -165,7 +165,9 @@ TEST(Instances, GridBoundIsALowerBoundAndExactWithinReach) {
           continue;
         }
         ASSERT_LE(bound, brute + 1e-12) << set.origin << " at " << p.x << " " << p.y << " " << p.z;
-        if (brute > 0) EXPECT_GT(bound, 0.0);  // a bound, never a false hit
+        if (brute > 0) {
+          EXPECT_GT(bound, 0.0);  // a bound, never a false hit
+        }
         const bool inside = glm::all(glm::greaterThanEqual(p, g.lo)) && glm::all(glm::lessThan(p, hi));
         if (!inside) continue;
         const glm::ivec3 cell = glm::clamp(glm::ivec3(glm::floor((p - g.lo) / g.cell)), glm::ivec3(0), g.dims - 1);
@@ -442,10 +444,8 @@ TEST_F(InstancesGpu, ImageEqualsTheInlineFormAndStaysUnderTheLoopCap) {
   o.width = 64;
   o.height = 36;
   o.spp = 8;
-  Renderer rd(*context_, data.spirv, data.emitted.scene_data);
-  rd.setCameraInsideTest(cameraInsideTest(data.scene, data.emitted.limits));
-  Renderer ri(*context_, inline_form.spirv);
-  ri.setCameraInsideTest(cameraInsideTest(inline_form.scene, inline_form.emitted.limits));
+  Renderer rd(*context_, data);
+  Renderer ri(*context_, inline_form);
   const FloatImage a = rd.render(cameraFor(data.scene), renderSettingsFor(data, o)).color;
   const FloatImage b = ri.render(cameraFor(inline_form.scene), renderSettingsFor(inline_form, o)).color;
   double sum_a = 0, sum_b = 0, diff = 0;
@@ -486,10 +486,8 @@ TEST_F(InstancesGpu, DenseCloudThroughTheGridEqualsTheInlineForm) {
     o.width = 64;
     o.height = 36;
     o.spp = 8;
-    Renderer rd(*context_, data.spirv, data.emitted.scene_data);
-    rd.setCameraInsideTest(cameraInsideTest(data.scene, data.emitted.limits));
-    Renderer ri(*context_, inline_form.spirv);
-    ri.setCameraInsideTest(cameraInsideTest(inline_form.scene, inline_form.emitted.limits));
+    Renderer rd(*context_, data);
+    Renderer ri(*context_, inline_form);
     const FloatImage a = rd.render(cameraFor(data.scene), renderSettingsFor(data, o)).color;
     const FloatImage b = ri.render(cameraFor(inline_form.scene), renderSettingsFor(inline_form, o)).color;
     double sum_b = 0, diff = 0, worst = 0;
