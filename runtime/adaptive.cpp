@@ -351,7 +351,12 @@ RenderOutput renderAdaptive(Renderer& renderer, const CameraDesc& camera,
       const SampleSum sa = a.color_sums[i * 4 + c], sb = b.color_sums[i * 4 + c];
       a.color.rgba[i * 4 + c] = sampleMean(sa, per_half);
       b.color.rgba[i * 4 + c] = sampleMean(sb, per_half);
-      color.rgba[i * 4 + c] = sampleMean(sa + sb, 2 * uint64_t(per_half));
+      // As mergeRenders: one rounding of the exact sums with keep_sums, else the
+      // halves' double mean (renderHalves' image, bit for bit, when uniform).
+      color.rgba[i * 4 + c] =
+          settings.keep_sums
+              ? sampleMean(sa + sb, 2 * uint64_t(per_half))
+              : float((double(a.color.rgba[i * 4 + c]) + double(b.color.rgba[i * 4 + c])) * 0.5);
     }
     if (jittered)
       for (int c = 0; c < 4; ++c) {
