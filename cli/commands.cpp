@@ -84,8 +84,8 @@ void registerCommands(CLI::App& app, CommandLine& cl) {
                    "adaptive sampling: --spp is the mean; a first share uniform, the rest where the "
                    "estimated error after denoising is (docs/adaptive.md)");
   render->add_option("--adaptive-estimate", cl.adaptive_estimate,
-                     "what drives --adaptive: denoised (nlr's half against the other) | variance | "
-                     "uniform")
+                     "what drives --adaptive: variance (of the halves' mean) | denoised (nlr's half "
+                     "against the other) | uniform")
       ->check(CLI::IsMember({"uniform", "variance", "denoised"}));
   render->add_option("--adaptive-share", cl.adaptive_share, "--adaptive's uniform first phase, of --spp")
       ->check(CLI::Range(0.01, 1.0));
