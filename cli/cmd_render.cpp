@@ -144,6 +144,9 @@ int runRender(const CommandLine& cl) {
     AdaptiveStats adaptive_stats;
     RenderOutput out;
     if (adaptive) {
+      if (settings.spp % 2 == 1 && settings.spp >= 4)
+        std::cerr << "sdfc: warning: --adaptive draws both halves alike: " << settings.spp - 1
+                  << " spp mean instead of " << settings.spp << "\n";
       AdaptiveParams params;
       params.estimate = *parseAdaptiveEstimate(cl.adaptive_estimate);
       params.first_share = cl.adaptive_share;
