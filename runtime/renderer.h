@@ -177,11 +177,10 @@ class Renderer {
   // Draws `count` more samples of every pixel into `acc` (non-final: sums only).
   void addPass(Accumulation& acc, uint32_t count);
 
-  // One pass of several scissored draws, each with its own push constants, into a
-  // width x rows target (adaptive.cpp: per-block sample counts). Returns the
-  // target's attachments (kAttachmentCount images, targetImageFloats() apart,
-  // each packed width x rows), valid until the next pass.
-  // The target is width x target_rows (kept between passes); rows <= target_rows drawn.
+  // One pass of several scissored draws, each with its own push constants, over the
+  // top `rows` rows of a width x target_rows target (kept between passes; adaptive.cpp:
+  // per-block sample counts). Returns the readback: `readback_count` attachments,
+  // targetImageFloats() apart, each packed width x rows; valid until the next pass.
   const float* runDraws(uint32_t width, uint32_t target_rows, uint32_t rows,
                         const std::vector<PassDraw>& draws, double timeout_seconds,
                         uint32_t readback_count);
