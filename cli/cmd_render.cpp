@@ -8,6 +8,7 @@
 #include <optional>
 #include <regex>
 
+#include "adaptive.h"
 #include "cli_support.h"
 #include "commands.h"
 #include "image_io.h"
@@ -64,6 +65,11 @@ int runRender(const CommandLine& cl) {
   o.seed = cl.seed;
   o.time = cl.time;
   if (!checkTimeOption(cl.time)) return kExitUsage;
+  if (cl.adaptive && (cl.shards > 0 || cl.shard_index >= 0)) {
+    std::cerr << "sdfc: error: --adaptive cannot be split into --shards (its counts depend on the "
+                 "whole first phase)\n";
+    return kExitUsage;
+  }
   if (cl.shards > 0 || cl.shard_index >= 0) return runRenderShard(cl, o);
   // Frame sequence: A-B:step over time. The count is decided (and limited)
   // before any list is built or any work starts.
@@ -127,16 +133,41 @@ int runRender(const CommandLine& cl) {
     // The variance-guided denoiser renders the samples as two halves: their
     // difference is its per-pixel noise estimate.
     SampleHalves halves;
-    const bool with_halves = o.view == gpu::kViewBeauty && denoiser && needsVariance(*denoiser);
+    const bool adaptive = cl.adaptive && o.view == gpu::kViewBeauty;
+    const bool with_halves =
+        adaptive || (o.view == gpu::kViewBeauty && denoiser && needsVariance(*denoiser));
     // Their features are the means of the same jittered samples as the colour
     // (docs/denoise.md): at an edge they blend as the colour does.
     settings.jittered_aovs =
-        with_halves && (cl.denoise_aovs == "jittered" ||
-                        (cl.denoise_aovs == "auto" && wantsJitteredAovs(*denoiser)));
-    RenderOutput out =
-        with_halves
-            ? renderHalves(renderer, cameraFor(compiled.scene), settings, &halves, progress, interrupt)
-            : renderer.render(cameraFor(compiled.scene), settings, progress, interrupt);
+        with_halves && denoiser && needsVariance(*denoiser) &&
+        (cl.denoise_aovs == "jittered" || (cl.denoise_aovs == "auto" && wantsJitteredAovs(*denoiser)));
+    AdaptiveStats adaptive_stats;
+    RenderOutput out;
+    if (adaptive) {
+      if (settings.spp % 2 == 1 && settings.spp >= 4)
+        std::cerr << "sdfc: warning: --adaptive draws both halves alike: " << settings.spp - 1
+                  << " spp mean instead of " << settings.spp << "\n";
+      AdaptiveParams params;
+      params.estimate = *parseAdaptiveEstimate(cl.adaptive_estimate);
+      params.first_share = cl.adaptive_share;
+      params.cap = cl.adaptive_cap;
+      params.block = cl.adaptive_block;
+      params.power = cl.adaptive_power;
+      out = renderAdaptive(renderer, cameraFor(compiled.scene), settings, params, &halves,
+                           &adaptive_stats, progress, interrupt);
+      // bench/adaptive_study.py reads this line.
+      if (!quiet && adaptive_stats.first_spp > 0)
+        std::cerr << "sdfc: adaptive (" << cl.adaptive_estimate << "): first phase "
+                  << adaptive_stats.first_spp << " spp in " << formatSeconds(adaptive_stats.first_seconds)
+                  << ", estimate " << formatSeconds(adaptive_stats.estimate_seconds) << ", extra "
+                  << adaptive_stats.rounds << " rounds of " << adaptive_stats.draws << " draws in "
+                  << formatSeconds(adaptive_stats.extra_seconds) << "; mean " << out.samples_done
+                  << " spp, most " << adaptive_stats.max_spp << "\n";
+    } else {
+      out = with_halves ? renderHalves(renderer, cameraFor(compiled.scene), settings, &halves,
+                                       progress, interrupt)
+                        : renderer.render(cameraFor(compiled.scene), settings, progress, interrupt);
+    }
     if (settings.jittered_aovs) resolveJitteredAovs(out, &halves);
     // Write out.color in place unless denoised: a copy is a full-size image (memory).
     // Without two halves (1 spp, or interrupted early) svgf and nlm leave the image as it is.

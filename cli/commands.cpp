@@ -80,6 +80,23 @@ void registerCommands(CLI::App& app, CommandLine& cl) {
                      "takes the one of least error estimated against the other half (docs/denoise.md)")
       ->delimiter(',')
       ->check(CLI::PositiveNumber);
+  render->add_flag("--adaptive", cl.adaptive,
+                   "adaptive sampling: --spp is the mean; a first share uniform, the rest where the "
+                   "estimated error after denoising is (docs/adaptive.md)");
+  render->add_option("--adaptive-estimate", cl.adaptive_estimate,
+                     "what drives --adaptive: variance (of the halves' mean) | denoised (nlr's half "
+                     "against the other) | uniform")
+      ->check(CLI::IsMember({"uniform", "variance", "denoised"}));
+  render->add_option("--adaptive-share", cl.adaptive_share, "--adaptive's uniform first phase, of --spp")
+      ->check(CLI::Range(0.01, 1.0));
+  render->add_option("--adaptive-cap", cl.adaptive_cap,
+                     "--adaptive: a pixel's samples at most this many times the first phase's")
+      ->check(CLI::Range(1.0, 1024.0));
+  render->add_option("--adaptive-block", cl.adaptive_block, "--adaptive: counts per NxN block")
+      ->check(CLI::Range(1, 256));
+  render->add_option("--adaptive-power", cl.adaptive_power,
+                     "--adaptive: extra samples proportional to the estimate to this power")
+      ->check(CLI::Range(0.0, 4.0));
   render->add_option("--view", cl.view, "beauty | normal | steps | depth | albedo | iterations")
       ->check(CLI::IsMember({"beauty", "normal", "steps", "depth", "albedo", "iterations"}));
   render->add_option("--time", cl.time, "scene time in seconds");

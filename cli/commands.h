@@ -43,6 +43,13 @@ struct CommandLine {
   std::string denoiser = "none";
   std::string denoise_aovs = "auto";  // the denoiser's features: auto | jittered | centre
   std::vector<float> denoise_select;  // nlm/nlr last-pass strengths chosen per pixel; empty: off
+  // Adaptive sampling at the same mean spp (runtime/adaptive.h, docs/adaptive.md).
+  bool adaptive = false;
+  std::string adaptive_estimate = "variance";  // uniform | variance | denoised
+  float adaptive_share = 0.25f;                // first phase, of spp
+  float adaptive_cap = 8.0f;                   // a pixel's total, x the first phase
+  uint32_t adaptive_block = 8;                 // pixels per block side
+  float adaptive_power = 0.5f;                 // extra samples ~ estimate^power
   std::string view = "beauty";
   double time = 0;
   std::string frames;

@@ -259,7 +259,8 @@ void requireSameSize(const FloatImage& a, const FloatImage& b, const char* what)
 }  // namespace
 
 FloatImage nlmDenoise(const SampleHalves& halves, const FloatImage& normal_depth,
-                      const FloatImage& albedo_steps, const NlmParams& params) {
+                      const FloatImage& albedo_steps, const NlmParams& params,
+                      SampleHalves* filtered) {
   requireSameSize(halves.a, halves.b, "second half");
   requireSameSize(halves.a, normal_depth, "normal/depth");
   requireSameSize(halves.a, albedo_steps, "albedo");
@@ -292,6 +293,14 @@ FloatImage nlmDenoise(const SampleHalves& halves, const FloatImage& normal_depth
   }
 
   FloatImage out(halves.a.width, halves.a.height, 1.0f);
+  if (filtered) {
+    *filtered = halves;
+    for (size_t i = 0; i < out.pixelCount(); ++i)
+      for (int c = 0; c < 3; ++c) {
+        filtered->a.rgba[i * 4 + c] = out_a[i * 3 + c];
+        filtered->b.rgba[i * 4 + c] = out_b[i * 3 + c];
+      }
+  }
   for (size_t i = 0; i < out.pixelCount(); ++i)
     for (int c = 0; c < 3; ++c)
       out.rgba[i * 4 + c] = float((n_a * out_a[i * 3 + c] + n_b * out_b[i * 3 + c]) / (n_a + n_b));

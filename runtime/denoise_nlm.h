@@ -62,7 +62,10 @@ inline NlmParams nlrParams() {
 
 // The denoised sample-weighted mean of the halves. `normal_depth`, `albedo_steps`:
 // the renderer's attachments 1 and 2. Throws std::invalid_argument on size mismatch.
+// `filtered` (if not null) gets each half filtered on its own (adaptive sampling's
+// cross-half error estimate, adaptive.h).
 FloatImage nlmDenoise(const SampleHalves& halves, const FloatImage& normal_depth,
-                      const FloatImage& albedo_steps, const NlmParams& params = {});
+                      const FloatImage& albedo_steps, const NlmParams& params = {},
+                      SampleHalves* filtered = nullptr);
 
 }  // namespace sdfc

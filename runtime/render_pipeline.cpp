@@ -361,6 +361,17 @@ void runPass(const VulkanContext& context, const RenderPipeline& pipeline, Rende
              const void* push_constants, double timeout_seconds, uint32_t rows,
              uint32_t readback_count) {
   if (rows == 0 || rows > target.height) rows = target.height;
+  PassDraw draw;
+  draw.rect = {{0, 0}, {target.width, rows}};
+  std::memcpy(&draw.params, push_constants, sizeof(gpu::FrameParams));
+  runPass(context, pipeline, target, std::vector<PassDraw>{draw}, timeout_seconds, rows,
+          readback_count);
+}
+
+void runPass(const VulkanContext& context, const RenderPipeline& pipeline, RenderTarget& target,
+             const std::vector<PassDraw>& draws, double timeout_seconds, uint32_t rows,
+             uint32_t readback_count) {
+  if (rows == 0 || rows > target.height) rows = target.height;
   readback_count = std::min(readback_count, kAttachmentCount);
   const double clamped = std::fmax(0.0, std::fmin(timeout_seconds, 1.0e9));
   const uint64_t timeout_ns = static_cast<uint64_t>(clamped * 1e9);
@@ -388,10 +399,12 @@ void runPass(const VulkanContext& context, const RenderPipeline& pipeline, Rende
                             &pipeline.descriptor_set, 0, nullptr);
   const VkViewport viewport{0, 0, float(target.width), float(target.height), 0, 1};
   vkCmdSetViewport(cmd, 0, 1, &viewport);
-  vkCmdSetScissor(cmd, 0, 1, &rp.renderArea);
-  vkCmdPushConstants(cmd, pipeline.layout, VK_SHADER_STAGE_FRAGMENT_BIT, 0,
-                     sizeof(gpu::FrameParams), push_constants);
-  vkCmdDraw(cmd, 3, 1, 0, 0);
+  for (const PassDraw& draw : draws) {
+    vkCmdSetScissor(cmd, 0, 1, &draw.rect);
+    vkCmdPushConstants(cmd, pipeline.layout, VK_SHADER_STAGE_FRAGMENT_BIT, 0,
+                       sizeof(gpu::FrameParams), &draw.params);
+    vkCmdDraw(cmd, 3, 1, 0, 0);
+  }
   vkCmdEndRenderPass(cmd);
 
   // The render pass left the images in TRANSFER_SRC_OPTIMAL (with a dependency).

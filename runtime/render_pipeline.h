@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "shader_interface.h"
 #include "vulkan_context.h"
 
 namespace sdfc {
@@ -66,6 +67,19 @@ void destroyRenderTarget(RenderTarget& target, const VulkanContext& context);
 // so destroy functions wait for idle first.
 void runPass(const VulkanContext& context, const RenderPipeline& pipeline, RenderTarget& target,
              const void* push_constants, double timeout_seconds, uint32_t rows = 0,
+             uint32_t readback_count = kAttachmentCount);
+
+// One draw of a multi-draw pass: its own push constants over `rect` (target pixels).
+struct PassDraw {
+  VkRect2D rect{};
+  gpu::FrameParams params{};
+};
+
+// runPass with several draws in one submission, each scissored to its rect (adaptive
+// sampling: per-block sample counts without a kernel change). Pixels no rect covers
+// are undefined in the readback.
+void runPass(const VulkanContext& context, const RenderPipeline& pipeline, RenderTarget& target,
+             const std::vector<PassDraw>& draws, double timeout_seconds, uint32_t rows = 0,
              uint32_t readback_count = kAttachmentCount);
 
 }  // namespace sdfc

@@ -118,6 +118,14 @@ void Renderer::renderPass(const gpu::FrameParams& params, double timeout_seconds
   copyImage(target_.mapped + 2 * n, params.width, params.height, albedo_steps);
 }
 
+const float* Renderer::runDraws(uint32_t width, uint32_t target_rows, uint32_t rows,
+                                const std::vector<PassDraw>& draws, double timeout_seconds,
+                                uint32_t readback_count) {
+  ensureTarget(width, target_rows);
+  runPass(context_, pipeline_, target_, draws, timeout_seconds, rows, readback_count);
+  return target_.mapped;
+}
+
 // sampleMean(sampleTerm(v, count), count) without the fixed point where that is v
 // itself: for 2^-41 <= |v| and |v| count < 2^62 (count <= 2^29), v count is exact
 // in double and v count 2^64 an integer, so nothing is dropped and the division

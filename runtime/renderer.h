@@ -92,7 +92,10 @@ struct RenderOutput {
   // With RenderSettings::keep_sums: the exact sum over samples of each pixel's r, g, b, a
   // (4 per pixel, row-major); color = sampleMean(sum, samples_done).
   std::vector<SampleSum> color_sums;
-  uint32_t samples_done = 0;
+  uint32_t samples_done = 0;  // per pixel; with sample_counts, their mean
+  // Adaptive sampling (adaptive.h): each pixel's own sample count (row-major);
+  // empty when every pixel took samples_done.
+  std::vector<uint32_t> sample_counts;
   uint32_t passes = 0;
   uint32_t samples_per_pass = 0;
   double seconds = 0;           // wall time of render()
@@ -173,6 +176,15 @@ class Renderer {
                                  bool keep_aovs);
   // Draws `count` more samples of every pixel into `acc` (non-final: sums only).
   void addPass(Accumulation& acc, uint32_t count);
+
+  // One pass of several scissored draws, each with its own push constants, over the
+  // top `rows` rows of a width x target_rows target (kept between passes; adaptive.cpp:
+  // per-block sample counts). Returns the readback: `readback_count` attachments,
+  // targetImageFloats() apart, each packed width x rows; valid until the next pass.
+  const float* runDraws(uint32_t width, uint32_t target_rows, uint32_t rows,
+                        const std::vector<PassDraw>& draws, double timeout_seconds,
+                        uint32_t readback_count);
+  size_t targetImageFloats() const { return target_.floatsPerImage(); }
 
   // One raw pass with explicit push constants; fills the three attachments.
   void renderPass(const gpu::FrameParams& params, double timeout_seconds, FloatImage& color,
