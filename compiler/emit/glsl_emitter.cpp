@@ -3,6 +3,7 @@
 #include <cctype>
 #include <cmath>
 #include <functional>
+#include <iterator>
 #include <map>
 #include <optional>
 #include <sstream>
@@ -41,6 +42,8 @@ constexpr int kPrunesPerVisit = 3;
 // instance); beyond it they hold 4-byte indices, which keeps a million
 // instances' data (76 MB) within lavapipe's 128 MiB storage buffer range.
 constexpr size_t kMaxCopiedRecordBytes = size_t(32) << 20;
+// --count-event quantities (kCountEventQuantities) the scene code counts.
+constexpr int kEventLookups = 2, kEventEntries = 3, kEventVisits = 4;
 
 // A plain variable name (not a call or other expression), safe to repeat.
 bool isIdentifier(const std::string& s) {
@@ -238,6 +241,7 @@ class SceneWriter {
       out << "\n// Instance hierarchies and records (the runtime binds the compiler's scene data).\n";
       out << "layout(std430, set = 0, binding = 0) readonly buffer SdfcSceneData { vec4 sd_data[]; };\n";
     }
+    if (!options_.count_event.empty()) countEventDeclarations(out);
     if (ray_skip_set_) {
       out << "\n// The ray march() steps along; the root grid's lookup writes how far it may\n"
              "// go from p with no surface (0: no more than the distance).\n";
@@ -557,6 +561,7 @@ class SceneWriter {
     g.code << "  ivec3 c = clamp(ivec3(floor(f)), ivec3(0), dims - 1);\n";
     g.code << "  vec4 cell = sd_data[" << gc << " + c.x + dims.x * (c.y + dims.y * c.z)];\n";
     g.code << "  int count = int(cell.y);\n";
+    g.code << countEvent(kEventLookups);
     g.code << "  if (count < 0 || count > " << visits << ") return " << tree << "(p" << (mat ? ", inherited" : "")
            << ");\n";
     g.code << "  // Unlisted instances are at least the reach plus the way to the cell's faces away.\n";
@@ -582,6 +587,7 @@ class SceneWriter {
     } else {
       g.code << "  for (int it = 0; it < count; it++) {\n";
     }
+    g.code << countEvent(kEventEntries, "  ");
     g.code << "    int e = first + it;\n";
     g.code << "    int rec = " << listedRecord(l) << ";\n";
     if (mat) {
@@ -601,6 +607,23 @@ class SceneWriter {
     if (skip) g.code << "  g_ray_skip = skip;\n";
     g.code << "  return best;\n}\n";
     functions_ << g.code.str();
+  }
+
+  // --count-event: the counter's globals; g_event_kind is set by the kernel
+  // (-1: not counted, e.g. the AOV ray).
+  void countEventDeclarations(std::ostream& out) const {
+    int kind = 0, quantity = 0;
+    if (!countEventFromName(options_.count_event, kind, quantity)) return;
+    out << "\n// --count-event " << options_.count_event << ": counted per pixel into the iterations view's green.\n";
+    out << "float g_events = 0.0;\nint g_event_kind = -1;\n";
+    out << "void countEvent(int quantity) {\n";
+    out << "  if (quantity == " << quantity << " && g_event_kind >= 0"
+        << (kind >= 0 ? " && g_event_kind == " + std::to_string(kind) : std::string()) << ") g_events += 1.0;\n}\n";
+  }
+  // A call of countEvent(quantity) when counting (and a kernel is emitted), else "".
+  std::string countEvent(int quantity, const std::string& indent = "") const {
+    if (options_.count_event.empty() || !options_.with_kernel) return "";
+    return indent + "  countEvent(" + std::to_string(quantity) + ");\n";
   }
 
   // The record of list entry e (in scope as `e`).
@@ -626,10 +649,12 @@ class SceneWriter {
     g.code << "  ivec3 c = clamp(ivec3(floor((p - g0.xyz) / g0.w)), ivec3(0), dims - 1);\n";
     g.code << "  vec4 cell = sd_data[" << gc << " + c.x + dims.x * (c.y + dims.y * c.z)];\n";
     g.code << "  int count = int(cell.y), first = int(cell.x);\n";
+    g.code << countEvent(kEventLookups);
     g.code << "  if (count <= 0 || count > " << visits << ") return false;\n";
     g.code << "  float r = " << glslFloat(n.children[0]->args[0].value) << ";\n";
     g.code << "  field = 1e30;\n  vec3 q_near = vec3(0.0, 1.0, 0.0);\n";
     g.code << "  for (int it = loopZero(); it < count; it++) {\n    g_loop_iterations++;\n";
+    g.code << countEvent(kEventEntries, "  ");
     g.code << "    int e = first + it;\n    vec3 q = p + sd_data[" << listedRecord(l) << "].xyz;\n";
     g.code << "    float d = length(q) - r;\n";
     g.code << "    if (d < field) {\n      field = d;\n      q_near = q;\n    }\n  }\n";
@@ -747,6 +772,7 @@ class SceneWriter {
       if (options_.with_kernel) {
         g.code << "  for (int it = loopZero(); it < int(frame.traversal_visits) && sp > 0; it++) {\n";
         g.code << "    g_loop_iterations++;\n";
+        g.code << countEvent(kEventVisits, "  ");
       } else {
         g.code << "  for (int it = 0; it < " << kSceneOnlyVisits << " && sp > 0; it++) {\n";
       }
@@ -1230,6 +1256,19 @@ std::optional<KernelView> kernelViewFromName(const std::string& name) {
   return std::nullopt;
 }
 
+bool countEventFromName(const std::string& name, int& kind, int& quantity) {
+  const size_t dot = name.find('.');
+  if (dot == std::string::npos) return false;
+  const std::string k = name.substr(0, dot), q = name.substr(dot + 1);
+  kind = -2;
+  quantity = -1;
+  for (int i = 0; i < int(std::size(kCountEventKinds)); ++i)
+    if (k == kCountEventKinds[i]) kind = i - 1;  // "all" is -1
+  for (int i = 0; i < int(std::size(kCountEventQuantities)); ++i)
+    if (q == kCountEventQuantities[i]) quantity = i;
+  return kind >= -1 && quantity >= 0;
+}
+
 const char* kernelViewName(KernelView view) { return kKernelViewNames[static_cast<int>(view)]; }
 
 EmitResult emitGlsl(const ir::Scene& scene, const EmitOptions& options) {
@@ -1243,6 +1282,9 @@ EmitResult emitGlsl(const ir::Scene& scene, const EmitOptions& options) {
   if (writer.hasSceneBox()) result.stats.features.insert("SDFC_HAS_SCENE_BOX");
   if (writer.hasRaySkip()) result.stats.features.insert("SDFC_HAS_RAY_SKIP");
   if (writer.hasSphereNormals()) result.stats.features.insert("SDFC_HAS_SPHERE_NORMALS");
+  int count_kind = 0, count_quantity = 0;
+  if (options.with_kernel && countEventFromName(options.count_event, count_kind, count_quantity))
+    result.stats.features.insert("SDFC_COUNT_EVENTS");
   result.stats.instance_sets = writer.instanceSets();
   result.stats.traversals_per_evaluation = scene.root ? traversalsPerEvaluation(*scene.root) : 0;
   result.scene_data = writer.takeData();
