@@ -204,6 +204,12 @@ class SceneWriter {
         f << fn.code.str();
       }
       f << "int sdMaterialId(vec3 p) { return int(sdSceneMaterial(p).y); }\n";
+      if (has_sphere_normals_ && uniform != kMixed) {
+        // The root grid's spheres are the whole marched scene and of one
+        // material: a sphere normal needs no evaluation to read it.
+        has_sphere_material_ = true;
+        f << "const int kRootSphereMaterial = " << std::max(uniform, 0) << ";\n";
+      }
       functions_ << f.str();
     }
     stats.bounded_subtrees = bounded_;
@@ -286,6 +292,7 @@ class SceneWriter {
   // The instance set whose grid computes g_ray_skip (SDFC_HAS_RAY_SKIP), if any.
   const ir::Node* ray_skip_set_ = nullptr;
   bool has_sphere_normals_ = false;  // sdRootSphereNormal was emitted
+  bool has_sphere_material_ = false;  // and kRootSphereMaterial: the scene has one material
 
   // A top-level sphere with constant radius, bare or under one Affine that is
   // a similarity (scale * linear orthonormal), of a non-emissive material in a
@@ -373,6 +380,7 @@ class SceneWriter {
   bool hasSceneBox() const { return has_scene_box_; }
   bool hasRaySkip() const { return ray_skip_set_ != nullptr; }
   bool hasSphereNormals() const { return has_sphere_normals_; }
+  bool hasSphereMaterial() const { return has_sphere_material_; }
 
  private:
   std::map<std::pair<const ir::Node*, bool>, std::string> node_functions_;
@@ -1282,6 +1290,7 @@ EmitResult emitGlsl(const ir::Scene& scene, const EmitOptions& options) {
   if (writer.hasSceneBox()) result.stats.features.insert("SDFC_HAS_SCENE_BOX");
   if (writer.hasRaySkip()) result.stats.features.insert("SDFC_HAS_RAY_SKIP");
   if (writer.hasSphereNormals()) result.stats.features.insert("SDFC_HAS_SPHERE_NORMALS");
+  if (writer.hasSphereMaterial()) result.stats.features.insert("SDFC_HAS_SPHERE_MATERIAL");
   int count_kind = 0, count_quantity = 0;
   if (options.with_kernel && countEventFromName(options.count_event, count_kind, count_quantity))
     result.stats.features.insert("SDFC_COUNT_EVENTS");

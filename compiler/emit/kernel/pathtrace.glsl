@@ -498,11 +498,17 @@ vec3 surfaceNormal(vec3 p, vec3 rd, float t, out int material) {
 #ifdef SDFC_HAS_SPHERE_NORMALS
     // The root grid's spheres: the nearest one's radial direction, exact (one
     // lookup in this iteration instead of 4 taps; docs/large_scenes.md); the
-    // material is still read by the 5th evaluation.
+    // material is read by the 5th evaluation unless the scene has only one.
     if (i == 0 && sdRootSphereNormal(centre, radial, field)) {
       exact = true;
+#ifdef SDFC_HAS_SPHERE_MATERIAL
+      // A scene of one material: nothing for the 5th evaluation to read.
+      material = kRootSphereMaterial;
+      break;
+#else
       i = 3;
       continue;
+#endif
     }
 #endif
     // (+,-,-), (-,-,+), (-,+,-), (+,+,+): the even-parity cube corners
