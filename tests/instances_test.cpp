@@ -115,16 +115,18 @@ TEST(Instances, HierarchyEqualsBruteForceAtRandomPoints) {
 // hold more than kGridListMax candidates (their reach shrinks) and a few are
 // crowded (left to the hierarchy).
 // radius 0: varied radii (per-instance parameters), else that radius for all.
-std::string denseCloud(int count = 600, double radius = 0) {
+// radius 0: varied radii; two_materials: every other sphere red, the rest clay.
+std::string denseCloud(int count = 600, double radius = 0, bool two_materials = false) {
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> u(-2, 2), h(0, 2), r(0.1, 0.3);
   std::ostringstream s;
   s << "camera(position: [0, 5, 9], target: [0, 1, 0], fov: 40)\nsun(direction: [-0.4, 0.8, 0.5])\n"
+       "let clay = diffuse(albedo: [0.75, 0.6, 0.5])\nlet red = diffuse(albedo: [0.8, 0.1, 0.1])\n"
        "scene {\n  plane(offset: 0)\n";
   for (int i = 0; i < count; ++i) {
     const double x = u(rng), y = h(rng), z = u(rng), varied = r(rng);
     s << "  translate([" << x << ", " << y << ", " << z << "]) { sphere(radius: " << (radius > 0 ? radius : varied)
-      << ") }\n";
+      << ", material: " << (two_materials && i % 2 == 1 ? "red" : "clay") << ") }\n";
   }
   s << "}\n";
   return s.str();
@@ -474,14 +476,21 @@ TEST_F(InstancesGpu, ImageEqualsTheInlineFormAndStaysUnderTheLoopCap) {
 // A dense cloud through the grid (lists cut to kGridListMax, shrunk reaches,
 // crowded cells answered by the hierarchy) renders as the inline union does:
 // no ray stops early on a bound, and none passes a sphere by a ray skip (the
-// root grid's; analytic hits when every sphere has one radius).
+// root grid's; analytic hits when every sphere has one radius). With one
+// radius the lists are fixed slots without a loop, and with one material too
+// the normal reads no material (SDFC_HAS_SPHERE_MATERIAL); two materials read
+// theirs as before.
 TEST_F(InstancesGpu, DenseCloudThroughTheGridEqualsTheInlineForm) {
-  for (double radius : {0.0, 0.2}) {
-    const std::string text = denseCloud(300, radius);
+  for (double radius : {0.0, 0.2, -0.2}) {
+    const bool two_materials = radius < 0;
+    radius = std::fabs(radius);
+    const std::string text = denseCloud(300, radius, two_materials);
     const CompiledScene data = compiled(text, 32), inline_form = compiled(text, 0);
     ASSERT_EQ(data.emitted.stats.instance_sets, 1);
     EXPECT_EQ(data.emitted.stats.features.count("SDFC_HAS_RAY_SKIP"), 1u);
     EXPECT_EQ(data.emitted.glsl.find("_one_ray(") != std::string::npos, radius > 0);
+    EXPECT_EQ(data.emitted.stats.features.count("SDFC_HAS_SPHERE_MATERIAL"), radius > 0 && !two_materials ? 1u : 0u);
+    EXPECT_EQ(data.emitted.glsl.find(" + first + 7") != std::string::npos, radius > 0);
     RenderOverrides o;
     o.width = 64;
     o.height = 36;
@@ -500,8 +509,8 @@ TEST_F(InstancesGpu, DenseCloudThroughTheGridEqualsTheInlineForm) {
       diff += pixel;
       worst = std::max(worst, pixel);
     }
-    std::printf("dense cloud (radius %g), grid vs inline: mean |diff| %.3g of mean %.3g, worst pixel %.3g\n",
-                radius, diff / (a.rgba.size() * 0.75), sum_b / (b.rgba.size() * 0.75), worst);
+    std::printf("dense cloud (radius %g%s), grid vs inline: mean |diff| %.3g of mean %.3g, worst pixel %.3g\n",
+                radius, two_materials ? ", two materials" : "", diff / (a.rgba.size() * 0.75), sum_b / (b.rgba.size() * 0.75), worst);
     EXPECT_LT(diff / sum_b, 5e-3);
   }
 }

@@ -394,6 +394,9 @@ class SceneWriter {
     bool grid = false;   // a grid: header (2 vec4), cells (1 vec4 each), lists (4 per vec4)
     size_t grid_header = 0, grid_cells = 0, grid_entries = 0;
     bool grid_records = false;  // lists hold copies of one-vec4 records, not indices
+    // Every cell's list is kGridListMax records (padded with copies of its
+    // last, or a far dummy), tested without a loop (the root's sphere cloud).
+    bool grid_slots = false;
   };
   std::map<const ir::Node*, InstanceLayout> instance_layouts_;
   std::vector<float> data_;
@@ -526,10 +529,30 @@ class SceneWriter {
       pushVec4(float(grid.lo.x), float(grid.lo.y), float(grid.lo.z), float(grid.cell));
       pushVec4(float(grid.dims.x), float(grid.dims.y), float(grid.dims.z), float(grid.margin));
       l.grid_cells = data_.size() / 4;
+      l.grid_slots = options_.with_kernel && &n == ray_skip_set_ && sphereCloud(n, l) &&
+                     grid.cells() * ir::kGridListMax * 16 <= kMaxCopiedRecordBytes;
       data_.reserve(data_.size() + grid.cells() * 4 + grid.entries.size() + 4);
       for (size_t c = 0; c < grid.cells(); ++c)
-        pushVec4(float(grid.first[c]), float(grid.count[c]), float(grid.reach[c]), 0);
+        pushVec4(float(l.grid_slots ? c * ir::kGridListMax : grid.first[c]), float(grid.count[c]),
+                 float(grid.reach[c]), 0);
       l.grid_entries = data_.size() / 4;
+      if (l.grid_slots) {
+        l.grid_records = true;
+        data_.reserve(data_.size() + grid.cells() * ir::kGridListMax * 4);
+        for (size_t c = 0; c < grid.cells(); ++c) {
+          const int count = std::max(grid.count[c], 0);
+          for (int k = 0; k < ir::kGridListMax; ++k) {
+            if (count == 0) {
+              // Far from everything: never the minimum distance or hit.
+              pushVec4(1e15f, 1e15f, 1e15f, -1);
+              continue;
+            }
+            const size_t r = (l.records + grid.entries[grid.first[c] + std::min(k, count - 1)]) * 4;
+            pushVec4(data_[r], data_[r + 1], data_[r + 2], data_[r + 3]);
+          }
+        }
+        return instance_layouts_.emplace(&n, l).first->second;
+      }
       // One-vec4 records (no rotation, no parameters: point clouds) are copied
       // into the lists, which saves a dependent load per listed instance.
       l.grid_records = l.stride == 1 && grid.entries.size() * 16 <= kMaxCopiedRecordBytes;
@@ -570,8 +593,9 @@ class SceneWriter {
     g.code << "  vec4 cell = sd_data[" << gc << " + c.x + dims.x * (c.y + dims.y * c.z)];\n";
     g.code << "  int count = int(cell.y);\n";
     g.code << countEvent(kEventLookups);
-    g.code << "  if (count < 0 || count > " << visits << ") return " << tree << "(p" << (mat ? ", inherited" : "")
-           << ");\n";
+    // Fixed slots take no loop iterations: only a crowded cell needs the hierarchy.
+    g.code << "  if (count < 0" << (l.grid_slots ? std::string() : " || count > " + visits) << ") return " << tree
+           << "(p" << (mat ? ", inherited" : "") << ");\n";
     g.code << "  // Unlisted instances are at least the reach plus the way to the cell's faces away.\n";
     g.code << "  vec3 q = f - vec3(c);\n";
     g.code << "  float face = min(min(min(q.x, q.y), q.z), min(min(1.0 - q.x, 1.0 - q.y), 1.0 - q.z));\n";
@@ -589,6 +613,19 @@ class SceneWriter {
       g.code << "  vec3 rd = g_ray_dir;\n";
       g.code << "  vec3 to_exit = mix(q, 1.0 - q, greaterThan(rd, vec3(0.0))) / max(abs(rd), 1e-30);\n";
       g.code << "  float skip = cell.z + g0.w * max(min(min(to_exit.x, to_exit.y), to_exit.z), 0.0);\n";
+    }
+    if (l.grid_slots && skip && !ray_hit.empty()) {
+      // kGridListMax fixed slots in straight-line code (padded lists).
+      for (int k = 0; k < ir::kGridListMax; ++k) {
+        g.code << "  {\n" << countEvent(kEventEntries, "  ");
+        g.code << "    int rec = " << ge << " + first + " << k << ";\n";
+        g.code << "    float di = " << one << "(p, rec);\n    best = min(best, di);\n";
+        g.code << "    float th = " << ray_hit << "(p, rd, rec);\n";
+        g.code << "    if (th < skip) {\n      skip = th;\n      g_ray_met = th > 0.0;\n    }\n  }\n";
+      }
+      g.code << "  g_ray_skip = skip;\n  return best;\n}\n";
+      functions_ << g.code.str();
+      return;
     }
     if (options_.with_kernel) {
       g.code << "  for (int it = loopZero(); it < count; it++) {\n    g_loop_iterations++;\n";
@@ -658,17 +695,32 @@ class SceneWriter {
     g.code << "  vec4 cell = sd_data[" << gc << " + c.x + dims.x * (c.y + dims.y * c.z)];\n";
     g.code << "  int count = int(cell.y), first = int(cell.x);\n";
     g.code << countEvent(kEventLookups);
-    g.code << "  if (count <= 0 || count > " << visits << ") return false;\n";
+    g.code << "  if (count <= 0" << (l.grid_slots ? std::string() : " || count > " + visits) << ") return false;\n";
     g.code << "  float r = " << glslFloat(n.children[0]->args[0].value) << ";\n";
     g.code << "  field = 1e30;\n  vec3 q_near = vec3(0.0, 1.0, 0.0);\n";
-    g.code << "  for (int it = loopZero(); it < count; it++) {\n    g_loop_iterations++;\n";
-    g.code << countEvent(kEventEntries, "  ");
-    g.code << "    int e = first + it;\n    vec3 q = p + sd_data[" << listedRecord(l) << "].xyz;\n";
-    g.code << "    float d = length(q) - r;\n";
-    g.code << "    if (d < field) {\n      field = d;\n      q_near = q;\n    }\n  }\n";
+    const std::string body = "    float d = length(q) - r;\n"
+                             "    if (d < field) {\n      field = d;\n      q_near = q;\n    }\n  }\n";
+    if (l.grid_slots) {
+      // kGridListMax fixed slots in straight-line code (padded lists).
+      for (int k = 0; k < ir::kGridListMax; ++k)
+        g.code << "  {\n" << countEvent(kEventEntries, "  ") << "    vec3 q = p + sd_data["
+               << l.grid_entries << " + first + " << k << "].xyz;\n" << body;
+    } else {
+      g.code << "  for (int it = loopZero(); it < count; it++) {\n    g_loop_iterations++;\n";
+      g.code << countEvent(kEventEntries, "  ");
+      g.code << "    int e = first + it;\n    vec3 q = p + sd_data[" << listedRecord(l) << "].xyz;\n";
+      g.code << body;
+    }
     g.code << "  float len = length(q_near);\n";
     g.code << "  normal = len > 0.0 ? q_near / len : vec3(0.0, 1.0, 0.0);\n  return true;\n}\n";
     functions_ << g.code.str();
+  }
+
+  // One sphere of constant radius placed by offsets (a point cloud).
+  static bool sphereCloud(const ir::Node& n, const InstanceLayout& l) {
+    const ir::Node& templ = *n.children[0];
+    return !l.affine && n.instances->param_count == 0 && templ.kind == ir::NodeKind::Primitive &&
+           templ.primitive == PrimitiveKind::Sphere && !templ.args.empty() && templ.args[0].isConst();
   }
 
   // Where the ray p + t rd (|rd| = 1) first meets the sphere at record `rec`
@@ -676,9 +728,7 @@ class SceneWriter {
   // offsets; else "" and the caller bounds the hit by the distance.
   std::string rayHitFunction(const ir::Node& n, const InstanceLayout& l, const std::string& one) {
     const ir::Node& templ = *n.children[0];
-    if (l.affine || n.instances->param_count > 0 || templ.kind != ir::NodeKind::Primitive ||
-        templ.primitive != PrimitiveKind::Sphere || templ.args.empty() || !templ.args[0].isConst())
-      return "";
+    if (!sphereCloud(n, l)) return "";
     const std::string name = one + "_ray";
     if (!helper_names_.insert(name).second) return name;
     Function g;
