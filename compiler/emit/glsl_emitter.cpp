@@ -615,14 +615,20 @@ class SceneWriter {
       g.code << "  float skip = cell.z + g0.w * max(min(min(to_exit.x, to_exit.y), to_exit.z), 0.0);\n";
     }
     if (l.grid_slots && skip && !ray_hit.empty()) {
-      // kGridListMax fixed slots in straight-line code (padded lists).
+      // kGridListMax fixed slots in straight-line code (padded lists). One
+      // radius: the nearest centre's squared distance, one square root after
+      // (sqrt is monotonic and correctly rounded: the same value as the
+      // minimum of the lengths); the ray hit shares q.q.
+      g.code << "  float r = " << glslFloat(n.children[0]->args[0].value) << ", qq_min = 1e30;\n";
       for (int k = 0; k < ir::kGridListMax; ++k) {
         g.code << "  {\n" << countEvent(kEventEntries, "  ");
-        g.code << "    int rec = " << ge << " + first + " << k << ";\n";
-        g.code << "    float di = " << one << "(p, rec);\n    best = min(best, di);\n";
-        g.code << "    float th = " << ray_hit << "(p, rd, rec);\n";
+        g.code << "    vec3 q = p + sd_data[" << ge << " + first + " << k << "].xyz;\n";
+        g.code << "    float qq = dot(q, q), b = dot(q, rd), c = qq - r * r, h = b * b - c;\n";
+        g.code << "    qq_min = min(qq_min, qq);\n";
+        g.code << "    float th = c <= 0.0 ? 0.0 : (b >= 0.0 || h < 0.0 ? 1e30 : c / (sqrt(h) - b));\n";
         g.code << "    if (th < skip) {\n      skip = th;\n      g_ray_met = th > 0.0;\n    }\n  }\n";
       }
+      g.code << "  best = min(best, sqrt(qq_min) - r);\n";
       g.code << "  g_ray_skip = skip;\n  return best;\n}\n";
       functions_ << g.code.str();
       return;
@@ -701,10 +707,14 @@ class SceneWriter {
     const std::string body = "    float d = length(q) - r;\n"
                              "    if (d < field) {\n      field = d;\n      q_near = q;\n    }\n  }\n";
     if (l.grid_slots) {
-      // kGridListMax fixed slots in straight-line code (padded lists).
+      // kGridListMax fixed slots in straight-line code (padded lists); the
+      // nearest by squared distance, one square root after.
+      g.code << "  float qq_min = 1e30;\n";
       for (int k = 0; k < ir::kGridListMax; ++k)
         g.code << "  {\n" << countEvent(kEventEntries, "  ") << "    vec3 q = p + sd_data["
-               << l.grid_entries << " + first + " << k << "].xyz;\n" << body;
+               << l.grid_entries << " + first + " << k << "].xyz;\n    float qq = dot(q, q);\n"
+               << "    if (qq < qq_min) {\n      qq_min = qq;\n      q_near = q;\n    }\n  }\n";
+      g.code << "  field = sqrt(qq_min) - r;\n";
     } else {
       g.code << "  for (int it = loopZero(); it < count; it++) {\n    g_loop_iterations++;\n";
       g.code << countEvent(kEventEntries, "  ");
