@@ -273,6 +273,58 @@ std::string smoothPairs() {
   return s.str();
 }
 
+// The sphere normal's traversal in a crowded cell (sdRootSphereNearest, the
+// shader's arithmetic in float64, unlimited visits): a node is skipped when its
+// box distance minus the radius is no less than the nearest so far, a bound
+// that holds inside spheres too. It finds the nearest sphere (negative inside)
+// that brute force over every sphere finds, at points in and around them.
+TEST(Instances, SphereNearestTraversalEqualsBruteForce) {
+  const CompiledScene c = checked(denseCloud(600, 0.2), 32);
+  std::vector<const ir::Node*> sets;
+  collectSets(c.scene.root, sets);
+  ASSERT_EQ(sets.size(), 1u);
+  const ir::InstanceSet& set = *sets[0]->instances;
+  const double r = sets[0]->children[0]->args[0].value;
+  auto box_distance = [](const dvec3& p, const ir::BvhNode& b) {
+    return glm::length(glm::max(glm::max(b.box.lo - p, p - b.box.hi), dvec3(0)));
+  };
+  std::mt19937 rng(17);
+  std::uniform_int_distribution<size_t> pick(0, set.size() - 1);
+  std::uniform_real_distribution<double> s(-1, 1);
+  int inside = 0, skipped = 0;
+  for (int i = 0; i < 3000; ++i) {
+    const dvec3 p = -set.instances[pick(rng)].offset + dvec3(s(rng), s(rng), s(rng)) * (1.5 * r);
+    double brute = 1e30;
+    for (const ir::Instance& inst : set.instances) brute = std::min(brute, glm::length(p + inst.offset) - r);
+    double field = 1e30;
+    std::vector<std::pair<std::uint32_t, double>> stack{{0, box_distance(p, set.nodes[0])}};
+    while (!stack.empty()) {
+      const auto [ni, d] = stack.back();
+      stack.pop_back();
+      if (d - r >= field) {
+        ++skipped;
+        continue;
+      }
+      const ir::BvhNode& node = set.nodes[ni];
+      if (node.count == 0) {
+        const std::uint32_t lc = ni + 1, rc = node.first;
+        const double dl = box_distance(p, set.nodes[lc]), dr = box_distance(p, set.nodes[rc]);
+        const bool left_near = dl <= dr;
+        if (std::max(dl, dr) - r < field) stack.push_back({left_near ? rc : lc, std::max(dl, dr)});
+        if (std::min(dl, dr) - r < field) stack.push_back({left_near ? lc : rc, std::min(dl, dr)});
+      } else {
+        for (std::uint32_t k = 0; k < node.count; ++k)
+          field = std::min(field, glm::length(p + set.instances[node.first + k].offset) - r);
+      }
+    }
+    EXPECT_EQ(field, brute) << i;
+    inside += brute < 0;
+  }
+  std::printf("sphere nearest traversal: %d of 3000 points inside a sphere, %d nodes skipped\n", inside, skipped);
+  EXPECT_GT(inside, 500);
+  EXPECT_GT(skipped, 3000);
+}
+
 TEST(Instances, SmoothUnionBlendsTheNearOnesLikeTheInlineForm) {
   const CompiledScene data = checked(smoothPairs(), 32);
   const CompiledScene inline_form = checked(smoothPairs(), 0);
