@@ -567,5 +567,53 @@ TEST_F(InstancesGpu, DenseCloudThroughTheGridEqualsTheInlineForm) {
   }
 }
 
+// --count-event: the kernel's per-pixel event counts (docs/large_scenes.md,
+// decomposition) in the iterations view's green channel. One path per pixel
+// at 1 spp: exactly one primary segment, and it always hits (the ground
+// plane is under every pixel); bounce and shadow rays at most max_bounces
+// each; shading events on spheres at most the hits; at most a lookup per
+// march iteration; without the flag the shader has no counters.
+TEST_F(InstancesGpu, CountEventsCountEachPathsRays) {
+  const std::string text = denseCloud(300, 0.2);
+  EXPECT_EQ(compiled(text, 32).emitted.glsl.find("countEvent"), std::string::npos);
+  auto mean = [&](const std::string& event) {
+    CompileOptions options;
+    options.instancing.threshold = 32;
+    options.emit.bounding_volumes = false;
+    options.emit.march.image_height = 36;
+    options.emit.count_event = event;
+    Diagnostics diags;
+    const CompiledScene c = compileSource("test.sdf", text, options, diags);
+    EXPECT_TRUE(c.ok) << diags.format();
+    EXPECT_EQ(c.emitted.stats.features.count("SDFC_COUNT_EVENTS"), 1u);
+    RenderOverrides o;
+    o.width = 64;
+    o.height = 36;
+    o.spp = 1;
+    o.view = gpu::kViewIterations;
+    Renderer r(*context_, c);
+    const FloatImage it = r.render(cameraFor(c.scene), renderSettingsFor(c, o)).color;
+    double sum = 0;
+    for (size_t i = 0; i < it.rgba.size(); i += 4) sum += it.rgba[i + 1];
+    return sum / double(it.rgba.size() / 4);
+  };
+  EXPECT_EQ(mean("primary.segments"), 1.0);
+  EXPECT_EQ(mean("primary.hits"), 1.0);
+  const double bounces = mean("bounce.segments"), shadows = mean("shadow.segments");
+  const double shading = mean("normal.segments"), hits = mean("all.hits");
+  const double iterations = mean("primary.iterations"), lookups = mean("primary.lookups");
+  std::printf("per pixel: bounce rays %.3f, shadow rays %.3f, all hits %.3f, sphere shading %.3f, "
+              "primary iterations %.3f, lookups %.3f\n", bounces, shadows, hits, shading, iterations, lookups);
+  EXPECT_GT(bounces, 0.5);
+  EXPECT_LE(bounces, 3.0);
+  EXPECT_GT(shadows, 0.5);
+  EXPECT_LE(shadows, 3.0);
+  EXPECT_GT(shading, 0.1);
+  EXPECT_LE(shading, hits);
+  EXPECT_GT(iterations, 0.3);  // rays that miss the cloud's box take no steps
+  EXPECT_LE(lookups, iterations);  // a march iteration reads at most one cell (none outside the grid)
+  EXPECT_GT(lookups, 0.5);
+}
+
 }  // namespace
 }  // namespace sdfc

@@ -854,6 +854,9 @@ void main() {
   if (frame.view == kViewDepth) color = vec3(g_aov_dist);
   if (frame.view == kViewAlbedo) color = g_aov_albedo;
   if (frame.view == kViewIterations) color = vec3(float(g_loop_iterations), 0.0, 0.0);
+#ifdef SDFC_COUNT_EVENTS
+  if (frame.view == kViewIterations) color.g = g_events;
+#endif
 #endif
 #ifdef SDFC_VIEW_ITERATIONS
   color = vec3(float(g_loop_iterations), 0.0, 0.0);
