@@ -592,9 +592,16 @@ class SceneWriter {
     g.code << "  ivec3 c = clamp(ivec3(floor(f)), ivec3(0), dims - 1);\n";
     g.code << "  vec4 cell = sd_data[" << gc << " + c.x + dims.x * (c.y + dims.y * c.z)];\n";
     g.code << "  int count = int(cell.y);\n";
+    // The root set's lookup also bounds the first hit along g_ray_dir (the
+    // same argument along the ray, instance_grid.cpp): to the cell's exit plus
+    // the reach, or to a listed instance, exactly for a sphere.
+    const bool skip = !mat && ray_skip_set_ == &n;
+    const std::string ray_hit = skip ? rayHitFunction(n, l, one) : "";
+    if (!ray_hit.empty()) sphereNormalFunction(n, l, visits);
+    const bool unrolled = l.grid_slots && !ray_hit.empty();
     g.code << countEvent(kEventLookups);
     // Fixed slots take no loop iterations: only a crowded cell needs the hierarchy.
-    g.code << "  if (count < 0" << (l.grid_slots ? std::string() : " || count > " + visits) << ") return " << tree
+    g.code << "  if (count < 0" << (unrolled ? std::string() : " || count > " + visits) << ") return " << tree
            << "(p" << (mat ? ", inherited" : "") << ");\n";
     g.code << "  // Unlisted instances are at least the reach plus the way to the cell's faces away.\n";
     g.code << "  vec3 q = f - vec3(c);\n";
@@ -603,18 +610,12 @@ class SceneWriter {
                             : "float best = cell.z + g0.w * max(face, 0.0);")
            << "\n";
     g.code << "  int first = int(cell.x);\n";
-    // The root set's lookup also bounds the first hit along g_ray_dir (the
-    // same argument along the ray, instance_grid.cpp): to the cell's exit plus
-    // the reach, or to a listed instance, exactly for a sphere.
-    const bool skip = !mat && ray_skip_set_ == &n;
-    const std::string ray_hit = skip ? rayHitFunction(n, l, one) : "";
-    if (!ray_hit.empty()) sphereNormalFunction(n, l, visits);
     if (skip) {
       g.code << "  vec3 rd = g_ray_dir;\n";
       g.code << "  vec3 to_exit = mix(q, 1.0 - q, greaterThan(rd, vec3(0.0))) / max(abs(rd), 1e-30);\n";
       g.code << "  float skip = cell.z + g0.w * max(min(min(to_exit.x, to_exit.y), to_exit.z), 0.0);\n";
     }
-    if (l.grid_slots && skip && !ray_hit.empty()) {
+    if (unrolled) {
       // kGridListMax fixed slots in straight-line code (padded lists). One
       // radius: the nearest centre's squared distance, one square root after
       // (sqrt is monotonic and correctly rounded: the same value as the
