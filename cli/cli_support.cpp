@@ -22,6 +22,7 @@ CompileOptions compileOptionsFrom(const CommandLine& cl) {
   o.emit.march.paper_baseline = cl.paper_baseline;
   o.emit.scene_box = !cl.paper_baseline;  // the paper marches every ray from the camera
   o.emit.count_evaluations = cl.count_evaluations;
+  o.emit.count_event = cl.count_event;
   // The paper marches every surface; --no-analytic-spheres for A/B runs.
   o.emit.analytic_spheres = !cl.paper_baseline && !cl.no_analytic_spheres;
   o.fuse_transforms = !cl.no_fuse;

@@ -222,6 +222,11 @@ int runRender(const CommandLine& cl) {
         }
         std::cerr << "sdfc: loop iterations" << (cl.count_evaluations ? " + primitive evaluations" : "")
                   << " per pixel: mean " << (pixels ? total / pixels : 0) << ", max " << most << "\n";
+        if (!cl.count_event.empty()) {
+          double events = 0;
+          for (size_t i = 0; i < pixels; ++i) events += out.color.rgba[i * 4 + 1];
+          std::cerr << "sdfc: " << cl.count_event << " per pixel: mean " << (pixels ? events / pixels : 0) << "\n";
+        }
       }
     }
     if (!quiet)

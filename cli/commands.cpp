@@ -39,6 +39,14 @@ void registerCommands(CLI::App& app, CommandLine& cl) {
     sub->add_flag("--white-noise", cl.white_noise, "PCG hash sampler instead of Owen-scrambled Sobol");
     sub->add_flag("--count-evaluations", cl.count_evaluations,
                   "instrument: each primitive evaluation adds 1 to --view iterations");
+    sub->add_option("--count-event", cl.count_event,
+                    "instrument --view iterations: count one event per pixel into green, KIND.QUANTITY with KIND "
+                    "all|primary|bounce|shadow|normal, QUANTITY segments|iterations|lookups|entries|visits|hits")
+        ->check([](const std::string& name) {
+          int kind = 0, quantity = 0;
+          return countEventFromName(name, kind, quantity) ? std::string()
+                                                          : "not KIND.QUANTITY (see --help): " + name;
+        });
   };
 
   CLI::App* check = app.add_subcommand("check", "report the scene's diagnostics");

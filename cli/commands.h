@@ -37,6 +37,7 @@ struct CommandLine {
   bool paper_baseline = false;
   bool white_noise = false;
   bool count_evaluations = false;
+  std::string count_event;  // --count-event kind.quantity (emit/glsl_emitter.h)
   // render
   std::string size;
   int spp = 0, bounces = -1, light_samples = -1;

@@ -34,7 +34,7 @@ std::string sceneHash(const CommandLine& cl, const CompiledScene& compiled) {
   for (const std::string& d : cl.defines) key += d + '\0';
   key += std::to_string(cl.no_bounds) + std::to_string(cl.force_bounds) + std::to_string(cl.no_fuse) +
          std::to_string(cl.optimize) + std::to_string(cl.paper_baseline) + std::to_string(cl.white_noise) +
-         std::to_string(cl.count_evaluations) + std::to_string(cl.no_analytic_spheres);
+         std::to_string(cl.count_evaluations) + std::to_string(cl.no_analytic_spheres) + cl.count_event;
   return farm::fingerprint(key.data(), key.size());
 }
 }  // namespace

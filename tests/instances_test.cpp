@@ -115,16 +115,18 @@ TEST(Instances, HierarchyEqualsBruteForceAtRandomPoints) {
 // hold more than kGridListMax candidates (their reach shrinks) and a few are
 // crowded (left to the hierarchy).
 // radius 0: varied radii (per-instance parameters), else that radius for all.
-std::string denseCloud(int count = 600, double radius = 0) {
+// radius 0: varied radii; two_materials: every other sphere red, the rest clay.
+std::string denseCloud(int count = 600, double radius = 0, bool two_materials = false) {
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> u(-2, 2), h(0, 2), r(0.1, 0.3);
   std::ostringstream s;
   s << "camera(position: [0, 5, 9], target: [0, 1, 0], fov: 40)\nsun(direction: [-0.4, 0.8, 0.5])\n"
+       "let clay = diffuse(albedo: [0.75, 0.6, 0.5])\nlet red = diffuse(albedo: [0.8, 0.1, 0.1])\n"
        "scene {\n  plane(offset: 0)\n";
   for (int i = 0; i < count; ++i) {
     const double x = u(rng), y = h(rng), z = u(rng), varied = r(rng);
     s << "  translate([" << x << ", " << y << ", " << z << "]) { sphere(radius: " << (radius > 0 ? radius : varied)
-      << ") }\n";
+      << ", material: " << (two_materials && i % 2 == 1 ? "red" : "clay") << ") }\n";
   }
   s << "}\n";
   return s.str();
@@ -269,6 +271,58 @@ std::string smoothPairs() {
   }
   s << "  }\n}\n";
   return s.str();
+}
+
+// The sphere normal's traversal in a crowded cell (sdRootSphereNearest, the
+// shader's arithmetic in float64, unlimited visits): a node is skipped when its
+// box distance minus the radius is no less than the nearest so far, a bound
+// that holds inside spheres too. It finds the nearest sphere (negative inside)
+// that brute force over every sphere finds, at points in and around them.
+TEST(Instances, SphereNearestTraversalEqualsBruteForce) {
+  const CompiledScene c = checked(denseCloud(600, 0.2), 32);
+  std::vector<const ir::Node*> sets;
+  collectSets(c.scene.root, sets);
+  ASSERT_EQ(sets.size(), 1u);
+  const ir::InstanceSet& set = *sets[0]->instances;
+  const double r = sets[0]->children[0]->args[0].value;
+  auto box_distance = [](const dvec3& p, const ir::BvhNode& b) {
+    return glm::length(glm::max(glm::max(b.box.lo - p, p - b.box.hi), dvec3(0)));
+  };
+  std::mt19937 rng(17);
+  std::uniform_int_distribution<size_t> pick(0, set.size() - 1);
+  std::uniform_real_distribution<double> s(-1, 1);
+  int inside = 0, skipped = 0;
+  for (int i = 0; i < 3000; ++i) {
+    const dvec3 p = -set.instances[pick(rng)].offset + dvec3(s(rng), s(rng), s(rng)) * (1.5 * r);
+    double brute = 1e30;
+    for (const ir::Instance& inst : set.instances) brute = std::min(brute, glm::length(p + inst.offset) - r);
+    double field = 1e30;
+    std::vector<std::pair<std::uint32_t, double>> stack{{0, box_distance(p, set.nodes[0])}};
+    while (!stack.empty()) {
+      const auto [ni, d] = stack.back();
+      stack.pop_back();
+      if (d - r >= field) {
+        ++skipped;
+        continue;
+      }
+      const ir::BvhNode& node = set.nodes[ni];
+      if (node.count == 0) {
+        const std::uint32_t lc = ni + 1, rc = node.first;
+        const double dl = box_distance(p, set.nodes[lc]), dr = box_distance(p, set.nodes[rc]);
+        const bool left_near = dl <= dr;
+        if (std::max(dl, dr) - r < field) stack.push_back({left_near ? rc : lc, std::max(dl, dr)});
+        if (std::min(dl, dr) - r < field) stack.push_back({left_near ? lc : rc, std::min(dl, dr)});
+      } else {
+        for (std::uint32_t k = 0; k < node.count; ++k)
+          field = std::min(field, glm::length(p + set.instances[node.first + k].offset) - r);
+      }
+    }
+    EXPECT_EQ(field, brute) << i;
+    inside += brute < 0;
+  }
+  std::printf("sphere nearest traversal: %d of 3000 points inside a sphere, %d nodes skipped\n", inside, skipped);
+  EXPECT_GT(inside, 500);
+  EXPECT_GT(skipped, 3000);
 }
 
 TEST(Instances, SmoothUnionBlendsTheNearOnesLikeTheInlineForm) {
@@ -474,14 +528,21 @@ TEST_F(InstancesGpu, ImageEqualsTheInlineFormAndStaysUnderTheLoopCap) {
 // A dense cloud through the grid (lists cut to kGridListMax, shrunk reaches,
 // crowded cells answered by the hierarchy) renders as the inline union does:
 // no ray stops early on a bound, and none passes a sphere by a ray skip (the
-// root grid's; analytic hits when every sphere has one radius).
+// root grid's; analytic hits when every sphere has one radius). With one
+// radius the lists are fixed slots without a loop, and with one material too
+// the normal reads no material (SDFC_HAS_SPHERE_MATERIAL); two materials read
+// theirs as before.
 TEST_F(InstancesGpu, DenseCloudThroughTheGridEqualsTheInlineForm) {
-  for (double radius : {0.0, 0.2}) {
-    const std::string text = denseCloud(300, radius);
+  for (double radius : {0.0, 0.2, -0.2}) {
+    const bool two_materials = radius < 0;
+    radius = std::fabs(radius);
+    const std::string text = denseCloud(300, radius, two_materials);
     const CompiledScene data = compiled(text, 32), inline_form = compiled(text, 0);
     ASSERT_EQ(data.emitted.stats.instance_sets, 1);
     EXPECT_EQ(data.emitted.stats.features.count("SDFC_HAS_RAY_SKIP"), 1u);
     EXPECT_EQ(data.emitted.glsl.find("_one_ray(") != std::string::npos, radius > 0);
+    EXPECT_EQ(data.emitted.stats.features.count("SDFC_HAS_SPHERE_MATERIAL"), radius > 0 && !two_materials ? 1u : 0u);
+    EXPECT_EQ(data.emitted.glsl.find(" + first + 7") != std::string::npos, radius > 0);
     RenderOverrides o;
     o.width = 64;
     o.height = 36;
@@ -500,10 +561,58 @@ TEST_F(InstancesGpu, DenseCloudThroughTheGridEqualsTheInlineForm) {
       diff += pixel;
       worst = std::max(worst, pixel);
     }
-    std::printf("dense cloud (radius %g), grid vs inline: mean |diff| %.3g of mean %.3g, worst pixel %.3g\n",
-                radius, diff / (a.rgba.size() * 0.75), sum_b / (b.rgba.size() * 0.75), worst);
+    std::printf("dense cloud (radius %g%s), grid vs inline: mean |diff| %.3g of mean %.3g, worst pixel %.3g\n",
+                radius, two_materials ? ", two materials" : "", diff / (a.rgba.size() * 0.75), sum_b / (b.rgba.size() * 0.75), worst);
     EXPECT_LT(diff / sum_b, 5e-3);
   }
+}
+
+// --count-event: the kernel's per-pixel event counts (docs/large_scenes.md,
+// decomposition) in the iterations view's green channel. One path per pixel
+// at 1 spp: exactly one primary segment, and it always hits (the ground
+// plane is under every pixel); bounce and shadow rays at most max_bounces
+// each; shading events on spheres at most the hits; at most a lookup per
+// march iteration; without the flag the shader has no counters.
+TEST_F(InstancesGpu, CountEventsCountEachPathsRays) {
+  const std::string text = denseCloud(300, 0.2);
+  EXPECT_EQ(compiled(text, 32).emitted.glsl.find("countEvent"), std::string::npos);
+  auto mean = [&](const std::string& event) {
+    CompileOptions options;
+    options.instancing.threshold = 32;
+    options.emit.bounding_volumes = false;
+    options.emit.march.image_height = 36;
+    options.emit.count_event = event;
+    Diagnostics diags;
+    const CompiledScene c = compileSource("test.sdf", text, options, diags);
+    EXPECT_TRUE(c.ok) << diags.format();
+    EXPECT_EQ(c.emitted.stats.features.count("SDFC_COUNT_EVENTS"), 1u);
+    RenderOverrides o;
+    o.width = 64;
+    o.height = 36;
+    o.spp = 1;
+    o.view = gpu::kViewIterations;
+    Renderer r(*context_, c);
+    const FloatImage it = r.render(cameraFor(c.scene), renderSettingsFor(c, o)).color;
+    double sum = 0;
+    for (size_t i = 0; i < it.rgba.size(); i += 4) sum += it.rgba[i + 1];
+    return sum / double(it.rgba.size() / 4);
+  };
+  EXPECT_EQ(mean("primary.segments"), 1.0);
+  EXPECT_EQ(mean("primary.hits"), 1.0);
+  const double bounces = mean("bounce.segments"), shadows = mean("shadow.segments");
+  const double shading = mean("normal.segments"), hits = mean("all.hits");
+  const double iterations = mean("primary.iterations"), lookups = mean("primary.lookups");
+  std::printf("per pixel: bounce rays %.3f, shadow rays %.3f, all hits %.3f, sphere shading %.3f, "
+              "primary iterations %.3f, lookups %.3f\n", bounces, shadows, hits, shading, iterations, lookups);
+  EXPECT_GT(bounces, 0.5);
+  EXPECT_LE(bounces, 3.0);
+  EXPECT_GT(shadows, 0.5);
+  EXPECT_LE(shadows, 3.0);
+  EXPECT_GT(shading, 0.1);
+  EXPECT_LE(shading, hits);
+  EXPECT_GT(iterations, 0.3);  // rays that miss the cloud's box take no steps
+  EXPECT_LE(lookups, iterations);  // a march iteration reads at most one cell (none outside the grid)
+  EXPECT_GT(lookups, 0.5);
 }
 
 }  // namespace

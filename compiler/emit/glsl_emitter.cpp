@@ -3,6 +3,7 @@
 #include <cctype>
 #include <cmath>
 #include <functional>
+#include <iterator>
 #include <map>
 #include <optional>
 #include <sstream>
@@ -41,6 +42,8 @@ constexpr int kPrunesPerVisit = 3;
 // instance); beyond it they hold 4-byte indices, which keeps a million
 // instances' data (76 MB) within lavapipe's 128 MiB storage buffer range.
 constexpr size_t kMaxCopiedRecordBytes = size_t(32) << 20;
+// --count-event quantities (kCountEventQuantities) the scene code counts.
+constexpr int kEventLookups = 2, kEventEntries = 3, kEventVisits = 4;
 
 // A plain variable name (not a call or other expression), safe to repeat.
 bool isIdentifier(const std::string& s) {
@@ -201,6 +204,12 @@ class SceneWriter {
         f << fn.code.str();
       }
       f << "int sdMaterialId(vec3 p) { return int(sdSceneMaterial(p).y); }\n";
+      if (has_sphere_normals_ && uniform != kMixed) {
+        // The root grid's spheres are the whole marched scene and of one
+        // material: a sphere normal needs no evaluation to read it.
+        has_sphere_material_ = true;
+        f << "const int kRootSphereMaterial = " << std::max(uniform, 0) << ";\n";
+      }
       functions_ << f.str();
     }
     stats.bounded_subtrees = bounded_;
@@ -238,6 +247,7 @@ class SceneWriter {
       out << "\n// Instance hierarchies and records (the runtime binds the compiler's scene data).\n";
       out << "layout(std430, set = 0, binding = 0) readonly buffer SdfcSceneData { vec4 sd_data[]; };\n";
     }
+    if (!options_.count_event.empty()) countEventDeclarations(out);
     if (ray_skip_set_) {
       out << "\n// The ray march() steps along; the root grid's lookup writes how far it may\n"
              "// go from p with no surface (0: no more than the distance).\n";
@@ -282,6 +292,7 @@ class SceneWriter {
   // The instance set whose grid computes g_ray_skip (SDFC_HAS_RAY_SKIP), if any.
   const ir::Node* ray_skip_set_ = nullptr;
   bool has_sphere_normals_ = false;  // sdRootSphereNormal was emitted
+  bool has_sphere_material_ = false;  // and kRootSphereMaterial: the scene has one material
 
   // A top-level sphere with constant radius, bare or under one Affine that is
   // a similarity (scale * linear orthonormal), of a non-emissive material in a
@@ -369,6 +380,7 @@ class SceneWriter {
   bool hasSceneBox() const { return has_scene_box_; }
   bool hasRaySkip() const { return ray_skip_set_ != nullptr; }
   bool hasSphereNormals() const { return has_sphere_normals_; }
+  bool hasSphereMaterial() const { return has_sphere_material_; }
 
  private:
   std::map<std::pair<const ir::Node*, bool>, std::string> node_functions_;
@@ -382,6 +394,9 @@ class SceneWriter {
     bool grid = false;   // a grid: header (2 vec4), cells (1 vec4 each), lists (4 per vec4)
     size_t grid_header = 0, grid_cells = 0, grid_entries = 0;
     bool grid_records = false;  // lists hold copies of one-vec4 records, not indices
+    // Every cell's list is kGridListMax records (padded with copies of its
+    // last, or a far dummy), tested without a loop (the root's sphere cloud).
+    bool grid_slots = false;
   };
   std::map<const ir::Node*, InstanceLayout> instance_layouts_;
   std::vector<float> data_;
@@ -514,10 +529,30 @@ class SceneWriter {
       pushVec4(float(grid.lo.x), float(grid.lo.y), float(grid.lo.z), float(grid.cell));
       pushVec4(float(grid.dims.x), float(grid.dims.y), float(grid.dims.z), float(grid.margin));
       l.grid_cells = data_.size() / 4;
+      l.grid_slots = options_.with_kernel && &n == ray_skip_set_ && sphereCloud(n, l) &&
+                     grid.cells() * ir::kGridListMax * 16 <= kMaxCopiedRecordBytes;
       data_.reserve(data_.size() + grid.cells() * 4 + grid.entries.size() + 4);
       for (size_t c = 0; c < grid.cells(); ++c)
-        pushVec4(float(grid.first[c]), float(grid.count[c]), float(grid.reach[c]), 0);
+        pushVec4(float(l.grid_slots ? c * ir::kGridListMax : grid.first[c]), float(grid.count[c]),
+                 float(grid.reach[c]), 0);
       l.grid_entries = data_.size() / 4;
+      if (l.grid_slots) {
+        l.grid_records = true;
+        data_.reserve(data_.size() + grid.cells() * ir::kGridListMax * 4);
+        for (size_t c = 0; c < grid.cells(); ++c) {
+          const int count = std::max(grid.count[c], 0);
+          for (int k = 0; k < ir::kGridListMax; ++k) {
+            if (count == 0) {
+              // Far from everything: never the minimum distance or hit.
+              pushVec4(1e15f, 1e15f, 1e15f, -1);
+              continue;
+            }
+            const size_t r = (l.records + grid.entries[grid.first[c] + std::min(k, count - 1)]) * 4;
+            pushVec4(data_[r], data_[r + 1], data_[r + 2], data_[r + 3]);
+          }
+        }
+        return instance_layouts_.emplace(&n, l).first->second;
+      }
       // One-vec4 records (no rotation, no parameters: point clouds) are copied
       // into the lists, which saves a dependent load per listed instance.
       l.grid_records = l.stride == 1 && grid.entries.size() * 16 <= kMaxCopiedRecordBytes;
@@ -557,8 +592,17 @@ class SceneWriter {
     g.code << "  ivec3 c = clamp(ivec3(floor(f)), ivec3(0), dims - 1);\n";
     g.code << "  vec4 cell = sd_data[" << gc << " + c.x + dims.x * (c.y + dims.y * c.z)];\n";
     g.code << "  int count = int(cell.y);\n";
-    g.code << "  if (count < 0 || count > " << visits << ") return " << tree << "(p" << (mat ? ", inherited" : "")
-           << ");\n";
+    // The root set's lookup also bounds the first hit along g_ray_dir (the
+    // same argument along the ray, instance_grid.cpp): to the cell's exit plus
+    // the reach, or to a listed instance, exactly for a sphere.
+    const bool skip = !mat && ray_skip_set_ == &n;
+    const std::string ray_hit = skip ? rayHitFunction(n, l, one) : "";
+    if (!ray_hit.empty()) sphereNormalFunction(n, l, visits);
+    const bool unrolled = l.grid_slots && !ray_hit.empty();
+    g.code << countEvent(kEventLookups);
+    // Fixed slots take no loop iterations: only a crowded cell needs the hierarchy.
+    g.code << "  if (count < 0" << (unrolled ? std::string() : " || count > " + visits) << ") return " << tree
+           << "(p" << (mat ? ", inherited" : "") << ");\n";
     g.code << "  // Unlisted instances are at least the reach plus the way to the cell's faces away.\n";
     g.code << "  vec3 q = f - vec3(c);\n";
     g.code << "  float face = min(min(min(q.x, q.y), q.z), min(min(1.0 - q.x, 1.0 - q.y), 1.0 - q.z));\n";
@@ -566,22 +610,36 @@ class SceneWriter {
                             : "float best = cell.z + g0.w * max(face, 0.0);")
            << "\n";
     g.code << "  int first = int(cell.x);\n";
-    // The root set's lookup also bounds the first hit along g_ray_dir (the
-    // same argument along the ray, instance_grid.cpp): to the cell's exit plus
-    // the reach, or to a listed instance, exactly for a sphere.
-    const bool skip = !mat && ray_skip_set_ == &n;
-    const std::string ray_hit = skip ? rayHitFunction(n, l, one) : "";
-    if (!ray_hit.empty()) sphereNormalFunction(n, l, visits);
     if (skip) {
       g.code << "  vec3 rd = g_ray_dir;\n";
       g.code << "  vec3 to_exit = mix(q, 1.0 - q, greaterThan(rd, vec3(0.0))) / max(abs(rd), 1e-30);\n";
       g.code << "  float skip = cell.z + g0.w * max(min(min(to_exit.x, to_exit.y), to_exit.z), 0.0);\n";
+    }
+    if (unrolled) {
+      // kGridListMax fixed slots in straight-line code (padded lists). One
+      // radius: the nearest centre's squared distance, one square root after
+      // (sqrt is monotonic and correctly rounded: the same value as the
+      // minimum of the lengths); the ray hit shares q.q.
+      g.code << "  float r = " << glslFloat(n.children[0]->args[0].value) << ", qq_min = 1e30;\n";
+      for (int k = 0; k < ir::kGridListMax; ++k) {
+        g.code << "  {\n" << countEvent(kEventEntries, "  ");
+        g.code << "    vec3 q = p + sd_data[" << ge << " + first + " << k << "].xyz;\n";
+        g.code << "    float qq = dot(q, q), b = dot(q, rd), c = qq - r * r, h = b * b - c;\n";
+        g.code << "    qq_min = min(qq_min, qq);\n";
+        g.code << "    float th = c <= 0.0 ? 0.0 : (b >= 0.0 || h < 0.0 ? 1e30 : c / (sqrt(h) - b));\n";
+        g.code << "    if (th < skip) {\n      skip = th;\n      g_ray_met = th > 0.0;\n    }\n  }\n";
+      }
+      g.code << "  best = min(best, sqrt(qq_min) - r);\n";
+      g.code << "  g_ray_skip = skip;\n  return best;\n}\n";
+      functions_ << g.code.str();
+      return;
     }
     if (options_.with_kernel) {
       g.code << "  for (int it = loopZero(); it < count; it++) {\n    g_loop_iterations++;\n";
     } else {
       g.code << "  for (int it = 0; it < count; it++) {\n";
     }
+    g.code << countEvent(kEventEntries, "  ");
     g.code << "    int e = first + it;\n";
     g.code << "    int rec = " << listedRecord(l) << ";\n";
     if (mat) {
@@ -601,6 +659,23 @@ class SceneWriter {
     if (skip) g.code << "  g_ray_skip = skip;\n";
     g.code << "  return best;\n}\n";
     functions_ << g.code.str();
+  }
+
+  // --count-event: the counter's globals; g_event_kind is set by the kernel
+  // (-1: not counted, e.g. the AOV ray).
+  void countEventDeclarations(std::ostream& out) const {
+    int kind = 0, quantity = 0;
+    if (!countEventFromName(options_.count_event, kind, quantity)) return;
+    out << "\n// --count-event " << options_.count_event << ": counted per pixel into the iterations view's green.\n";
+    out << "float g_events = 0.0;\nint g_event_kind = -1;\n";
+    out << "void countEvent(int quantity) {\n";
+    out << "  if (quantity == " << quantity << " && g_event_kind >= 0"
+        << (kind >= 0 ? " && g_event_kind == " + std::to_string(kind) : std::string()) << ") g_events += 1.0;\n}\n";
+  }
+  // A call of countEvent(quantity) when counting (and a kernel is emitted), else "".
+  std::string countEvent(int quantity, const std::string& indent = "") const {
+    if (options_.count_event.empty() || !options_.with_kernel) return "";
+    return indent + "  countEvent(" + std::to_string(quantity) + ");\n";
   }
 
   // The record of list entry e (in scope as `e`).
@@ -626,16 +701,92 @@ class SceneWriter {
     g.code << "  ivec3 c = clamp(ivec3(floor((p - g0.xyz) / g0.w)), ivec3(0), dims - 1);\n";
     g.code << "  vec4 cell = sd_data[" << gc << " + c.x + dims.x * (c.y + dims.y * c.z)];\n";
     g.code << "  int count = int(cell.y), first = int(cell.x);\n";
-    g.code << "  if (count <= 0 || count > " << visits << ") return false;\n";
+    g.code << countEvent(kEventLookups);
+    if (l.grid_slots) {
+      // A crowded cell: one nearest-first traversal for the nearest sphere
+      // (instead of 4 taps and the material, each walking the hierarchy).
+      g.code << "  if (count < 0) return " << sphereNearestFunction(n, l) << "(p, normal, field);\n";
+      g.code << "  if (count == 0) return false;\n";
+    } else {
+      g.code << "  if (count <= 0 || count > " << visits << ") return false;\n";
+    }
     g.code << "  float r = " << glslFloat(n.children[0]->args[0].value) << ";\n";
     g.code << "  field = 1e30;\n  vec3 q_near = vec3(0.0, 1.0, 0.0);\n";
-    g.code << "  for (int it = loopZero(); it < count; it++) {\n    g_loop_iterations++;\n";
-    g.code << "    int e = first + it;\n    vec3 q = p + sd_data[" << listedRecord(l) << "].xyz;\n";
-    g.code << "    float d = length(q) - r;\n";
-    g.code << "    if (d < field) {\n      field = d;\n      q_near = q;\n    }\n  }\n";
+    const std::string body = "    float d = length(q) - r;\n"
+                             "    if (d < field) {\n      field = d;\n      q_near = q;\n    }\n  }\n";
+    if (l.grid_slots) {
+      // kGridListMax fixed slots in straight-line code (padded lists); the
+      // nearest by squared distance, one square root after.
+      g.code << "  float qq_min = 1e30;\n";
+      for (int k = 0; k < ir::kGridListMax; ++k)
+        g.code << "  {\n" << countEvent(kEventEntries, "  ") << "    vec3 q = p + sd_data["
+               << l.grid_entries << " + first + " << k << "].xyz;\n    float qq = dot(q, q);\n"
+               << "    if (qq < qq_min) {\n      qq_min = qq;\n      q_near = q;\n    }\n  }\n";
+      g.code << "  field = sqrt(qq_min) - r;\n";
+    } else {
+      g.code << "  for (int it = loopZero(); it < count; it++) {\n    g_loop_iterations++;\n";
+      g.code << countEvent(kEventEntries, "  ");
+      g.code << "    int e = first + it;\n    vec3 q = p + sd_data[" << listedRecord(l) << "].xyz;\n";
+      g.code << body;
+    }
     g.code << "  float len = length(q_near);\n";
     g.code << "  normal = len > 0.0 ? q_near / len : vec3(0.0, 1.0, 0.0);\n  return true;\n}\n";
     functions_ << g.code.str();
+  }
+
+  // One sphere of constant radius placed by offsets (a point cloud).
+  static bool sphereCloud(const ir::Node& n, const InstanceLayout& l) {
+    const ir::Node& templ = *n.children[0];
+    return !l.affine && n.instances->param_count == 0 && templ.kind == ir::NodeKind::Primitive &&
+           templ.primitive == PrimitiveKind::Sphere && !templ.args.empty() && templ.args[0].isConst();
+  }
+
+  // The sphere cloud's nearest sphere to p through the hierarchy, nearest
+  // first: a sphere of radius r boxed by B has distance >= dist(p, B) - r
+  // (also inside it), so nodes no nearer than that are skipped and the least
+  // distance, negative inside, is exact. Within the i = 0 iteration of the
+  // normal loop and at most frame.traversal_visits visits, so the taps are not
+  // taken after it (the loop cap argument): out of visits it answers with
+  // the nearest found so far, or the degenerate field's (0, 1, 0).
+  std::string sphereNearestFunction(const ir::Node& n, const InstanceLayout& l) {
+    const std::string name = "sdRootSphereNearest";
+    if (!helper_names_.insert(name).second) return name;
+    needHelper("sdBoxDistance", kBoxDistanceHelper);
+    const std::string nb = std::to_string(l.nodes), ib = std::to_string(l.records);
+    const int stack = n.instances->depth + 1;
+    auto box = [&](const std::string& i) {
+      return "sdBoxDistance(p, sd_data[" + nb + " + 2 * " + i + "].xyz, sd_data[" + nb + " + 2 * " + i + " + 1].xyz)";
+    };
+    Function g;
+    g.code << "bool " << name << "(vec3 p, out vec3 normal, out float field) {\n";
+    g.code << "  float r = " << glslFloat(n.children[0]->args[0].value) << ";\n";
+    g.code << "  field = 1e30;\n  vec3 q_near = vec3(0.0);\n";
+    g.code << "  int sn[" << stack << "];\n  float sd[" << stack << "];\n";
+    g.code << "  sn[0] = 0;\n  sd[0] = " << box("0") << ";\n  int sp = 1;\n";
+    g.code << "  for (int it = loopZero(); it < int(frame.traversal_visits) && sp > 0; it++) {\n";
+    g.code << "    g_loop_iterations++;\n" << countEvent(kEventVisits, "  ");
+    g.code << "    sp--;\n    if (sd[sp] - r >= field) continue;\n    int ni = sn[sp];\n";
+    g.code << "    int first = int(sd_data[" << nb << " + 2 * ni].w), count = int(sd_data[" << nb << " + 2 * ni + 1].w);\n";
+    g.code << "    if (count == 0) {\n      int lc = ni + 1, rc = first;\n";
+    g.code << "      float dl = " << box("lc") << ", dr = " << box("rc") << ";\n";
+    g.code << "      bool left_near = dl <= dr;\n";
+    g.code << "      // The far child first, so the near one is visited next.\n";
+    g.code << "      if (max(dl, dr) - r < field) {\n        sn[sp] = left_near ? rc : lc;\n"
+              "        sd[sp] = max(dl, dr);\n        sp++;\n      }\n";
+    g.code << "      if (min(dl, dr) - r < field) {\n        sn[sp] = left_near ? lc : rc;\n"
+              "        sd[sp] = min(dl, dr);\n        sp++;\n      }\n";
+    g.code << "    } else {\n";
+    for (int k = 0; k < int(ir::kBvhLeafSize); ++k) {
+      g.code << "      if (" << k << " < count) {\n";
+      g.code << "        vec3 q = p + sd_data[" << ib << " + first + " << k << "].xyz;\n";
+      g.code << "        float d = length(q) - r;\n";
+      g.code << "        if (d < field) {\n          field = d;\n          q_near = q;\n        }\n      }\n";
+    }
+    g.code << "    }\n  }\n";
+    g.code << "  float len = length(q_near);\n";
+    g.code << "  normal = len > 0.0 ? q_near / len : vec3(0.0, 1.0, 0.0);\n  return true;\n}\n";
+    functions_ << g.code.str();
+    return name;
   }
 
   // Where the ray p + t rd (|rd| = 1) first meets the sphere at record `rec`
@@ -643,9 +794,7 @@ class SceneWriter {
   // offsets; else "" and the caller bounds the hit by the distance.
   std::string rayHitFunction(const ir::Node& n, const InstanceLayout& l, const std::string& one) {
     const ir::Node& templ = *n.children[0];
-    if (l.affine || n.instances->param_count > 0 || templ.kind != ir::NodeKind::Primitive ||
-        templ.primitive != PrimitiveKind::Sphere || templ.args.empty() || !templ.args[0].isConst())
-      return "";
+    if (!sphereCloud(n, l)) return "";
     const std::string name = one + "_ray";
     if (!helper_names_.insert(name).second) return name;
     Function g;
@@ -747,6 +896,7 @@ class SceneWriter {
       if (options_.with_kernel) {
         g.code << "  for (int it = loopZero(); it < int(frame.traversal_visits) && sp > 0; it++) {\n";
         g.code << "    g_loop_iterations++;\n";
+        g.code << countEvent(kEventVisits, "  ");
       } else {
         g.code << "  for (int it = 0; it < " << kSceneOnlyVisits << " && sp > 0; it++) {\n";
       }
@@ -1230,6 +1380,19 @@ std::optional<KernelView> kernelViewFromName(const std::string& name) {
   return std::nullopt;
 }
 
+bool countEventFromName(const std::string& name, int& kind, int& quantity) {
+  const size_t dot = name.find('.');
+  if (dot == std::string::npos) return false;
+  const std::string k = name.substr(0, dot), q = name.substr(dot + 1);
+  kind = -2;
+  quantity = -1;
+  for (int i = 0; i < int(std::size(kCountEventKinds)); ++i)
+    if (k == kCountEventKinds[i]) kind = i - 1;  // "all" is -1
+  for (int i = 0; i < int(std::size(kCountEventQuantities)); ++i)
+    if (q == kCountEventQuantities[i]) quantity = i;
+  return kind >= -1 && quantity >= 0;
+}
+
 const char* kernelViewName(KernelView view) { return kKernelViewNames[static_cast<int>(view)]; }
 
 EmitResult emitGlsl(const ir::Scene& scene, const EmitOptions& options) {
@@ -1243,6 +1406,10 @@ EmitResult emitGlsl(const ir::Scene& scene, const EmitOptions& options) {
   if (writer.hasSceneBox()) result.stats.features.insert("SDFC_HAS_SCENE_BOX");
   if (writer.hasRaySkip()) result.stats.features.insert("SDFC_HAS_RAY_SKIP");
   if (writer.hasSphereNormals()) result.stats.features.insert("SDFC_HAS_SPHERE_NORMALS");
+  if (writer.hasSphereMaterial()) result.stats.features.insert("SDFC_HAS_SPHERE_MATERIAL");
+  int count_kind = 0, count_quantity = 0;
+  if (options.with_kernel && countEventFromName(options.count_event, count_kind, count_quantity))
+    result.stats.features.insert("SDFC_COUNT_EVENTS");
   result.stats.instance_sets = writer.instanceSets();
   result.stats.traversals_per_evaluation = scene.root ? traversalsPerEvaluation(*scene.root) : 0;
   result.scene_data = writer.takeData();

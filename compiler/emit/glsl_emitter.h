@@ -39,6 +39,9 @@ struct EmitOptions {
   // one to the kernel's loop counter, so `--view iterations` shows the
   // logical work (lavapipe masks skipped code rather than jumping over it).
   bool count_evaluations = false;
+  // Instrumentation (`--count-event`, docs/large_scenes.md): "kind.quantity"
+  // names one per-pixel event count the iterations view writes to green.
+  std::string count_event;
   // Planes directly in the scene are intersected analytically by the kernel
   // (kernel emission only: sdScene then leaves them out).
   bool analytic_planes = true;
@@ -74,5 +77,16 @@ EmitResult emitGlsl(const ir::Scene& scene, const EmitOptions& options);
 
 // A GLSL float literal that round-trips a float32 (9 significant digits).
 std::string glslFloat(double v);
+
+// --count-event names: "kind.quantity" with kind one of kCountEventKinds (all =
+// every kind; the normal's lookups are its own kind) and quantity one of
+// kCountEventQuantities: march segments (or shading events for `normal`), loop
+// iterations, grid cell lookups, list entries tested, hierarchy visits, hits
+// (a shadow ray's hit: blocked). The kernel counts paths' rays, not the AOV ray.
+inline constexpr const char* kCountEventKinds[] = {"all", "primary", "bounce", "shadow", "normal"};
+inline constexpr const char* kCountEventQuantities[] = {"segments", "iterations", "lookups",
+                                                        "entries",  "visits",     "hits"};
+// kind: -1 (all) or 0..3; false if the name is not one of the above.
+bool countEventFromName(const std::string& name, int& kind, int& quantity);
 
 }  // namespace sdfc

@@ -95,6 +95,9 @@ float march(vec3 ro, vec3 rd, float t_max, float side, out int steps) {
   // (t > t_max: no marched surface on this ray; the loop body breaks at once.)
   for (int i = loopZero(); i < kSceneMaxSteps + kRefineSteps && t <= t_max; i++) {
     g_loop_iterations++;
+#ifdef SDFC_COUNT_EVENTS
+    countEvent(1);
+#endif
 #ifdef SDFC_HAS_RAY_SKIP
     g_ray_skip = 0.0;
     g_ray_met = false;
@@ -489,14 +492,23 @@ vec3 surfaceNormal(vec3 p, vec3 rd, float t, out int material) {
 #endif
   for (int i = loopZero(); i < kEvaluations; i++) {
     g_loop_iterations++;
+#ifdef SDFC_COUNT_EVENTS
+    countEvent(1);
+#endif
 #ifdef SDFC_HAS_SPHERE_NORMALS
     // The root grid's spheres: the nearest one's radial direction, exact (one
     // lookup in this iteration instead of 4 taps; docs/large_scenes.md); the
-    // material is still read by the 5th evaluation.
+    // material is read by the 5th evaluation unless the scene has only one.
     if (i == 0 && sdRootSphereNormal(centre, radial, field)) {
       exact = true;
+#ifdef SDFC_HAS_SPHERE_MATERIAL
+      // A scene of one material: nothing for the 5th evaluation to read.
+      material = kRootSphereMaterial;
+      break;
+#else
       i = 3;
       continue;
+#endif
     }
 #endif
     // (+,-,-), (-,-,+), (-,+,-), (+,+,+): the even-parity cube corners
@@ -581,8 +593,16 @@ vec3 tracePath(vec3 ro, vec3 rd, int max_bounces, bool record_aov) {
   for (int it = loopZero(); it < max_bounces + 1 + max_bounces * light_samples; it++) {
     g_loop_iterations++;
     int steps;
+#ifdef SDFC_COUNT_EVENTS
+    // --count-event: the kind of ray marched (not the AOV ray's, max_bounces 0).
+    g_event_kind = max_bounces == 0 ? -1 : (shadow_ray ? 2 : (depth == 0 ? 0 : 1));
+    if (!shadow_ray || shadow_valid) countEvent(0);
+#endif
     float t = march(shadow_ray ? shadow_origin : ro, shadow_ray ? shadow_dir : rd,
                     shadow_ray ? (shadow_valid ? shadow_dist : -1.0) : 3.0e38, shadow_ray ? 1.0 : side, steps);
+#ifdef SDFC_COUNT_EVENTS
+    if (t >= 0.0) countEvent(5);
+#endif
     if (shadow_ray) {
       if (shadow_valid && t < 0.0) radiance += shadow_radiance;
       light_j++;
@@ -622,6 +642,10 @@ vec3 tracePath(vec3 ro, vec3 rd, int max_bounces, bool record_aov) {
 #endif
       {
         int surface_material;
+#ifdef SDFC_COUNT_EVENTS
+        g_event_kind = g_event_kind < 0 ? -1 : 3;
+        countEvent(0);
+#endif
         n = surfaceNormal(p, rd, t, surface_material);
         m = sdMaterial(surface_material);
       }
@@ -830,9 +854,15 @@ void main() {
   if (frame.view == kViewDepth) color = vec3(g_aov_dist);
   if (frame.view == kViewAlbedo) color = g_aov_albedo;
   if (frame.view == kViewIterations) color = vec3(float(g_loop_iterations), 0.0, 0.0);
+#ifdef SDFC_COUNT_EVENTS
+  if (frame.view == kViewIterations) color.g = g_events;
+#endif
 #endif
 #ifdef SDFC_VIEW_ITERATIONS
   color = vec3(float(g_loop_iterations), 0.0, 0.0);
+#ifdef SDFC_COUNT_EVENTS
+  color.g = g_events;
+#endif
 #endif
   out_color = vec4(color, jittered ? coverage / float(max(count, 1)) : 1.0);
 }
