@@ -80,7 +80,9 @@ TEST_F(CameraInside, PerFrameDecisionEqualsTheKernelsTest) {
       const float got = depth(pinhole_renderer, eye, time, inside);
       EXPECT_EQ(got, want) << "z " << eye.z << " time " << time << " inside " << inside;
       // At time 0.5 the sphere is centred at z = 1: every camera here is inside it.
-      if (time == 0.5f) EXPECT_TRUE(inside) << eye.z;
+      if (time == 0.5f) {
+        EXPECT_TRUE(inside) << eye.z;
+      }
     }
   }
   // The flag matters: deep inside, the pinhole kernel sees the sphere's inside only with it.

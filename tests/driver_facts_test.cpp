@@ -61,9 +61,12 @@ TEST(DriverFacts, LoopCapIsMeasured) {
     // way the driver must do one of the two, for every loop length.
     const bool capped = ran(200000u) == gpu::kLavapipeLoopCap;
     std::printf("[ driver   ] loops %s\n", capped ? "end at the cap" : "run to the end");
-    if (lavapipe && VK_API_VERSION_MINOR(context.properties.apiVersion) <= 3)
+    if (lavapipe && VK_API_VERSION_MINOR(context.properties.apiVersion) <= 3) {
       EXPECT_TRUE(capped);
-    if (!lavapipe) EXPECT_FALSE(capped);
+    }
+    if (!lavapipe) {
+      EXPECT_FALSE(capped);
+    }
     for (uint32_t asked : {1000u, 65534u, 65535u, 65536u, 200000u})
       EXPECT_EQ(ran(asked), capped ? std::min(asked, gpu::kLavapipeLoopCap) : asked);
   }
