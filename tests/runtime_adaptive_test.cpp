@@ -45,6 +45,69 @@ TEST(AdaptiveAllocation, SpendsExactlyTheBudgetWithinTheCap) {
   for (uint32_t c : flat) EXPECT_EQ(c, 3u);
 }
 
+TEST(AdaptiveAllocation, TimeBudgetSpendsThePredictedCostWithinTheCap) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  for (uint32_t block : {1u, 4u, 8u})
+  for (uint32_t cap_half : {28u, 400u}) {
+    const uint32_t w = 37, h = 23;
+    const size_t pixels = size_t(w) * h;
+    std::vector<float> weight(pixels), cost(pixels);
+    // Noisy on the left; expensive at the top (15x), cheap below.
+    for (size_t i = 0; i < pixels; ++i) {
+      weight[i] = (i % w < 10 ? 50.0f : 0.01f) * u(rng);
+      cost[i] = (i / w < 8 ? 30.0f : 2.0f) + u(rng);
+    }
+    const uint32_t extra_half = 6;
+    const std::vector<uint32_t> extra =
+        allocateExtraSamples(weight, w, h, block, 0.5f, extra_half, cap_half, cost);
+    // The cost the counts predict, against a uniform extra_half's, with each
+    // block's cost the mean of its pixels' (what the allocation sees).
+    const uint32_t bw = (w + block - 1) / block;
+    std::vector<double> bsum(size_t(bw) * ((h + block - 1) / block), 0.0), bn(bsum.size(), 0.0);
+    for (size_t i = 0; i < pixels; ++i) {
+      const size_t b = (i / w / block) * bw + (i % w) / block;
+      bsum[b] += cost[i];
+      bn[b] += 1;
+    }
+    double spent = 0, budget = 0, most = 0;
+    for (size_t i = 0; i < pixels; ++i) {
+      const size_t b = (i / w / block) * bw + (i % w) / block;
+      const double c = bsum[b] / bn[b];
+      spent += c * extra[i];
+      budget += c * extra_half;
+      most = std::max(most, c);
+    }
+    EXPECT_LE(spent, budget * (1 + 1e-9)) << "block " << block;
+    EXPECT_GT(spent, budget - most) << "within one sample's cost, block " << block;
+    EXPECT_LE(*std::max_element(extra.begin(), extra.end()), cap_half);
+    // Cheap noisy pixels take more than expensive noisy ones: sqrt(12)x the
+    // samples without a cap (the cheap ones reach 28).
+    double cheap = 0, dear = 0;
+    for (uint32_t x = 0; x < 10; ++x) {
+      for (uint32_t y = 0; y < 8; ++y) dear += extra[size_t(y) * w + x];
+      for (uint32_t y = 15; y < 23; ++y) cheap += extra[size_t(y) * w + x];
+    }
+    if (cap_half > 28) EXPECT_GT(cheap, 2.5 * dear) << "block " << block;
+  }
+}
+
+TEST(AdaptiveAllocation, EqualCostsAreTheSamplesBudgetBitForBit) {
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  for (uint32_t block : {1u, 4u, 8u}) {
+    const uint32_t w = 41, h = 19;
+    std::vector<float> weight(size_t(w) * h);
+    for (float& v : weight) v = 10.0f * u(rng) * u(rng);
+    const std::vector<uint32_t> plain = allocateExtraSamples(weight, w, h, block, 0.5f, 5, 20);
+    for (float c : {1.0f, 3.7f, 1234.5f}) {
+      const std::vector<uint32_t> costed =
+          allocateExtraSamples(weight, w, h, block, 0.5f, 5, 20, std::vector<float>(weight.size(), c));
+      EXPECT_EQ(costed, plain) << "block " << block << " cost " << c;
+    }
+  }
+}
+
 TEST(RuntimeAdaptive, UniformAllocationIsTheNonAdaptiveRenderBitForBit) {
   const CompiledScene c = compileScene();
   VulkanContext context;
