@@ -93,8 +93,8 @@ void registerCommands(CLI::App& app, CommandLine& cl) {
                    "estimated error after denoising is (docs/adaptive.md)");
   render->add_option("--adaptive-estimate", cl.adaptive_estimate,
                      "what drives --adaptive: variance (of the halves' mean) | denoised (nlr's half "
-                     "against the other) | uniform")
-      ->check(CLI::IsMember({"uniform", "variance", "denoised"}));
+                     "against the other) | display (halves clamped to [0, 1] in sRGB: what FLIP sees) | uniform")
+      ->check(CLI::IsMember({"uniform", "variance", "denoised", "display"}));
   render->add_option("--adaptive-share", cl.adaptive_share, "--adaptive's uniform first phase, of --spp")
       ->check(CLI::Range(0.01, 1.0));
   render->add_option("--adaptive-cap", cl.adaptive_cap,

@@ -47,6 +47,23 @@ std::vector<float> estimateError(const RenderOutput& merged, const SampleHalves&
                                  bool jittered_aovs, const AdaptiveParams& params) {
   const size_t pixels = first.a.pixelCount();
   if (params.estimate == AdaptiveEstimate::Uniform) return std::vector<float>(pixels, 1.0f);
+  if (params.estimate == AdaptiveEstimate::Display) {
+    // What an LDR metric sees: noise above white or deep in the dark costs little.
+    auto shown = [](float v) {
+      const float c = std::clamp(std::isfinite(v) ? v : 0.0f, 0.0f, 1.0f);
+      return c <= 0.0031308f ? 12.92f * c : 1.055f * std::pow(c, 1.0f / 2.4f) - 0.055f;
+    };
+    std::vector<float> e(pixels);
+    for (size_t i = 0; i < pixels; ++i) {
+      float sum = 0;
+      for (int c = 0; c < 3; ++c) {
+        const float d = shown(first.a.rgba[i * 4 + c]) - shown(first.b.rgba[i * 4 + c]);
+        sum += d * d;
+      }
+      e[i] = sum;
+    }
+    return boxMean(e, int(first.a.width), int(first.a.height), 1, params.box_radius);
+  }
   if (params.estimate == AdaptiveEstimate::Variance) {
     // E[(a - b)^2] = Var a + Var b: proportional to the variance of the mean.
     return relativeSquared(first.a, first.b, averageOf(first.a, first.b), params.box_radius);
@@ -158,6 +175,7 @@ std::optional<AdaptiveEstimate> parseAdaptiveEstimate(std::string_view name) {
   if (name == "uniform") return AdaptiveEstimate::Uniform;
   if (name == "variance") return AdaptiveEstimate::Variance;
   if (name == "denoised") return AdaptiveEstimate::Denoised;
+  if (name == "display") return AdaptiveEstimate::Display;
   return std::nullopt;
 }
 
@@ -166,6 +184,7 @@ const char* adaptiveEstimateName(AdaptiveEstimate estimate) {
     case AdaptiveEstimate::Uniform: return "uniform";
     case AdaptiveEstimate::Variance: return "variance";
     case AdaptiveEstimate::Denoised: return "denoised";
+    case AdaptiveEstimate::Display: return "display";
   }
   return "?";
 }

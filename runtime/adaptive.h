@@ -36,6 +36,7 @@ enum class AdaptiveEstimate {
   Uniform,   // every pixel the same extra count: the non-adaptive render, bit for bit
   Variance,  // the halves' relative squared difference (the variance of the mean)
   Denoised,  // nlr's filtered half against the other half (denoise_select.h's estimate)
+  Display,   // the halves' squared difference as displayed (clamped to [0, 1], sRGB): FLIP's view
 };
 
 std::optional<AdaptiveEstimate> parseAdaptiveEstimate(std::string_view name);
