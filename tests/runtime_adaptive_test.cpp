@@ -180,7 +180,8 @@ TEST(RuntimeAdaptive, CountsSumToTheBudgetAndConverge) {
       return sum / (3.0 * image.pixelCount());
     };
     std::vector<double> uniform_errors;
-    for (AdaptiveEstimate estimate : {AdaptiveEstimate::Uniform, AdaptiveEstimate::Variance, AdaptiveEstimate::Denoised}) {
+    for (AdaptiveEstimate estimate : {AdaptiveEstimate::Uniform, AdaptiveEstimate::Variance,
+                                      AdaptiveEstimate::Denoised, AdaptiveEstimate::Display}) {
       std::vector<double> errors;
       for (uint32_t spp : {8u, 64u, 512u}) {
         settings.spp = spp;
@@ -216,6 +217,61 @@ TEST(RuntimeAdaptive, CountsSumToTheBudgetAndConverge) {
       else
         for (size_t k = 0; k < errors.size(); ++k) EXPECT_LT(errors[k], uniform_errors[k]) << k;
     }
+  }
+  destroyContext(context);
+  EXPECT_EQ(validationMessageCount(), 0);
+}
+
+// The time budget through the renderer: a given cost per sample (the left half
+// 10x the right) moves samples right, spends the uniform extra phase's predicted
+// cost, and the mean count reported is the counts' own.
+TEST(RuntimeAdaptive, TimeBudgetSpendsTheUniformCost) {
+  const CompiledScene c = compileScene();
+  VulkanContext context;
+  createContext(context);
+  {
+    Renderer renderer(context, c);
+    RenderOverrides o;
+    o.width = 64;
+    o.height = 40;
+    o.seed = 11;
+    o.spp = 32;
+    RenderSettings settings = renderSettingsFor(c, o);
+    const size_t pixels = size_t(o.width.value()) * o.height.value();
+    AdaptiveParams params;
+    params.block = 4;
+    params.cap = 64;  // room for the cheap half's samples
+    SampleHalves plain_halves, halves;
+    AdaptiveStats plain_stats, stats;
+    const RenderOutput plain =
+        renderAdaptive(renderer, cameraFor(c.scene), settings, params, &plain_halves, &plain_stats);
+    params.time_budget = true;
+    params.cost_per_sample.resize(pixels);
+    for (size_t i = 0; i < pixels; ++i) params.cost_per_sample[i] = i % 64 < 32 ? 10.0f : 1.0f;
+    const RenderOutput out = renderAdaptive(renderer, cameraFor(c.scene), settings, params, &halves, &stats);
+    ASSERT_EQ(out.sample_counts.size(), pixels);
+    const uint32_t first = stats.first_spp;
+    // Extra samples in the dear (left) and cheap (right) halves, time and samples budget.
+    double spent = 0, budget = 0, samples = 0, left = 0, right = 0, plain_left = 0, plain_right = 0;
+    for (size_t i = 0; i < pixels; ++i) {
+      ASSERT_EQ(out.sample_counts[i] % 2, 0u);
+      ASSERT_GE(out.sample_counts[i], first);
+      ASSERT_LE(out.sample_counts[i], uint32_t(params.cap * first));
+      const double extra_half = (out.sample_counts[i] - first) / 2.0;
+      spent += params.cost_per_sample[i] * extra_half;
+      budget += params.cost_per_sample[i] * (settings.spp - first) / 2.0;
+      samples += out.sample_counts[i];
+      (i % 64 < 32 ? left : right) += out.sample_counts[i] - first;
+      (i % 64 < 32 ? plain_left : plain_right) += plain.sample_counts[i] - first;
+    }
+    EXPECT_LE(spent, budget);
+    EXPECT_GT(spent, budget - 10.0);  // less than one sample of the dearest pixel short
+    EXPECT_NEAR(stats.predicted_cost_ratio, spent / budget, 1e-9);
+    // n ~ sqrt(e / c): the cheap half's share grows by sqrt(10) (less where the cap binds).
+    EXPECT_GT(right / left, 2.5 * (plain_right / plain_left));
+    EXPECT_GT(stats.sample_ratio, 1.0) << "half the image cheap: the same cost buys more samples";
+    EXPECT_EQ(out.samples_done, 2 * std::lround(samples / pixels / 2));
+    EXPECT_EQ(halves.samples_a, out.samples_done / 2);
   }
   destroyContext(context);
   EXPECT_EQ(validationMessageCount(), 0);
