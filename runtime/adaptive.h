@@ -5,7 +5,8 @@
 // from them (AdaptiveEstimate), and the rest of the budget is handed out per
 // block of pixels in proportion to a power of the estimate, at most `cap` times
 // the first phase per pixel, so that the counts sum to exactly spp x pixels:
-// "16 spp" means 16 samples per pixel on average. The extra samples go to both
+// "16 spp" means 16 samples per pixel on average (with time_budget: the uniform
+// 16 spp render's predicted cost instead). The extra samples go to both
 // halves alike (each pixel's halves keep equal counts, so the denoisers'
 // variance from the halves stays valid) and continue each pixel's own sample
 // sequence after the first phase's indices: no random number is reused.
