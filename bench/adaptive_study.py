@@ -37,7 +37,9 @@ SEED = 7
 DEFAULT_CONFIGS = ["none", "none@256", "nlr", "nlr+a", "nlr+a:est=variance",
                    "nlr:0.7,1.25,2.5", "nlr:0.7,1.25,2.5+a"]
 OPTION_FLAGS = {"est": "--adaptive-estimate", "share": "--adaptive-share", "cap": "--adaptive-cap",
-                "block": "--adaptive-block", "power": "--adaptive-power"}
+                "block": "--adaptive-block", "power": "--adaptive-power",
+                "budget": "--adaptive-budget", "offset": "--adaptive-cost-offset",
+                "cost": "--adaptive-cost"}
 
 
 def config_args(spec, spp):

@@ -153,6 +153,28 @@ int runRender(const CommandLine& cl) {
       params.cap = cl.adaptive_cap;
       params.block = cl.adaptive_block;
       params.power = cl.adaptive_power;
+      params.time_budget = cl.adaptive_budget == "time";
+      double cost_seconds = 0;
+      params.cost_offset = cl.adaptive_cost_offset;
+      if (params.time_budget && cl.adaptive_cost == "iterations") {
+        const auto cost_start = std::chrono::steady_clock::now();
+        // The kernel's own loop-iteration count of one sample at half size (its
+        // compile, pipeline and pass are part of the render's time).
+        CommandLine iterations_cl = cl;
+        iterations_cl.view = "iterations";
+        RenderOverrides io = o;
+        io.view = gpu::kViewIterations;
+        io.width = std::max<uint32_t>(1, settings.width / 2);
+        io.height = std::max<uint32_t>(1, settings.height / 2);
+        LoadedScene iterations_scene = compileForDevice(iterations_cl, context, io);
+        if (iterations_scene.exit_code != kExitOk) return iterations_scene.exit_code;
+        Renderer iterations_renderer(context, iterations_scene.compiled);
+        RenderSettings is = renderSettingsFor(iterations_scene.compiled, io);
+        is.spp = 1;
+        const RenderOutput it = iterations_renderer.render(cameraFor(compiled.scene), is);
+        params.cost_per_sample = iterationsCost(it.color, settings.width, settings.height);
+        cost_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - cost_start).count();
+      }
       out = renderAdaptive(renderer, cameraFor(compiled.scene), settings, params, &halves,
                            &adaptive_stats, progress, interrupt);
       // bench/adaptive_study.py reads this line.
@@ -162,7 +184,12 @@ int runRender(const CommandLine& cl) {
                   << ", estimate " << formatSeconds(adaptive_stats.estimate_seconds) << ", extra "
                   << adaptive_stats.rounds << " rounds of " << adaptive_stats.draws << " draws in "
                   << formatSeconds(adaptive_stats.extra_seconds) << "; mean " << out.samples_done
-                  << " spp, most " << adaptive_stats.max_spp << "\n";
+                  << " spp, most " << adaptive_stats.max_spp;
+      if (!quiet && params.time_budget)
+        std::cerr << "; time budget: predicted cost " << adaptive_stats.predicted_cost_ratio
+                  << " x uniform's, samples " << adaptive_stats.sample_ratio << " x, cost pass "
+                  << formatSeconds(cost_seconds);
+      if (!quiet && adaptive_stats.first_spp > 0) std::cerr << "\n";
     } else {
       out = with_halves ? renderHalves(renderer, cameraFor(compiled.scene), settings, &halves,
                                        progress, interrupt)

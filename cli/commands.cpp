@@ -93,8 +93,8 @@ void registerCommands(CLI::App& app, CommandLine& cl) {
                    "estimated error after denoising is (docs/adaptive.md)");
   render->add_option("--adaptive-estimate", cl.adaptive_estimate,
                      "what drives --adaptive: variance (of the halves' mean) | denoised (nlr's half "
-                     "against the other) | uniform")
-      ->check(CLI::IsMember({"uniform", "variance", "denoised"}));
+                     "against the other) | display (halves clamped to [0, 1] in sRGB: what FLIP sees) | uniform")
+      ->check(CLI::IsMember({"uniform", "variance", "denoised", "display"}));
   render->add_option("--adaptive-share", cl.adaptive_share, "--adaptive's uniform first phase, of --spp")
       ->check(CLI::Range(0.01, 1.0));
   render->add_option("--adaptive-cap", cl.adaptive_cap,
@@ -105,6 +105,17 @@ void registerCommands(CLI::App& app, CommandLine& cl) {
   render->add_option("--adaptive-power", cl.adaptive_power,
                      "--adaptive: extra samples proportional to the estimate to this power")
       ->check(CLI::Range(0.0, 4.0));
+  render->add_option("--adaptive-budget", cl.adaptive_budget,
+                     "--adaptive: samples (--spp is the mean) | time (the uniform --spp render's "
+                     "predicted time, from each block's cost per sample)")
+      ->check(CLI::IsMember({"samples", "time"}));
+  render->add_option("--adaptive-cost-offset", cl.adaptive_cost_offset,
+                     "--adaptive-budget time: cost per sample = primary steps + this x their mean")
+      ->check(CLI::Range(0.0, 100.0));
+  render->add_option("--adaptive-cost", cl.adaptive_cost,
+                     "--adaptive-budget time: each pixel's cost per sample from iterations (a "
+                     "half-size one-sample --view iterations pass) | steps (its primary march steps)")
+      ->check(CLI::IsMember({"iterations", "steps"}));
   render->add_option("--view", cl.view, "beauty | normal | steps | depth | albedo | iterations")
       ->check(CLI::IsMember({"beauty", "normal", "steps", "depth", "albedo", "iterations"}));
   render->add_option("--time", cl.time, "scene time in seconds");

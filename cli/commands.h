@@ -51,6 +51,9 @@ struct CommandLine {
   float adaptive_cap = 8.0f;                   // a pixel's total, x the first phase
   uint32_t adaptive_block = 8;                 // pixels per block side
   float adaptive_power = 0.5f;                 // extra samples ~ estimate^power
+  std::string adaptive_budget = "samples";     // samples | time (cost-aware)
+  float adaptive_cost_offset = 1.0f;           // cost = steps + this x mean steps
+  std::string adaptive_cost = "iterations";    // time budget's cost: iterations | steps
   std::string view = "beauty";
   double time = 0;
   std::string frames;

@@ -47,6 +47,23 @@ std::vector<float> estimateError(const RenderOutput& merged, const SampleHalves&
                                  bool jittered_aovs, const AdaptiveParams& params) {
   const size_t pixels = first.a.pixelCount();
   if (params.estimate == AdaptiveEstimate::Uniform) return std::vector<float>(pixels, 1.0f);
+  if (params.estimate == AdaptiveEstimate::Display) {
+    // What an LDR metric sees: noise above white or deep in the dark costs little.
+    auto shown = [](float v) {
+      const float c = std::clamp(std::isfinite(v) ? v : 0.0f, 0.0f, 1.0f);
+      return c <= 0.0031308f ? 12.92f * c : 1.055f * std::pow(c, 1.0f / 2.4f) - 0.055f;
+    };
+    std::vector<float> e(pixels);
+    for (size_t i = 0; i < pixels; ++i) {
+      float sum = 0;
+      for (int c = 0; c < 3; ++c) {
+        const float d = shown(first.a.rgba[i * 4 + c]) - shown(first.b.rgba[i * 4 + c]);
+        sum += d * d;
+      }
+      e[i] = sum;
+    }
+    return boxMean(e, int(first.a.width), int(first.a.height), 1, params.box_radius);
+  }
   if (params.estimate == AdaptiveEstimate::Variance) {
     // E[(a - b)^2] = Var a + Var b: proportional to the variance of the mean.
     return relativeSquared(first.a, first.b, averageOf(first.a, first.b), params.box_radius);
@@ -68,6 +85,45 @@ std::vector<float> estimateError(const RenderOutput& merged, const SampleHalves&
     e[i] = std::max(0.0f, 0.5f * (ea[i] + eb[i]) - 0.5f * noise[i]);
   return e;
 }
+
+// A pixel's predicted cost per sample (AdaptiveParams::time_budget): its
+// primary ray's march steps (attachment 2's w, the first phase's) plus
+// `offset` x their image mean for the rest of the path (shadow and bounce rays,
+// shading), which the steps do not see. Block means of it (allocateExtraSamples)
+// follow lavapipe's lockstep lanes, which run as long as their slowest pixel.
+std::vector<float> costPerSample(const FloatImage& albedo_steps, float offset) {
+  const size_t pixels = albedo_steps.pixelCount();
+  std::vector<float> cost(pixels);
+  double mean = 0;
+  for (size_t i = 0; i < pixels; ++i) {
+    const float s = albedo_steps.rgba[i * 4 + 3];
+    cost[i] = std::isfinite(s) ? std::max(0.0f, s) : 0.0f;
+    mean += cost[i];
+  }
+  mean = pixels ? mean / double(pixels) : 0;
+  const float add = float(std::max(0.0f, offset) * mean) + 1.0f;  // + 1: never free
+  for (float& c : cost) c += add;
+  return cost;
+}
+
+}  // namespace
+
+std::vector<float> iterationsCost(const FloatImage& iterations, uint32_t w, uint32_t h) {
+  const uint32_t iw = std::max<uint32_t>(iterations.width, 1), ih = std::max<uint32_t>(iterations.height, 1);
+  std::vector<float> count(size_t(iw) * ih, 1.0f);
+  for (size_t i = 0; i < count.size() && i < iterations.pixelCount(); ++i) {
+    const float v = iterations.rgba[i * 4];
+    count[i] = std::isfinite(v) ? std::max(1.0f, v) : 1.0f;
+  }
+  count = boxMean(count, int(iw), int(ih), 1, 1);
+  std::vector<float> cost(size_t(w) * h);
+  for (uint32_t y = 0; y < h; ++y)
+    for (uint32_t x = 0; x < w; ++x)
+      cost[size_t(y) * w + x] = count[size_t(uint64_t(y) * ih / h) * iw + uint64_t(x) * iw / w];
+  return cost;
+}
+
+namespace {
 
 // Rectangles of equal (count, first index) in rows [y0, y0 + rows): each row's
 // runs, merged downwards with the same run of the row above.
@@ -119,6 +175,7 @@ std::optional<AdaptiveEstimate> parseAdaptiveEstimate(std::string_view name) {
   if (name == "uniform") return AdaptiveEstimate::Uniform;
   if (name == "variance") return AdaptiveEstimate::Variance;
   if (name == "denoised") return AdaptiveEstimate::Denoised;
+  if (name == "display") return AdaptiveEstimate::Display;
   return std::nullopt;
 }
 
@@ -127,38 +184,57 @@ const char* adaptiveEstimateName(AdaptiveEstimate estimate) {
     case AdaptiveEstimate::Uniform: return "uniform";
     case AdaptiveEstimate::Variance: return "variance";
     case AdaptiveEstimate::Denoised: return "denoised";
+    case AdaptiveEstimate::Display: return "display";
   }
   return "?";
 }
 
 std::vector<uint32_t> allocateExtraSamples(const std::vector<float>& weight, uint32_t w, uint32_t h,
                                            uint32_t block, float power, uint32_t extra_half,
-                                           uint32_t cap_half) {
+                                           uint32_t cap_half, const std::vector<float>& cost) {
   block = std::max<uint32_t>(block, 1);
   cap_half = std::max(cap_half, extra_half);  // the budget always fits
   const uint32_t bw = (w + block - 1) / block, bh = (h + block - 1) / block;
   const size_t blocks = size_t(bw) * bh;
-  std::vector<double> bweight(blocks, 0.0);
+  std::vector<double> bweight(blocks, 0.0), bcost(blocks, 0.0);
   std::vector<uint32_t> bpixels(blocks, 0);
   for (uint32_t y = 0; y < h; ++y)
     for (uint32_t x = 0; x < w; ++x) {
-      const size_t b = size_t(y / block) * bw + x / block;
-      const double v = std::max(0.0f, weight[size_t(y) * w + x]);
+      const size_t b = size_t(y / block) * bw + x / block, i = size_t(y) * w + x;
+      const double v = std::max(0.0f, weight[i]);
       bweight[b] = std::max(bweight[b], std::isfinite(v) ? v : 0.0);
+      if (!cost.empty()) bcost[b] += cost[i];
       ++bpixels[b];
     }
+  // Costs relative to their mean; all equal (or none): exactly 1, so the
+  // arithmetic below is the samples budget's bit for bit.
+  double cost_sum = 0;
+  for (size_t b = 0; b < blocks; ++b) {
+    bcost[b] = bpixels[b] ? bcost[b] / bpixels[b] : 0.0;
+    if (!(bcost[b] > 0) || !std::isfinite(bcost[b])) bcost[b] = 0;
+    cost_sum += bcost[b] * bpixels[b];
+  }
+  const double cost_mean = cost_sum / double(size_t(w) * h);
+  bool equal = cost_mean > 0;
+  for (size_t b = 0; b < blocks && equal; ++b) equal = bcost[b] == bcost[0];
+  for (double& c : bcost) c = equal || !(cost_mean > 0) ? 1.0 : std::max(c / cost_mean, 1e-3);
   double mean = 0;
   for (size_t b = 0; b < blocks; ++b) {
-    bweight[b] = std::pow(bweight[b], double(power));
+    // Minimising sum e / n at a fixed sum c n gives n ~ sqrt(e / c) (Lagrange).
+    bweight[b] = std::pow(bweight[b] / bcost[b], double(power));
     mean += bweight[b] * bpixels[b];
   }
   mean /= double(size_t(w) * h);
   // A floor keeps the allocation defined where every estimate is 0 (uniform then).
   for (double& v : bweight) v += mean > 0 ? 1e-3 * mean : 1.0;
-  const double budget = double(extra_half) * double(size_t(w) * h);
+  // The budget in cost: a uniform extra_half's (sum of cost = the pixel count).
+  double pixel_cost = 0;
+  for (size_t b = 0; b < blocks; ++b) pixel_cost += bcost[b] * bpixels[b];
+  const double budget = double(extra_half) * (equal ? double(size_t(w) * h) : pixel_cost);
   auto spent = [&](double s) {
     double total = 0;
-    for (size_t b = 0; b < blocks; ++b) total += std::min(double(cap_half), s * bweight[b]) * bpixels[b];
+    for (size_t b = 0; b < blocks; ++b)
+      total += std::min(double(cap_half), s * bweight[b]) * bpixels[b] * bcost[b];
     return total;
   };
   // Water-filling: the scale whose capped targets spend the budget (bisection;
@@ -171,15 +247,15 @@ std::vector<uint32_t> allocateExtraSamples(const std::vector<float>& weight, uin
   }
   std::vector<uint32_t> bcount(blocks);
   std::vector<double> remainder(blocks);
-  uint64_t given = 0;
+  double given = 0;
   for (size_t b = 0; b < blocks; ++b) {
     const double target = std::min(double(cap_half), lo * bweight[b]);
     bcount[b] = uint32_t(std::floor(target));
     remainder[b] = target - bcount[b];
-    given += uint64_t(bcount[b]) * bpixels[b];
+    given += double(bcount[b]) * bpixels[b] * bcost[b];
   }
-  const uint64_t total = uint64_t(extra_half) * w * h;
-  uint64_t left = total - std::min(given, total);
+  // What is left, in pixel-samples of cost 1 (exact integers when costs are equal).
+  double left = std::max(0.0, budget - given);
   // The rest, one sample a pixel, to whole blocks by largest remainder; the last
   // part of a block to a prefix of its pixels.
   std::vector<size_t> order(blocks);
@@ -192,19 +268,24 @@ std::vector<uint32_t> allocateExtraSamples(const std::vector<float>& weight, uin
   while (left > 0) {
     bool progressed = false;
     for (size_t b : order) {
-      if (left == 0) break;
+      if (!(left > 0)) break;
       if (bcount[b] >= cap_half) continue;
       const uint32_t bx = uint32_t(b % bw) * block, by = uint32_t(b / bw) * block;
-      const uint64_t take = std::min<uint64_t>(left, bpixels[b]);
+      // Pixels of this block the rest pays for (whole ones only).
+      const uint64_t take =
+          std::min<uint64_t>(uint64_t(std::floor(left / bcost[b] + 1e-9)), bpixels[b]);
       uint64_t n = 0;
       for (uint32_t y = by; y < std::min(h, by + block) && n < take; ++y)
         for (uint32_t x = bx; x < std::min(w, bx + block) && n < take; ++x, ++n) ++out[size_t(y) * w + x];
       ++bcount[b];
-      left -= take;
-      progressed = true;
-      if (take < bpixels[b]) break;  // a partial block: the budget is spent
+      left -= double(take) * bcost[b];
+      progressed = take > 0;
+      if (take < bpixels[b]) {  // a partial block: the budget is spent
+        left = 0;
+        break;
+      }
     }
-    if (!progressed) break;  // cannot happen: cap_half >= extra_half
+    if (!progressed) break;
   }
   return out;
 }
@@ -259,9 +340,24 @@ RenderOutput renderAdaptive(Renderer& renderer, const CameraDesc& camera,
   const size_t pixels = size_t(w) * h;
   const auto estimate_start = Clock::now();
   const std::vector<float> error = estimateError(out, first, settings.jittered_aovs, params);
+  const std::vector<float> cost =
+      !params.time_budget || uniform ? std::vector<float>()
+      : params.cost_per_sample.size() == pixels ? params.cost_per_sample
+                                                : costPerSample(out.albedo_steps, params.cost_offset);
   const std::vector<uint32_t> extra =
       uniform ? std::vector<uint32_t>(pixels, extra_half)
-              : allocateExtraSamples(error, w, h, params.block, params.power, extra_half, cap_half);
+              : allocateExtraSamples(error, w, h, params.block, params.power, extra_half, cap_half,
+                                     cost);
+  if (!cost.empty()) {
+    double spent = 0, uniform_cost = 0, samples = 0;
+    for (size_t i = 0; i < pixels; ++i) {
+      spent += double(cost[i]) * extra[i];
+      uniform_cost += double(cost[i]) * extra_half;
+      samples += extra[i];
+    }
+    st.predicted_cost_ratio = uniform_cost > 0 ? spent / uniform_cost : 1;
+    st.sample_ratio = extra_half > 0 ? samples / (double(extra_half) * pixels) : 1;
+  }
   st.estimate_seconds = secondsSince(estimate_start);
 
   // Phase 2: rounds of at most per_round samples a pixel, half a then half b.
@@ -372,7 +468,12 @@ RenderOutput renderAdaptive(Renderer& renderer, const CameraDesc& camera,
   } else {
     out.color_sums.clear();
   }
-  out.samples_done = interrupted ? 2 * first_half : 2 * half;
+  // The mean count (a time budget's differs from spp).
+  uint64_t extra_total = 0;
+  for (size_t i = 0; i < pixels; ++i) extra_total += done[i];
+  out.samples_done =
+      interrupted ? 2 * first_half
+                  : 2 * (first_half + uint32_t((extra_total + pixels / 2) / std::max<size_t>(pixels, 1)));
   out.interrupted = interrupted;
   out.passes = a.passes + b.passes + 2 * st.rounds;
   out.seconds = secondsSince(start);

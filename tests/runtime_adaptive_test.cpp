@@ -45,6 +45,69 @@ TEST(AdaptiveAllocation, SpendsExactlyTheBudgetWithinTheCap) {
   for (uint32_t c : flat) EXPECT_EQ(c, 3u);
 }
 
+TEST(AdaptiveAllocation, TimeBudgetSpendsThePredictedCostWithinTheCap) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  for (uint32_t block : {1u, 4u, 8u})
+  for (uint32_t cap_half : {28u, 400u}) {
+    const uint32_t w = 37, h = 23;
+    const size_t pixels = size_t(w) * h;
+    std::vector<float> weight(pixels), cost(pixels);
+    // Noisy on the left; expensive at the top (15x), cheap below.
+    for (size_t i = 0; i < pixels; ++i) {
+      weight[i] = (i % w < 10 ? 50.0f : 0.01f) * u(rng);
+      cost[i] = (i / w < 8 ? 30.0f : 2.0f) + u(rng);
+    }
+    const uint32_t extra_half = 6;
+    const std::vector<uint32_t> extra =
+        allocateExtraSamples(weight, w, h, block, 0.5f, extra_half, cap_half, cost);
+    // The cost the counts predict, against a uniform extra_half's, with each
+    // block's cost the mean of its pixels' (what the allocation sees).
+    const uint32_t bw = (w + block - 1) / block;
+    std::vector<double> bsum(size_t(bw) * ((h + block - 1) / block), 0.0), bn(bsum.size(), 0.0);
+    for (size_t i = 0; i < pixels; ++i) {
+      const size_t b = (i / w / block) * bw + (i % w) / block;
+      bsum[b] += cost[i];
+      bn[b] += 1;
+    }
+    double spent = 0, budget = 0, most = 0;
+    for (size_t i = 0; i < pixels; ++i) {
+      const size_t b = (i / w / block) * bw + (i % w) / block;
+      const double c = bsum[b] / bn[b];
+      spent += c * extra[i];
+      budget += c * extra_half;
+      most = std::max(most, c);
+    }
+    EXPECT_LE(spent, budget * (1 + 1e-9)) << "block " << block;
+    EXPECT_GT(spent, budget - most) << "within one sample's cost, block " << block;
+    EXPECT_LE(*std::max_element(extra.begin(), extra.end()), cap_half);
+    // Cheap noisy pixels take more than expensive noisy ones: sqrt(12)x the
+    // samples without a cap (the cheap ones reach 28).
+    double cheap = 0, dear = 0;
+    for (uint32_t x = 0; x < 10; ++x) {
+      for (uint32_t y = 0; y < 8; ++y) dear += extra[size_t(y) * w + x];
+      for (uint32_t y = 15; y < 23; ++y) cheap += extra[size_t(y) * w + x];
+    }
+    if (cap_half > 28) EXPECT_GT(cheap, 2.5 * dear) << "block " << block;
+  }
+}
+
+TEST(AdaptiveAllocation, EqualCostsAreTheSamplesBudgetBitForBit) {
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  for (uint32_t block : {1u, 4u, 8u}) {
+    const uint32_t w = 41, h = 19;
+    std::vector<float> weight(size_t(w) * h);
+    for (float& v : weight) v = 10.0f * u(rng) * u(rng);
+    const std::vector<uint32_t> plain = allocateExtraSamples(weight, w, h, block, 0.5f, 5, 20);
+    for (float c : {1.0f, 3.7f, 1234.5f}) {
+      const std::vector<uint32_t> costed =
+          allocateExtraSamples(weight, w, h, block, 0.5f, 5, 20, std::vector<float>(weight.size(), c));
+      EXPECT_EQ(costed, plain) << "block " << block << " cost " << c;
+    }
+  }
+}
+
 TEST(RuntimeAdaptive, UniformAllocationIsTheNonAdaptiveRenderBitForBit) {
   const CompiledScene c = compileScene();
   VulkanContext context;
@@ -117,7 +180,8 @@ TEST(RuntimeAdaptive, CountsSumToTheBudgetAndConverge) {
       return sum / (3.0 * image.pixelCount());
     };
     std::vector<double> uniform_errors;
-    for (AdaptiveEstimate estimate : {AdaptiveEstimate::Uniform, AdaptiveEstimate::Variance, AdaptiveEstimate::Denoised}) {
+    for (AdaptiveEstimate estimate : {AdaptiveEstimate::Uniform, AdaptiveEstimate::Variance,
+                                      AdaptiveEstimate::Denoised, AdaptiveEstimate::Display}) {
       std::vector<double> errors;
       for (uint32_t spp : {8u, 64u, 512u}) {
         settings.spp = spp;
@@ -153,6 +217,61 @@ TEST(RuntimeAdaptive, CountsSumToTheBudgetAndConverge) {
       else
         for (size_t k = 0; k < errors.size(); ++k) EXPECT_LT(errors[k], uniform_errors[k]) << k;
     }
+  }
+  destroyContext(context);
+  EXPECT_EQ(validationMessageCount(), 0);
+}
+
+// The time budget through the renderer: a given cost per sample (the left half
+// 10x the right) moves samples right, spends the uniform extra phase's predicted
+// cost, and the mean count reported is the counts' own.
+TEST(RuntimeAdaptive, TimeBudgetSpendsTheUniformCost) {
+  const CompiledScene c = compileScene();
+  VulkanContext context;
+  createContext(context);
+  {
+    Renderer renderer(context, c);
+    RenderOverrides o;
+    o.width = 64;
+    o.height = 40;
+    o.seed = 11;
+    o.spp = 32;
+    RenderSettings settings = renderSettingsFor(c, o);
+    const size_t pixels = size_t(o.width.value()) * o.height.value();
+    AdaptiveParams params;
+    params.block = 4;
+    params.cap = 64;  // room for the cheap half's samples
+    SampleHalves plain_halves, halves;
+    AdaptiveStats plain_stats, stats;
+    const RenderOutput plain =
+        renderAdaptive(renderer, cameraFor(c.scene), settings, params, &plain_halves, &plain_stats);
+    params.time_budget = true;
+    params.cost_per_sample.resize(pixels);
+    for (size_t i = 0; i < pixels; ++i) params.cost_per_sample[i] = i % 64 < 32 ? 10.0f : 1.0f;
+    const RenderOutput out = renderAdaptive(renderer, cameraFor(c.scene), settings, params, &halves, &stats);
+    ASSERT_EQ(out.sample_counts.size(), pixels);
+    const uint32_t first = stats.first_spp;
+    // Extra samples in the dear (left) and cheap (right) halves, time and samples budget.
+    double spent = 0, budget = 0, samples = 0, left = 0, right = 0, plain_left = 0, plain_right = 0;
+    for (size_t i = 0; i < pixels; ++i) {
+      ASSERT_EQ(out.sample_counts[i] % 2, 0u);
+      ASSERT_GE(out.sample_counts[i], first);
+      ASSERT_LE(out.sample_counts[i], uint32_t(params.cap * first));
+      const double extra_half = (out.sample_counts[i] - first) / 2.0;
+      spent += params.cost_per_sample[i] * extra_half;
+      budget += params.cost_per_sample[i] * (settings.spp - first) / 2.0;
+      samples += out.sample_counts[i];
+      (i % 64 < 32 ? left : right) += out.sample_counts[i] - first;
+      (i % 64 < 32 ? plain_left : plain_right) += plain.sample_counts[i] - first;
+    }
+    EXPECT_LE(spent, budget);
+    EXPECT_GT(spent, budget - 10.0);  // less than one sample of the dearest pixel short
+    EXPECT_NEAR(stats.predicted_cost_ratio, spent / budget, 1e-9);
+    // n ~ sqrt(e / c): the cheap half's share grows by sqrt(10) (less where the cap binds).
+    EXPECT_GT(right / left, 2.5 * (plain_right / plain_left));
+    EXPECT_GT(stats.sample_ratio, 1.0) << "half the image cheap: the same cost buys more samples";
+    EXPECT_EQ(out.samples_done, 2 * std::lround(samples / pixels / 2));
+    EXPECT_EQ(halves.samples_a, out.samples_done / 2);
   }
   destroyContext(context);
   EXPECT_EQ(validationMessageCount(), 0);
