@@ -480,16 +480,7 @@ RenderOutput renderAdaptive(Renderer& renderer, const CameraDesc& camera,
   halves->a = std::move(a.color);
   halves->b = std::move(b.color);
   halves->samples_a = halves->samples_b = out.samples_done / 2;
-  if (progress) {
-    ProgressInfo info;
-    info.samples_done = out.samples_done;
-    info.samples_total = n;
-    info.passes_done = out.passes;
-    info.elapsed_seconds = out.seconds;
-    info.eta_seconds = 0;
-    info.finished = true;
-    progress(info);
-  }
+  reportFinished(progress, out.samples_done, n, out.passes, out.seconds);
   return out;
 }
 

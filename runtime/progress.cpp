@@ -75,4 +75,17 @@ const std::atomic<bool>* installInterruptHandler() {
   return &g_interrupted;
 }
 
+void reportFinished(const ProgressCallback& progress, uint32_t samples_done, uint32_t samples_total,
+                    uint32_t passes_done, double elapsed_seconds) {
+  if (!progress) return;
+  ProgressInfo info;
+  info.samples_done = samples_done;
+  info.samples_total = samples_total;
+  info.passes_done = passes_done;
+  info.elapsed_seconds = elapsed_seconds;
+  info.eta_seconds = 0;
+  info.finished = true;
+  progress(info);
+}
+
 }  // namespace sdfc

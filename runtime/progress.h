@@ -19,6 +19,10 @@ struct ProgressInfo {
 // Called by the renderer after every pass, on the rendering thread.
 using ProgressCallback = std::function<void(const ProgressInfo&)>;
 
+// The last call of a render (finished, ETA 0); nothing when `progress` is empty.
+void reportFinished(const ProgressCallback& progress, uint32_t samples_done, uint32_t samples_total,
+                    uint32_t passes_done, double elapsed_seconds);
+
 // A progress reporter on stderr: a redrawn bar with ETA when stderr is a
 // terminal, otherwise one plain line per pass (at most ~1 per second, plus the last).
 ProgressCallback makeTerminalProgress(const char* label = "render");

@@ -378,16 +378,7 @@ RenderOutput Renderer::render(const CameraDesc& camera, const RenderSettings& se
   out.samples_done = acc.samples_done;
   out.passes = acc.passes;
   out.seconds = secondsSince(start);
-  if (progress) {
-    ProgressInfo info;
-    info.samples_done = out.samples_done;
-    info.samples_total = total;
-    info.passes_done = out.passes;
-    info.elapsed_seconds = out.seconds;
-    info.eta_seconds = 0;
-    info.finished = true;
-    progress(info);
-  }
+  reportFinished(progress, out.samples_done, total, out.passes, out.seconds);
   return out;
 }
 

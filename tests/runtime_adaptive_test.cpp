@@ -88,7 +88,9 @@ TEST(AdaptiveAllocation, TimeBudgetSpendsThePredictedCostWithinTheCap) {
       for (uint32_t y = 0; y < 8; ++y) dear += extra[size_t(y) * w + x];
       for (uint32_t y = 15; y < 23; ++y) cheap += extra[size_t(y) * w + x];
     }
-    if (cap_half > 28) EXPECT_GT(cheap, 2.5 * dear) << "block " << block;
+    if (cap_half > 28) {
+      EXPECT_GT(cheap, 2.5 * dear) << "block " << block;
+    }
   }
 }
 
