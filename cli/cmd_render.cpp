@@ -47,6 +47,31 @@ LoadedScene compileForDevice(const CommandLine& cl, const VulkanContext& context
   return loadScene(cl, diags, true, true, options, true);
 }
 
+namespace {
+
+// --adaptive-budget time, --adaptive-cost iterations: the kernel's own loop-iteration
+// count of one sample per pixel at half size, as a cost per sample at the render's
+// size (iterationsCost). Its compile, pipeline and pass are part of the render's time.
+int iterationsCostPass(const CommandLine& cl, const VulkanContext& context, const RenderOverrides& o,
+                       const RenderSettings& settings, const CameraDesc& camera,
+                       std::vector<float>& cost) {
+  CommandLine iterations_cl = cl;
+  iterations_cl.view = "iterations";
+  RenderOverrides io = o;
+  io.view = gpu::kViewIterations;
+  io.width = std::max<uint32_t>(1, settings.width / 2);
+  io.height = std::max<uint32_t>(1, settings.height / 2);
+  LoadedScene scene = compileForDevice(iterations_cl, context, io);
+  if (scene.exit_code != kExitOk) return scene.exit_code;
+  Renderer renderer(context, scene.compiled);
+  RenderSettings is = renderSettingsFor(scene.compiled, io);
+  is.spp = 1;
+  cost = iterationsCost(renderer.render(camera, is).color, settings.width, settings.height);
+  return kExitOk;
+}
+
+}  // namespace
+
 int runRender(const CommandLine& cl) {
   RenderOverrides o;
   if (!cl.size.empty()) {
@@ -158,22 +183,10 @@ int runRender(const CommandLine& cl) {
       params.cost_offset = cl.adaptive_cost_offset;
       if (params.time_budget && cl.adaptive_cost == "iterations") {
         const auto cost_start = std::chrono::steady_clock::now();
-        // The kernel's own loop-iteration count of one sample at half size (its
-        // compile, pipeline and pass are part of the render's time).
-        CommandLine iterations_cl = cl;
-        iterations_cl.view = "iterations";
-        RenderOverrides io = o;
-        io.view = gpu::kViewIterations;
-        io.width = std::max<uint32_t>(1, settings.width / 2);
-        io.height = std::max<uint32_t>(1, settings.height / 2);
-        LoadedScene iterations_scene = compileForDevice(iterations_cl, context, io);
-        if (iterations_scene.exit_code != kExitOk) return iterations_scene.exit_code;
-        Renderer iterations_renderer(context, iterations_scene.compiled);
-        RenderSettings is = renderSettingsFor(iterations_scene.compiled, io);
-        is.spp = 1;
-        const RenderOutput it = iterations_renderer.render(cameraFor(compiled.scene), is);
-        params.cost_per_sample = iterationsCost(it.color, settings.width, settings.height);
-        cost_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - cost_start).count();
+        const int code = iterationsCostPass(cl, context, o, settings, cameraFor(compiled.scene),
+                                            params.cost_per_sample);
+        if (code != kExitOk) return code;
+        cost_seconds = secondsSince(cost_start);
       }
       out = renderAdaptive(renderer, cameraFor(compiled.scene), settings, params, &halves,
                            &adaptive_stats, progress, interrupt);

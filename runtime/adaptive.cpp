@@ -7,15 +7,12 @@
 
 #include "denoise_features.h"
 #include "denoise_nlm.h"
+#include "image_io.h"
 
 namespace sdfc {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-double secondsSince(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
 
 // relMSE's denominator: a pixel's squared error relative to its value.
 constexpr float kRelativeFloor = 0.01f;
@@ -49,10 +46,8 @@ std::vector<float> estimateError(const RenderOutput& merged, const SampleHalves&
   if (params.estimate == AdaptiveEstimate::Uniform) return std::vector<float>(pixels, 1.0f);
   if (params.estimate == AdaptiveEstimate::Display) {
     // What an LDR metric sees: noise above white or deep in the dark costs little.
-    auto shown = [](float v) {
-      const float c = std::clamp(std::isfinite(v) ? v : 0.0f, 0.0f, 1.0f);
-      return c <= 0.0031308f ? 12.92f * c : 1.055f * std::pow(c, 1.0f / 2.4f) - 0.055f;
-    };
+    // srgbEncode maps NaN and values <= 0 to 0.
+    auto shown = [](float v) { return srgbEncode(std::min(v, 1.0f)); };
     std::vector<float> e(pixels);
     for (size_t i = 0; i < pixels; ++i) {
       float sum = 0;
@@ -439,7 +434,9 @@ RenderOutput renderAdaptive(Renderer& renderer, const CameraDesc& camera,
   // Per-pixel means: each half over its own count, the merge over both.
   out.sample_counts.resize(pixels);
   FloatImage& color = out.color;
+  uint64_t extra_total = 0;  // the mean count (a time budget's differs from spp)
   for (size_t i = 0; i < pixels; ++i) {
+    extra_total += done[i];
     const uint32_t per_half = first_half + done[i];
     out.sample_counts[i] = 2 * per_half;
     st.max_spp = std::max(st.max_spp, 2 * per_half);
@@ -468,9 +465,6 @@ RenderOutput renderAdaptive(Renderer& renderer, const CameraDesc& camera,
   } else {
     out.color_sums.clear();
   }
-  // The mean count (a time budget's differs from spp).
-  uint64_t extra_total = 0;
-  for (size_t i = 0; i < pixels; ++i) extra_total += done[i];
   out.samples_done =
       interrupted ? 2 * first_half
                   : 2 * (first_half + uint32_t((extra_total + pixels / 2) / std::max<size_t>(pixels, 1)));

@@ -75,6 +75,10 @@ const std::atomic<bool>* installInterruptHandler() {
   return &g_interrupted;
 }
 
+double secondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
 void reportFinished(const ProgressCallback& progress, uint32_t samples_done, uint32_t samples_total,
                     uint32_t passes_done, double elapsed_seconds) {
   if (!progress) return;

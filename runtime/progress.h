@@ -1,6 +1,7 @@
 // Render progress reporting and Ctrl-C handling.
 #pragma once
 #include <atomic>
+#include <chrono>
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -18,6 +19,9 @@ struct ProgressInfo {
 
 // Called by the renderer after every pass, on the rendering thread.
 using ProgressCallback = std::function<void(const ProgressInfo&)>;
+
+// Wall seconds since `start` (steady clock).
+double secondsSince(std::chrono::steady_clock::time_point start);
 
 // The last call of a render (finished, ETA 0); nothing when `progress` is empty.
 void reportFinished(const ProgressCallback& progress, uint32_t samples_done, uint32_t samples_total,

@@ -364,12 +364,11 @@ void runPass(const VulkanContext& context, const RenderPipeline& pipeline, Rende
   PassDraw draw;
   draw.rect = {{0, 0}, {target.width, rows}};
   std::memcpy(&draw.params, push_constants, sizeof(gpu::FrameParams));
-  runPass(context, pipeline, target, std::vector<PassDraw>{draw}, timeout_seconds, rows,
-          readback_count);
+  runPass(context, pipeline, target, &draw, 1, timeout_seconds, rows, readback_count);
 }
 
 void runPass(const VulkanContext& context, const RenderPipeline& pipeline, RenderTarget& target,
-             const std::vector<PassDraw>& draws, double timeout_seconds, uint32_t rows,
+             const PassDraw* draws, size_t draw_count, double timeout_seconds, uint32_t rows,
              uint32_t readback_count) {
   if (rows == 0 || rows > target.height) rows = target.height;
   readback_count = std::min(readback_count, kAttachmentCount);
@@ -399,7 +398,8 @@ void runPass(const VulkanContext& context, const RenderPipeline& pipeline, Rende
                             &pipeline.descriptor_set, 0, nullptr);
   const VkViewport viewport{0, 0, float(target.width), float(target.height), 0, 1};
   vkCmdSetViewport(cmd, 0, 1, &viewport);
-  for (const PassDraw& draw : draws) {
+  for (size_t i = 0; i < draw_count; ++i) {
+    const PassDraw& draw = draws[i];
     vkCmdSetScissor(cmd, 0, 1, &draw.rect);
     vkCmdPushConstants(cmd, pipeline.layout, VK_SHADER_STAGE_FRAGMENT_BIT, 0,
                        sizeof(gpu::FrameParams), &draw.params);

@@ -79,7 +79,7 @@ struct PassDraw {
 // sampling: per-block sample counts without a kernel change). Pixels no rect covers
 // are undefined in the readback.
 void runPass(const VulkanContext& context, const RenderPipeline& pipeline, RenderTarget& target,
-             const std::vector<PassDraw>& draws, double timeout_seconds, uint32_t rows = 0,
+             const PassDraw* draws, size_t draw_count, double timeout_seconds, uint32_t rows = 0,
              uint32_t readback_count = kAttachmentCount);
 
 }  // namespace sdfc

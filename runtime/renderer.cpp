@@ -13,10 +13,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-double secondsSince(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
-
 void copyImage(const float* source, uint32_t width, uint32_t height, FloatImage& out) {
   out.width = width;
   out.height = height;
@@ -122,7 +118,7 @@ const float* Renderer::runDraws(uint32_t width, uint32_t target_rows, uint32_t r
                                 const std::vector<PassDraw>& draws, double timeout_seconds,
                                 uint32_t readback_count) {
   ensureTarget(width, target_rows);
-  runPass(context_, pipeline_, target_, draws, timeout_seconds, rows, readback_count);
+  runPass(context_, pipeline_, target_, draws.data(), draws.size(), timeout_seconds, rows, readback_count);
   return target_.mapped;
 }
 

@@ -620,7 +620,7 @@ class SceneWriter {
       // radius: the nearest centre's squared distance, one square root after
       // (sqrt is monotonic and correctly rounded: the same value as the
       // minimum of the lengths); the ray hit shares q.q.
-      g.code << "  float r = " << glslFloat(n.children[0]->args[0].value) << ", qq_min = 1e30;\n";
+      g.code << "  float r = " << sphereCloudRadius(n) << ", qq_min = 1e30;\n";
       for (int k = 0; k < ir::kGridListMax; ++k) {
         g.code << "  {\n" << countEvent(kEventEntries, "  ");
         g.code << "    vec3 q = p + sd_data[" << ge << " + first + " << k << "].xyz;\n";
@@ -710,10 +710,8 @@ class SceneWriter {
     } else {
       g.code << "  if (count <= 0 || count > " << visits << ") return false;\n";
     }
-    g.code << "  float r = " << glslFloat(n.children[0]->args[0].value) << ";\n";
+    g.code << "  float r = " << sphereCloudRadius(n) << ";\n";
     g.code << "  field = 1e30;\n  vec3 q_near = vec3(0.0, 1.0, 0.0);\n";
-    const std::string body = "    float d = length(q) - r;\n"
-                             "    if (d < field) {\n      field = d;\n      q_near = q;\n    }\n  }\n";
     if (l.grid_slots) {
       // kGridListMax fixed slots in straight-line code (padded lists); the
       // nearest by squared distance, one square root after.
@@ -727,7 +725,8 @@ class SceneWriter {
       g.code << "  for (int it = loopZero(); it < count; it++) {\n    g_loop_iterations++;\n";
       g.code << countEvent(kEventEntries, "  ");
       g.code << "    int e = first + it;\n    vec3 q = p + sd_data[" << listedRecord(l) << "].xyz;\n";
-      g.code << body;
+      g.code << "    float d = length(q) - r;\n";
+      g.code << "    if (d < field) {\n      field = d;\n      q_near = q;\n    }\n  }\n";
     }
     g.code << "  float len = length(q_near);\n";
     g.code << "  normal = len > 0.0 ? q_near / len : vec3(0.0, 1.0, 0.0);\n  return true;\n}\n";
@@ -740,6 +739,9 @@ class SceneWriter {
     return !l.affine && n.instances->param_count == 0 && templ.kind == ir::NodeKind::Primitive &&
            templ.primitive == PrimitiveKind::Sphere && !templ.args.empty() && templ.args[0].isConst();
   }
+
+  // A sphere cloud's constant radius as a GLSL literal.
+  static std::string sphereCloudRadius(const ir::Node& n) { return glslFloat(n.children[0]->args[0].value); }
 
   // The sphere cloud's nearest sphere to p through the hierarchy, nearest
   // first: a sphere of radius r boxed by B has distance >= dist(p, B) - r
@@ -759,7 +761,7 @@ class SceneWriter {
     };
     Function g;
     g.code << "bool " << name << "(vec3 p, out vec3 normal, out float field) {\n";
-    g.code << "  float r = " << glslFloat(n.children[0]->args[0].value) << ";\n";
+    g.code << "  float r = " << sphereCloudRadius(n) << ";\n";
     g.code << "  field = 1e30;\n  vec3 q_near = vec3(0.0);\n";
     g.code << "  int sn[" << stack << "];\n  float sd[" << stack << "];\n";
     g.code << "  sn[0] = 0;\n  sd[0] = " << box("0") << ";\n  int sp = 1;\n";
@@ -793,14 +795,13 @@ class SceneWriter {
   // (0 inside, 1e30 if it misses), for sets of one constant sphere placed by
   // offsets; else "" and the caller bounds the hit by the distance.
   std::string rayHitFunction(const ir::Node& n, const InstanceLayout& l, const std::string& one) {
-    const ir::Node& templ = *n.children[0];
     if (!sphereCloud(n, l)) return "";
     const std::string name = one + "_ray";
     if (!helper_names_.insert(name).second) return name;
     Function g;
     g.code << "float " << name << "(vec3 p, vec3 rd, int rec) {\n";
     g.code << "  vec3 q = p + sd_data[rec].xyz;\n";
-    g.code << "  float r = " << glslFloat(templ.args[0].value) << ";\n";
+    g.code << "  float r = " << sphereCloudRadius(n) << ";\n";
     g.code << "  float b = dot(q, rd), c = dot(q, q) - r * r, h = b * b - c;\n";
     g.code << "  if (c <= 0.0) return 0.0;\n  if (b >= 0.0 || h < 0.0) return 1e30;\n";
     g.code << "  // The near root c / (-b + sqrt(h)): no cancellation (b < 0).\n";
