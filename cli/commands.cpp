@@ -81,8 +81,9 @@ void registerCommands(CLI::App& app, CommandLine& cl) {
       ->check(CLI::IsMember({"none", "bilateral", "atrous", "svgf", "nlm", "nlr"}));
   render->add_option("--denoise-aovs", cl.denoise_aovs,
                      "features of svgf, nlm, nlr: auto (jittered for nlr) | jittered (means over "
-                     "the samples) | centre (one unjittered ray)")
-      ->check(CLI::IsMember({"auto", "jittered", "centre"}));
+                     "the samples) | specular (jittered, through specular first hits) | centre "
+                     "(one unjittered ray)")
+      ->check(CLI::IsMember({"auto", "jittered", "specular", "centre"}));
   render->add_option("--denoise-select", cl.denoise_select,
                      "nlm, nlr: colour strengths of the last pass, e.g. 0.7,1.25,2.5; each pixel "
                      "takes the one of least error estimated against the other half (docs/denoise.md)")
