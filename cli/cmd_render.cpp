@@ -168,7 +168,9 @@ int runRender(const CommandLine& cl) {
         (cl.denoise_aovs == "jittered" || cl.denoise_aovs == "specular" ||
          (cl.denoise_aovs == "auto" && wantsJitteredAovs(*denoiser)));
     // Through specular first hits (docs/denoise.md).
-    settings.specular_aovs = settings.jittered_aovs && cl.denoise_aovs == "specular";
+    settings.specular_aovs =
+        settings.jittered_aovs &&
+        (cl.denoise_aovs == "specular" || (cl.denoise_aovs == "auto" && wantsSpecularAovs(*denoiser)));
     AdaptiveStats adaptive_stats;
     RenderOutput out;
     if (adaptive) {
