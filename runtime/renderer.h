@@ -28,6 +28,7 @@
 #include "render_pipeline.h"
 #include "sample_sum.h"
 #include "shader_interface.h"
+#include "vulkan_context.h"
 
 namespace sdfc::gpu {
 // FrameParams::skip_aov_ray: jittered AOVs through specular first hits. Only the
@@ -36,7 +37,6 @@ namespace sdfc::gpu {
 // kernel holds verbatim.
 inline constexpr uint32_t kAovSpecular = 3;
 }  // namespace sdfc::gpu
-#include "vulkan_context.h"
 
 namespace sdfc {
 
