@@ -700,7 +700,8 @@ const float kAovSpecularRoughness = 0.1;
 
 // Whether a vertex of material m passes the features on to the next vertex.
 bool aovThroughSpecular(Material m) {
-  return m.model == MAT_MIRROR || m.model == MAT_GLASS || (m.model == MAT_METAL && m.roughness <= kAovSpecularRoughness);
+  return m.model == MAT_MIRROR || m.model == MAT_GLASS ||
+         (m.model == MAT_METAL && m.roughness <= kAovSpecularRoughness);
 }
 
 // Next-event estimation: with a light and a material that has a smooth lobe.
