@@ -70,9 +70,12 @@ def regions(sdfc, scene, size, work, env):
 
 def denoise_args(spec):
     """`nlr` -> --denoise nlr; `nlr:0.7,1.25,2.5` also --denoise-select 0.7,1.25,2.5
-    (per-pixel choice among those last-pass strengths, docs/denoise.md)."""
+    (per-pixel choice among those last-pass strengths, docs/denoise.md); a `/aovs`
+    suffix picks the features: `nlr/specular` -> --denoise-aovs specular."""
+    spec, _, aovs = spec.partition("/")
     name, _, select = spec.partition(":")
-    return ["--denoise", name] + (["--denoise-select", select] if select else [])
+    return (["--denoise", name] + (["--denoise-select", select] if select else [])
+            + (["--denoise-aovs", aovs] if aovs else []))
 
 
 def breakdown(img, ref, sky, edge):

@@ -543,6 +543,25 @@ vec3 g_aov_normal = vec3(0.0);
 float g_aov_dist = -1.0;
 vec3 g_aov_albedo = vec3(0.0);
 int g_aov_steps = 0;
+#if defined(SDFC_HAS_MIRROR) || defined(SDFC_HAS_GLASS) || defined(SDFC_HAS_METAL)
+
+// FrameParams::skip_aov_ray == kAovSpecular (runtime/renderer.h, gpu::kAovSpecular):
+// as kAovJittered, but where a sample's first hit is specular the features are
+// those of the first non-specular vertex along the path it took, at most
+// kAovSpecularDepth specular vertices deep (docs/denoise.md, "through specular
+// bounces"): the reflected or refracted surface is what the colour shows.
+const uint kAovSpecular = 3u;
+const int kAovSpecularDepth = 3;
+// GGX metal at most this rough passes the features on: its reflection lobe
+// (about 2 alpha wide) still shows the reflected surface, not a blur of it.
+const float kAovSpecularRoughness = 0.1;
+
+// Whether a vertex of material m passes the features on to the next vertex.
+bool aovThroughSpecular(Material m) {
+  return m.model == MAT_MIRROR || m.model == MAT_GLASS ||
+         (m.model == MAT_METAL && m.roughness <= kAovSpecularRoughness);
+}
+#endif
 
 // Next-event estimation: with a light and a material that has a smooth lobe.
 #if defined(SDFC_HAS_SUN) || defined(SDFC_HAS_SPHERE_LIGHTS)
@@ -590,6 +609,13 @@ vec3 tracePath(vec3 ro, vec3 rd, int max_bounces, bool record_aov) {
   vec3 shadow_origin = vec3(0.0), shadow_dir = vec3(0.0), shadow_radiance = vec3(0.0);
   float shadow_dist = -1.0;
   const int light_samples = kNextEvent ? int(frame.light_samples) : 0;
+#if defined(SDFC_HAS_MIRROR) || defined(SDFC_HAS_GLASS) || defined(SDFC_HAS_METAL)
+  // kAovSpecular: true while the path has met only specular vertices; the
+  // features then follow it, their albedo tinted by its throughput, their
+  // distance the length of the path (a plane mirror's virtual image's depth).
+  bool aov_follow = record_aov && frame.skip_aov_ray == kAovSpecular;
+  float aov_path = 0.0;
+#endif
   for (int it = loopZero(); it < max_bounces + 1 + max_bounces * light_samples; it++) {
     g_loop_iterations++;
     int steps;
@@ -616,6 +642,13 @@ vec3 tracePath(vec3 ro, vec3 rd, int max_bounces, bool record_aov) {
           g_aov_dist = t_light;
           g_aov_steps = steps;
         }
+#if defined(SDFC_HAS_MIRROR) || defined(SDFC_HAS_GLASS) || defined(SDFC_HAS_METAL)
+        if (aov_follow && depth > 0) {
+          g_aov_normal = normalize(ro + rd * t_light - kSphereLights[light_hit].xyz);
+          g_aov_dist = aov_path + t_light;
+          g_aov_albedo = vec3(0.0);  // as a light seen directly
+        }
+#endif
         radiance += throughput * kSphereLightRadiance[light_hit] *
                     misBsdfWeight(prev_pdf, lightPdf(kSunLights + light_hit, prev_pos));
         break;
@@ -655,6 +688,17 @@ vec3 tracePath(vec3 ro, vec3 rd, int max_bounces, bool record_aov) {
         g_aov_albedo = m.albedo;
         g_aov_steps = steps;
       }
+#if defined(SDFC_HAS_MIRROR) || defined(SDFC_HAS_GLASS) || defined(SDFC_HAS_METAL)
+      if (aov_follow) {
+        aov_path += t;
+        if (depth > 0) {
+          g_aov_normal = n;
+          g_aov_dist = aov_path;
+          g_aov_albedo = throughput * m.albedo;
+        }
+        aov_follow = depth < kAovSpecularDepth && aovThroughSpecular(m);
+      }
+#endif
       radiance += throughput * m.emission;  // emitters found by BSDF sampling: weight 1
       if (depth >= max_bounces || m.model == MAT_EMISSIVE) break;
 
@@ -814,7 +858,11 @@ void main() {
   // kAovJittered: every sample records its first hit and the AOVs are their
   // means (misses count as 0; coverage = hit fraction), as the colour is
   // antialiased over the same jittered rays (docs/denoise.md).
+#if defined(SDFC_HAS_MIRROR) || defined(SDFC_HAS_GLASS) || defined(SDFC_HAS_METAL)
+  bool jittered = frame.skip_aov_ray == kAovJittered || frame.skip_aov_ray == kAovSpecular;
+#else
   bool jittered = frame.skip_aov_ray == kAovJittered;
+#endif
   vec4 aov_nd = vec4(0.0), aov_as = vec4(0.0);
   float coverage = 0.0;
   // s = -1 is the unjittered primary ray for the AOVs (pass-split independent;
