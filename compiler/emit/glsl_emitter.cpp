@@ -253,6 +253,11 @@ class SceneWriter {
              "// go from p with no surface (0: no more than the distance).\n";
       out << "// g_ray_met: a sphere's surface lies exactly at g_ray_skip (its analytic hit).\n";
       out << "vec3 g_ray_dir = vec3(0.0);\nfloat g_ray_skip = 0.0;\nbool g_ray_met = false;\n";
+      if (has_sphere_hit_) {
+        out << "// g_ray_met_slot: that sphere's slot; g_hit_sphere: the slot of the sphere the\n"
+               "// last march() ended on by its analytic hit, or -1 (sdRootSphereNormal).\n";
+        out << "int g_ray_met_slot = -1;\nint g_hit_sphere = -1;\n";
+      }
     }
     out << "\n// ---- scene helpers and primitives (only those the scene uses) ----\n";
     out << helpers_.str();
@@ -293,6 +298,7 @@ class SceneWriter {
   const ir::Node* ray_skip_set_ = nullptr;
   bool has_sphere_normals_ = false;  // sdRootSphereNormal was emitted
   bool has_sphere_material_ = false;  // and kRootSphereMaterial: the scene has one material
+  bool has_sphere_hit_ = false;  // march() keeps the slot of a met sphere (g_hit_sphere)
 
   // A top-level sphere with constant radius, bare or under one Affine that is
   // a similarity (scale * linear orthonormal), of a non-emissive material in a
@@ -381,6 +387,7 @@ class SceneWriter {
   bool hasRaySkip() const { return ray_skip_set_ != nullptr; }
   bool hasSphereNormals() const { return has_sphere_normals_; }
   bool hasSphereMaterial() const { return has_sphere_material_; }
+  bool hasSphereHit() const { return has_sphere_hit_; }
 
  private:
   std::map<std::pair<const ir::Node*, bool>, std::string> node_functions_;
@@ -627,7 +634,8 @@ class SceneWriter {
         g.code << "    float qq = dot(q, q), b = dot(q, rd), c = qq - r * r, h = b * b - c;\n";
         g.code << "    qq_min = min(qq_min, qq);\n";
         g.code << "    float th = c <= 0.0 ? 0.0 : (b >= 0.0 || h < 0.0 ? 1e30 : c / (sqrt(h) - b));\n";
-        g.code << "    if (th < skip) {\n      skip = th;\n      g_ray_met = th > 0.0;\n    }\n  }\n";
+        g.code << "    if (th < skip) {\n      skip = th;\n      g_ray_met = th > 0.0;\n      g_ray_met_slot = first + "
+               << k << ";\n    }\n  }\n";
       }
       g.code << "  best = min(best, sqrt(qq_min) - r);\n";
       g.code << "  g_ray_skip = skip;\n  return best;\n}\n";
@@ -695,6 +703,16 @@ class SceneWriter {
     const std::string gh = std::to_string(l.grid_header), gc = std::to_string(l.grid_cells);
     Function g;
     g.code << "bool sdRootSphereNormal(vec3 p, out vec3 normal, out float field) {\n";
+    if (l.grid_slots) {
+      // The march ended on this sphere's analytic hit (the first hit, so no
+      // sphere is nearer than its surface at p): its radial direction, the
+      // same arithmetic as the slots below, with no lookup.
+      has_sphere_hit_ = true;
+      g.code << "  if (g_hit_sphere >= 0) {\n    vec3 q_near = p + sd_data[" << l.grid_entries
+             << " + g_hit_sphere].xyz;\n    field = sqrt(dot(q_near, q_near)) - " << sphereCloudRadius(n)
+             << ";\n    float len = length(q_near);\n"
+             << "    normal = len > 0.0 ? q_near / len : vec3(0.0, 1.0, 0.0);\n    return true;\n  }\n";
+    }
     g.code << "  vec4 g0 = sd_data[" << gh << "], g1 = sd_data[" << gh << " + 1];\n";
     g.code << "  if (any(lessThan(p, g0.xyz)) || any(greaterThan(p, g0.xyz + g1.xyz * g0.w))) return false;\n";
     g.code << "  ivec3 dims = ivec3(g1.xyz);\n";
@@ -1408,6 +1426,7 @@ EmitResult emitGlsl(const ir::Scene& scene, const EmitOptions& options) {
   if (writer.hasRaySkip()) result.stats.features.insert("SDFC_HAS_RAY_SKIP");
   if (writer.hasSphereNormals()) result.stats.features.insert("SDFC_HAS_SPHERE_NORMALS");
   if (writer.hasSphereMaterial()) result.stats.features.insert("SDFC_HAS_SPHERE_MATERIAL");
+  if (writer.hasSphereHit()) result.stats.features.insert("SDFC_HAS_SPHERE_HIT");
   int count_kind = 0, count_quantity = 0;
   if (options.with_kernel && countEventFromName(options.count_event, count_kind, count_quantity))
     result.stats.features.insert("SDFC_COUNT_EVENTS");

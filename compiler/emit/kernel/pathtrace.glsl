@@ -50,6 +50,9 @@ int g_plane_hit = -1;
 // |distance| at the point the last march() returned: how far it may lie off the surface.
 float g_hit_offness = 0.0;
 float march(vec3 ro, vec3 rd, float t_max, float side, out int steps) {
+#ifdef SDFC_HAS_SPHERE_HIT
+  g_hit_sphere = -1;
+#endif
 #ifdef SDFC_HAS_PLANES
   // Analytic planes and spheres are not in sdScene: intersect them here and
   // march no farther.
@@ -216,6 +219,9 @@ float march(vec3 ro, vec3 rd, float t_max, float side, out int steps) {
     if (t_stop < 0.0 && side > 0.0 && g_ray_met && t + g_ray_skip <= t_max) {
       t_hit = t + g_ray_skip;
       d_hit = 0.0;
+#ifdef SDFC_HAS_SPHERE_HIT
+      g_hit_sphere = g_ray_met_slot;  // its slot: surfaceNormal needs no lookup
+#endif
       break;
     }
     // The root grid's ray skip (docs/large_scenes.md), where longer, is safe
