@@ -141,7 +141,7 @@ void collectSets(const ir::NodeRef& n, std::vector<const ir::Node*>& out) {
 // float64) against brute force over every instance: never above it, and equal
 // wherever the nearest instance is within the cell's reach.
 TEST(Instances, GridBoundIsALowerBoundAndExactWithinReach) {
-  for (const std::string& text : {mixedScene(), denseCloud()}) {
+  for (const std::string& text : {mixedScene(), denseCloud(), denseCloud(600, 0.2)}) {
     const CompiledScene c = checked(text, 32);
     std::vector<const ir::Node*> sets;
     collectSets(c.scene.root, sets);
