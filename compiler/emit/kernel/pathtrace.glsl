@@ -50,6 +50,9 @@ int g_plane_hit = -1;
 // |distance| at the point the last march() returned: how far it may lie off the surface.
 float g_hit_offness = 0.0;
 float march(vec3 ro, vec3 rd, float t_max, float side, out int steps) {
+#ifdef SDFC_HAS_SPHERE_HIT
+  g_hit_sphere = -1;
+#endif
 #ifdef SDFC_HAS_PLANES
   // Analytic planes and spheres are not in sdScene: intersect them here and
   // march no farther.
@@ -101,6 +104,9 @@ float march(vec3 ro, vec3 rd, float t_max, float side, out int steps) {
 #ifdef SDFC_HAS_RAY_SKIP
     g_ray_skip = 0.0;
     g_ray_met = false;
+#endif
+#ifdef SDFC_HAS_SPHERE_HIT
+    g_ray_any = 1e30;
 #endif
     float d = side * sdScene(ro + rd * t);
     if (i > 0) slope = (d - d_prev) / max(t - t_prev, 1e-30);
@@ -216,8 +222,20 @@ float march(vec3 ro, vec3 rd, float t_max, float side, out int steps) {
     if (t_stop < 0.0 && side > 0.0 && g_ray_met && t + g_ray_skip <= t_max) {
       t_hit = t + g_ray_skip;
       d_hit = 0.0;
+#ifdef SDFC_HAS_SPHERE_HIT
+      g_hit_sphere = g_ray_met_slot;  // its slot: surfaceNormal needs no lookup
+#endif
       break;
     }
+#ifdef SDFC_HAS_SPHERE_HIT
+    // A shadow ray needs any hit, not the first: a listed sphere met short of
+    // t_max blocks it, however far past the cell it lies.
+    if (g_ray_any_hit && t_stop < 0.0 && side > 0.0 && t + g_ray_any <= t_max) {
+      t_hit = t + g_ray_any;
+      d_hit = 0.0;
+      break;
+    }
+#endif
     // The root grid's ray skip (docs/large_scenes.md), where longer, is safe
     // by itself: no overlap check after it, and it may pass t_max. Inside
     // solids (side < 0) it does not apply.
@@ -624,8 +642,14 @@ vec3 tracePath(vec3 ro, vec3 rd, int max_bounces, bool record_aov) {
     g_event_kind = max_bounces == 0 ? -1 : (shadow_ray ? 2 : (depth == 0 ? 0 : 1));
     if (!shadow_ray || shadow_valid) countEvent(0);
 #endif
+#ifdef SDFC_HAS_SPHERE_HIT
+    g_ray_any_hit = shadow_ray;
+#endif
     float t = march(shadow_ray ? shadow_origin : ro, shadow_ray ? shadow_dir : rd,
                     shadow_ray ? (shadow_valid ? shadow_dist : -1.0) : 3.0e38, shadow_ray ? 1.0 : side, steps);
+#ifdef SDFC_HAS_SPHERE_HIT
+    g_ray_any_hit = false;
+#endif
 #ifdef SDFC_COUNT_EVENTS
     if (t >= 0.0) countEvent(5);
 #endif
