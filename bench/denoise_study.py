@@ -70,12 +70,14 @@ def regions(sdfc, scene, size, work, env):
 
 def denoise_args(spec):
     """`nlr` -> --denoise nlr; `nlr:0.7,1.25,2.5` also --denoise-select 0.7,1.25,2.5
-    (per-pixel choice among those last-pass strengths, docs/denoise.md); a
+    (per-pixel choice among those last-pass strengths, docs/denoise.md); a `/aovs`
+    suffix picks the features: `nlr/specular` -> --denoise-aovs specular; a
     trailing `+a` adds --adaptive (docs/adaptive.md, its default options)."""
     spec, adaptive, _ = spec.partition("+a")
+    spec, _, aovs = spec.partition("/")
     name, _, select = spec.partition(":")
-    return ["--denoise", name] + (["--denoise-select", select] if select else []) + \
-        (["--adaptive"] if adaptive else [])
+    return (["--denoise", name] + (["--denoise-select", select] if select else [])
+            + (["--denoise-aovs", aovs] if aovs else []) + (["--adaptive"] if adaptive else []))
 
 
 def breakdown(img, ref, sky, edge):

@@ -165,7 +165,12 @@ int runRender(const CommandLine& cl) {
     // (docs/denoise.md): at an edge they blend as the colour does.
     settings.jittered_aovs =
         with_halves && denoiser && needsVariance(*denoiser) &&
-        (cl.denoise_aovs == "jittered" || (cl.denoise_aovs == "auto" && wantsJitteredAovs(*denoiser)));
+        (cl.denoise_aovs == "jittered" || cl.denoise_aovs == "specular" ||
+         (cl.denoise_aovs == "auto" && wantsJitteredAovs(*denoiser)));
+    // Through specular first hits (docs/denoise.md).
+    settings.specular_aovs =
+        settings.jittered_aovs &&
+        (cl.denoise_aovs == "specular" || (cl.denoise_aovs == "auto" && wantsSpecularAovs(*denoiser)));
     AdaptiveStats adaptive_stats;
     RenderOutput out;
     if (adaptive) {

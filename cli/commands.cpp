@@ -80,9 +80,10 @@ void registerCommands(CLI::App& app, CommandLine& cl) {
   render->add_option("--denoise", cl.denoiser, "none | bilateral | atrous | svgf | nlm | nlr")
       ->check(CLI::IsMember({"none", "bilateral", "atrous", "svgf", "nlm", "nlr"}));
   render->add_option("--denoise-aovs", cl.denoise_aovs,
-                     "features of svgf, nlm, nlr: auto (jittered for nlr) | jittered (means over "
-                     "the samples) | centre (one unjittered ray)")
-      ->check(CLI::IsMember({"auto", "jittered", "centre"}));
+                     "features of svgf, nlm, nlr: auto (specular for nlr, else centre) | jittered "
+                     "(means over the samples) | specular (jittered, through specular first hits) | "
+                     "centre (one unjittered ray)")
+      ->check(CLI::IsMember({"auto", "jittered", "specular", "centre"}));
   render->add_option("--denoise-select", cl.denoise_select,
                      "nlm, nlr: colour strengths of the last pass, e.g. 0.7,1.25,2.5; each pixel "
                      "takes the one of least error estimated against the other half (docs/denoise.md)")

@@ -42,7 +42,7 @@ struct CommandLine {
   std::string size;
   int spp = 0, bounces = -1, light_samples = -1;
   std::string denoiser = "none";
-  std::string denoise_aovs = "auto";  // the denoiser's features: auto | jittered | centre
+  std::string denoise_aovs = "auto";  // the denoiser's features: auto | jittered | specular | centre
   std::vector<float> denoise_select;  // nlm/nlr last-pass strengths chosen per pixel; empty: off
   // Adaptive sampling at the same mean spp (runtime/adaptive.h, docs/adaptive.md).
   bool adaptive = false;

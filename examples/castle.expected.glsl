@@ -999,6 +999,23 @@ float g_aov_dist = -1.0;
 vec3 g_aov_albedo = vec3(0.0);
 int g_aov_steps = 0;
 
+// FrameParams::skip_aov_ray == kAovSpecular (runtime/renderer.h, gpu::kAovSpecular):
+// as kAovJittered, but where a sample's first hit is specular the features are
+// those of the first non-specular vertex along the path it took, at most
+// kAovSpecularDepth specular vertices deep (docs/denoise.md, "through specular
+// bounces"): the reflected or refracted surface is what the colour shows.
+const uint kAovSpecular = 3u;
+const int kAovSpecularDepth = 3;
+// GGX metal at most this rough passes the features on: its reflection lobe
+// (about 2 alpha wide) still shows the reflected surface, not a blur of it.
+const float kAovSpecularRoughness = 0.1;
+
+// Whether a vertex of material m passes the features on to the next vertex.
+bool aovThroughSpecular(Material m) {
+  return m.model == MAT_MIRROR || m.model == MAT_GLASS ||
+         (m.model == MAT_METAL && m.roughness <= kAovSpecularRoughness);
+}
+
 // Next-event estimation: with a light and a material that has a smooth lobe.
 const bool kNextEvent = true;
 
@@ -1037,6 +1054,11 @@ vec3 tracePath(vec3 ro, vec3 rd, int max_bounces, bool record_aov) {
   vec3 shadow_origin = vec3(0.0), shadow_dir = vec3(0.0), shadow_radiance = vec3(0.0);
   float shadow_dist = -1.0;
   const int light_samples = kNextEvent ? int(frame.light_samples) : 0;
+  // kAovSpecular: true while the path has met only specular vertices; the
+  // features then follow it, their albedo tinted by its throughput, their
+  // distance the length of the path (a plane mirror's virtual image's depth).
+  bool aov_follow = record_aov && frame.skip_aov_ray == kAovSpecular;
+  float aov_path = 0.0;
   for (int it = loopZero(); it < max_bounces + 1 + max_bounces * light_samples; it++) {
     g_loop_iterations++;
     int steps;
@@ -1071,6 +1093,15 @@ vec3 tracePath(vec3 ro, vec3 rd, int max_bounces, bool record_aov) {
         g_aov_dist = t;
         g_aov_albedo = m.albedo;
         g_aov_steps = steps;
+      }
+      if (aov_follow) {
+        aov_path += t;
+        if (depth > 0) {
+          g_aov_normal = n;
+          g_aov_dist = aov_path;
+          g_aov_albedo = throughput * m.albedo;
+        }
+        aov_follow = depth < kAovSpecularDepth && aovThroughSpecular(m);
       }
       radiance += throughput * m.emission;  // emitters found by BSDF sampling: weight 1
       if (depth >= max_bounces || m.model == MAT_EMISSIVE) break;
@@ -1187,7 +1218,7 @@ void main() {
   // kAovJittered: every sample records its first hit and the AOVs are their
   // means (misses count as 0; coverage = hit fraction), as the colour is
   // antialiased over the same jittered rays (docs/denoise.md).
-  bool jittered = frame.skip_aov_ray == kAovJittered;
+  bool jittered = frame.skip_aov_ray == kAovJittered || frame.skip_aov_ray == kAovSpecular;
   vec4 aov_nd = vec4(0.0), aov_as = vec4(0.0);
   float coverage = 0.0;
   // s = -1 is the unjittered primary ray for the AOVs (pass-split independent;

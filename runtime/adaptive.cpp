@@ -363,7 +363,7 @@ RenderOutput renderAdaptive(Renderer& renderer, const CameraDesc& camera,
   const uint32_t per_round = chooseSamplesPerPass(extra_settings);
   Accumulation frame = renderer.startAccumulation(camera, settings, false);
   frame.params.tile_x = 0;
-  frame.params.skip_aov_ray = jittered ? gpu::kAovJittered : 1u;
+  frame.params.skip_aov_ray = jittered ? renderer.jitteredAovMode(settings) : 1u;
   const uint32_t band_rows = frame.band_rows;
   RenderOutput* phase[2] = {&a, &b};
   const uint32_t base[2] = {settings.first_sample + first_half, base_b + first_half};

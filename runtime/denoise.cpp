@@ -149,6 +149,7 @@ bool needsVariance(Denoiser denoiser) {
 }
 
 bool wantsJitteredAovs(Denoiser denoiser) { return denoiser == Denoiser::Nlr; }
+bool wantsSpecularAovs(Denoiser denoiser) { return denoiser == Denoiser::Nlr; }
 
 FloatImage denoise(Denoiser denoiser, const FloatImage& color, const FloatImage& normal_depth,
                    const FloatImage& albedo_steps, const SampleHalves* halves,

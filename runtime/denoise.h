@@ -60,6 +60,9 @@ bool needsVariance(Denoiser denoiser);
 // Whether its features are best averaged over the jittered samples
 // (RenderSettings::jittered_aovs) rather than taken from one unjittered ray.
 bool wantsJitteredAovs(Denoiser denoiser);
+// Whether its jittered features should also pass through specular first hits
+// (RenderSettings::specular_aovs; docs/denoise.md: nlr, glass Menger -7 to -27%).
+bool wantsSpecularAovs(Denoiser denoiser);
 
 // Dispatch with default parameters; None returns `color` unchanged. Svgf, Nlm and Nlr
 // need `halves` (with samples in both) and throw std::invalid_argument without them.

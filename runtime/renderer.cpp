@@ -91,6 +91,10 @@ Renderer::Renderer(const VulkanContext& context, const std::vector<uint32_t>& fr
 Renderer::Renderer(const VulkanContext& context, const CompiledScene& compiled)
     : Renderer(context, compiled.spirv, compiled.emitted.scene_data) {
   inside_test_ = cameraInsideTest(compiled.scene, compiled.emitted.limits);
+  // pathtrace.glsl keeps kAovSpecular in path-tracing kernels with a specular material.
+  const std::set<std::string>& f = compiled.emitted.stats.features;
+  specular_kernel_ = f.count("SDFC_TRACE") &&
+                     (f.count("SDFC_HAS_MIRROR") || f.count("SDFC_HAS_GLASS") || f.count("SDFC_HAS_METAL"));
 }
 
 Renderer::~Renderer() {
@@ -203,7 +207,7 @@ void Renderer::drawBand(Accumulation& acc, uint32_t b, uint32_t count, RenderOut
   const bool jittered = acc.settings.jittered_aovs && beauty;
   const bool read_aovs = final_out || (acc.keep_aovs && acc.passes == 0) || jittered;
   // Beauty passes whose AOVs are not read skip the AOV ray (the image is the same).
-  params.skip_aov_ray = jittered ? gpu::kAovJittered : !read_aovs && count > 0 && beauty;
+  params.skip_aov_ray = jittered ? jitteredAovMode(acc.settings) : !read_aovs && count > 0 && beauty;
   runPass(context_, pipeline_, target_, &params, acc.settings.pass_timeout_seconds, rows,
           read_aovs ? kAttachmentCount : 1);
   const size_t band_floats = size_t(width) * rows * 4;

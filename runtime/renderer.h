@@ -30,6 +30,14 @@
 #include "shader_interface.h"
 #include "vulkan_context.h"
 
+namespace sdfc::gpu {
+// FrameParams::skip_aov_ray: jittered AOVs through specular first hits. Only the
+// kernels of scenes with mirror, glass or metal hold it (pathtrace.glsl's
+// kAovSpecular), so it lives here rather than in shader_interface.h, which every
+// kernel holds verbatim.
+inline constexpr uint32_t kAovSpecular = 3;
+}  // namespace sdfc::gpu
+
 namespace sdfc {
 
 struct RenderSettings {
@@ -64,6 +72,11 @@ struct RenderSettings {
   // then sample means (0 where a sample missed) and color's a is the coverage;
   // resolveJitteredAovs turns them into per-hit features for the denoisers.
   bool jittered_aovs = false;
+  // With jittered_aovs: where a sample's first hit is specular (mirror, glass,
+  // metal of GGX alpha <= 0.1), its features are those of the first
+  // non-specular vertex of its path (gpu::kAovSpecular; docs/denoise.md). A
+  // kernel without such materials has no specular hits and draws plain jittered AOVs.
+  bool specular_aovs = false;
   double pass_timeout_seconds = 60;
   // Pixels per band (0 = kBandPixels). An interactive view draws its whole
   // window as one band: one submission and one wait a frame instead of several.
@@ -157,6 +170,12 @@ class Renderer {
 
   double pipelineSeconds() const { return pipeline_.create_seconds; }
 
+  // FrameParams::skip_aov_ray of a pass that records jittered AOVs under
+  // `settings`: kAovSpecular when asked for and the kernel has it, else kAovJittered.
+  uint32_t jitteredAovMode(const RenderSettings& settings) const {
+    return settings.specular_aovs && specular_kernel_ ? gpu::kAovSpecular : gpu::kAovJittered;
+  }
+
   // Decides FrameParams::camera_inside for each accumulation (its camera and time);
   // pinhole kernels read it instead of testing the scene per pixel. Without one the
   // camera is taken as outside.
@@ -201,6 +220,7 @@ class Renderer {
   RenderPipeline pipeline_;
   RenderTarget target_;
   CameraInsideTest inside_test_;
+  bool specular_kernel_ = false;  // the kernel holds kAovSpecular (jitteredAovMode)
 };
 
 // A render with RenderSettings::jittered_aovs -> the denoisers' features:

@@ -141,7 +141,7 @@ void collectSets(const ir::NodeRef& n, std::vector<const ir::Node*>& out) {
 // float64) against brute force over every instance: never above it, and equal
 // wherever the nearest instance is within the cell's reach.
 TEST(Instances, GridBoundIsALowerBoundAndExactWithinReach) {
-  for (const std::string& text : {mixedScene(), denseCloud()}) {
+  for (const std::string& text : {mixedScene(), denseCloud(), denseCloud(600, 0.2)}) {
     const CompiledScene c = checked(text, 32);
     std::vector<const ir::Node*> sets;
     collectSets(c.scene.root, sets);
@@ -323,6 +323,90 @@ TEST(Instances, SphereNearestTraversalEqualsBruteForce) {
   std::printf("sphere nearest traversal: %d of 3000 points inside a sphere, %d nodes skipped\n", inside, skipped);
   EXPECT_GT(inside, 500);
   EXPECT_GT(skipped, 3000);
+}
+
+// The hit sphere remembered (SDFC_HAS_SPHERE_HIT): when the march ends on a
+// listed sphere's analytic hit x, surfaceNormal takes that sphere's radial
+// direction at c = x + dir * ahead instead of looking up the nearest sphere at
+// c (slot order, strict <, as the shader; brute force in crowded cells).
+// Same sphere, same arithmetic: the same normal bits. A different sphere B can
+// be nearer at c only if c lies inside B, which x (the first hit) does not: B's
+// surface then passes within `ahead` of x, at an intersection curve of two
+// spheres, where either sphere's normal is the surface's. Duplicated centres
+// pick the first listed in both (strict <) and give the same normal anyway.
+TEST(Instances, MetSphereNormalEqualsTheLookups) {
+  const CompiledScene c = checked(denseCloud(600, 0.2), 32);
+  std::vector<const ir::Node*> sets;
+  collectSets(c.scene.root, sets);
+  ASSERT_EQ(sets.size(), 1u);
+  const ir::InstanceSet& set = *sets[0]->instances;
+  const double r = sets[0]->children[0]->args[0].value;
+  const ir::InstanceGrid& g = set.grid;
+  ASSERT_FALSE(g.empty());
+  const dvec3 hi = g.lo + dvec3(g.dims) * g.cell;
+  auto radial = [&](size_t k, const dvec3& at) { return glm::normalize(at + set.instances[k].offset); };
+  // The lookup's sphere at c: the cell's list in slot order, nearest centre.
+  auto lookup = [&](const dvec3& at) -> long {
+    if (glm::any(glm::lessThan(at, g.lo)) || glm::any(glm::greaterThan(at, hi))) return -2;
+    const glm::ivec3 cell = glm::clamp(glm::ivec3(glm::floor((at - g.lo) / g.cell)), glm::ivec3(0), g.dims - 1);
+    const size_t index = size_t(cell.x) + size_t(g.dims.x) * (size_t(cell.y) + size_t(g.dims.y) * cell.z);
+    double qq_min = 1e300;
+    long best = -1;
+    const bool crowded = g.count[index] < 0;
+    const size_t n = crowded ? set.size() : size_t(g.count[index]);
+    for (size_t k = 0; k < n; ++k) {
+      const size_t e = crowded ? k : g.entries[g.first[index] + k];
+      const dvec3 q = at + set.instances[e].offset;
+      if (glm::dot(q, q) < qq_min) {
+        qq_min = glm::dot(q, q);
+        best = long(e);
+      }
+    }
+    return best;
+  };
+  std::mt19937 rng(23);
+  std::uniform_real_distribution<double> ux(g.lo.x, hi.x), uy(g.lo.y, hi.y), uz(g.lo.z, hi.z), s(-1, 1);
+  const double ahead = 1e-3;
+  int met = 0, same = 0, edge = 0;
+  for (int i = 0; i < 20000; ++i) {
+    const dvec3 p(ux(rng), uy(rng), uz(rng));
+    dvec3 dir(s(rng), s(rng), s(rng));
+    if (glm::length(dir) < 0.1) continue;
+    dir = glm::normalize(dir);
+    size_t met_k = 0;
+    double met_t = 1e300;
+    auto hit = [&](size_t k) {
+      const double t = rayHitSphere(p, dir, -set.instances[k].offset, r);
+      if (t < met_t) {  // the shader's slot order: the first strictly nearer
+        met_t = t;
+        met_k = k;
+      }
+      return t;
+    };
+    const double skip = instanceGridRaySkip(set, p, dir, hit);
+    const double cell_bound = instanceGridRaySkip(set, p, dir, [](size_t) { return 1e300; });
+    if (!(skip < cell_bound) || skip <= 0) continue;  // not a met sphere (g_ray_met false)
+    ++met;
+    ASSERT_EQ(skip, met_t);
+    const dvec3 x = p + dir * skip, at = x + dir * ahead;
+    const long k = lookup(at);
+    ASSERT_GE(k, 0);
+    if (size_t(k) == met_k) {
+      ++same;
+      EXPECT_EQ(radial(met_k, at), radial(size_t(k), at));
+      continue;
+    }
+    // Another sphere nearer at c: c is inside it, x is not (the first hit), so
+    // its surface passes within `ahead` of x.
+    const double dx = glm::length(x + set.instances[size_t(k)].offset) - r;
+    EXPECT_GE(dx, -1e-12) << i;
+    EXPECT_LE(dx, ahead) << i;
+    ++edge;
+  }
+  std::printf("met spheres: %d rays, the lookup's sphere on %d, another at an intersection curve on %d\n", met,
+              same, edge);
+  EXPECT_GT(met, 1000);
+  EXPECT_GE(same, met - met / 100);  // intersection curves are rare
 }
 
 TEST(Instances, SmoothUnionBlendsTheNearOnesLikeTheInlineForm) {

@@ -80,7 +80,10 @@ std::string stripFeatureBlocks(const std::string& text, const std::vector<std::s
   };
   const std::regex ifdef_re(R"(^\s*#\s*ifdef\s+(SDFC_\w+)\s*$)");
   const std::regex ifndef_re(R"(^\s*#\s*ifndef\s+(SDFC_\w+)\s*$)");
-  const std::regex ifor_re(R"(^\s*#\s*if\s+defined\((SDFC_\w+)\)\s*\|\|\s*defined\((SDFC_\w+)\)\s*$)");
+  // A disjunction of two or more defined(SDFC_X) terms.
+  const std::regex ifor_re(
+      R"(^\s*#\s*if\s+defined\((SDFC_\w+)\)(\s*\|\|\s*defined\(SDFC_\w+\))+\s*$)");
+  const std::regex term_re(R"(defined\((SDFC_\w+)\))");
   const std::regex ifand_re(R"(^\s*#\s*if\s+defined\((SDFC_\w+)\)\s*&&\s*defined\((SDFC_\w+)\)\s*$)");
   const std::regex other_if_re(R"(^\s*#\s*(if|ifdef|ifndef|elif)\b.*)");
   const std::regex else_re(R"(^\s*#\s*else\b.*)");
@@ -96,7 +99,9 @@ std::string stripFeatureBlocks(const std::string& text, const std::vector<std::s
         std::regex_match(line, m, ifor_re)) {
       bool cond = is_defined(m[1]);
       if (line.find("ifndef") != std::string::npos) cond = !cond;
-      if (m.size() > 2 && m[2].matched) cond = cond || is_defined(m[2]);
+      if (m.size() > 2 && m[2].matched)
+        for (std::sregex_iterator t(line.begin(), line.end(), term_re), end; t != end; ++t)
+          cond = cond || is_defined((*t)[1]);
       const bool outer = active();
       stack.push_back({outer && cond, cond});
       continue;

@@ -253,6 +253,14 @@ class SceneWriter {
              "// go from p with no surface (0: no more than the distance).\n";
       out << "// g_ray_met: a sphere's surface lies exactly at g_ray_skip (its analytic hit).\n";
       out << "vec3 g_ray_dir = vec3(0.0);\nfloat g_ray_skip = 0.0;\nbool g_ray_met = false;\n";
+      if (has_sphere_hit_) {
+        out << "// g_ray_met_slot: that sphere's slot; g_hit_sphere: the slot of the sphere the\n"
+               "// last march() ended on by its analytic hit, or -1 (sdRootSphereNormal).\n";
+        out << "int g_ray_met_slot = -1;\nint g_hit_sphere = -1;\n";
+        out << "// g_ray_any: the nearest listed sphere's hit along the ray, wherever it lies;\n"
+               "// g_ray_any_hit: the ray marched is a shadow ray (any hit blocks it).\n";
+        out << "float g_ray_any = 1e30;\nbool g_ray_any_hit = false;\n";
+      }
     }
     out << "\n// ---- scene helpers and primitives (only those the scene uses) ----\n";
     out << helpers_.str();
@@ -293,6 +301,7 @@ class SceneWriter {
   const ir::Node* ray_skip_set_ = nullptr;
   bool has_sphere_normals_ = false;  // sdRootSphereNormal was emitted
   bool has_sphere_material_ = false;  // and kRootSphereMaterial: the scene has one material
+  bool has_sphere_hit_ = false;  // march() keeps the slot of a met sphere (g_hit_sphere)
 
   // A top-level sphere with constant radius, bare or under one Affine that is
   // a similarity (scale * linear orthonormal), of a non-emissive material in a
@@ -381,6 +390,7 @@ class SceneWriter {
   bool hasRaySkip() const { return ray_skip_set_ != nullptr; }
   bool hasSphereNormals() const { return has_sphere_normals_; }
   bool hasSphereMaterial() const { return has_sphere_material_; }
+  bool hasSphereHit() const { return has_sphere_hit_; }
 
  private:
   std::map<std::pair<const ir::Node*, bool>, std::string> node_functions_;
@@ -590,7 +600,18 @@ class SceneWriter {
            << ";\n";
     g.code << "  ivec3 dims = ivec3(g1.xyz);\n  vec3 f = (p - g0.xyz) / g0.w;\n";
     g.code << "  ivec3 c = clamp(ivec3(floor(f)), ivec3(0), dims - 1);\n";
-    g.code << "  vec4 cell = sd_data[" << gc << " + c.x + dims.x * (c.y + dims.y * c.z)];\n";
+    if (l.grid_slots && !mat && ray_skip_set_ == &n) {
+      // Fixed slots start at ci * kGridListMax (what cell.x holds): computed,
+      // not read, and loaded before the cell is tested, so their loads wait
+      // neither for the cell's nor for a mask that depends on it (a crowded
+      // cell's slots hold far dummies, loaded and unused).
+      g.code << "  int ci = c.x + dims.x * (c.y + dims.y * c.z), first = ci * " << ir::kGridListMax << ";\n";
+      for (int k = 0; k < ir::kGridListMax; ++k)
+        g.code << "  vec3 s" << k << " = sd_data[" << ge << " + first + " << k << "].xyz;\n";
+      g.code << "  vec4 cell = sd_data[" << gc << " + ci];\n";
+    } else {
+      g.code << "  vec4 cell = sd_data[" << gc << " + c.x + dims.x * (c.y + dims.y * c.z)];\n";
+    }
     g.code << "  int count = int(cell.y);\n";
     // The root set's lookup also bounds the first hit along g_ray_dir (the
     // same argument along the ray, instance_grid.cpp): to the cell's exit plus
@@ -609,7 +630,7 @@ class SceneWriter {
     g.code << "  " << (mat ? "vec2 best = vec2(cell.z + g0.w * max(face, 0.0), inherited);"
                             : "float best = cell.z + g0.w * max(face, 0.0);")
            << "\n";
-    g.code << "  int first = int(cell.x);\n";
+    if (!unrolled) g.code << "  int first = int(cell.x);\n";
     if (skip) {
       g.code << "  vec3 rd = g_ray_dir;\n";
       g.code << "  vec3 to_exit = mix(q, 1.0 - q, greaterThan(rd, vec3(0.0))) / max(abs(rd), 1e-30);\n";
@@ -621,14 +642,22 @@ class SceneWriter {
       // (sqrt is monotonic and correctly rounded: the same value as the
       // minimum of the lengths); the ray hit shares q.q.
       g.code << "  float r = " << sphereCloudRadius(n) << ", qq_min = 1e30;\n";
+      // The listed spheres' first hit th_min (its slot the first that attains
+      // it), then the skip: the same values as testing each hit against the
+      // skip in turn. th_min is a hit of the ray wherever it lies (a shadow
+      // ray's any-hit test in march()).
+      g.code << "  float th_min = 1e30;\n  int slot = 0;\n";
       for (int k = 0; k < ir::kGridListMax; ++k) {
         g.code << "  {\n" << countEvent(kEventEntries, "  ");
-        g.code << "    vec3 q = p + sd_data[" << ge << " + first + " << k << "].xyz;\n";
+        g.code << "    vec3 q = p + s" << k << ";\n";
         g.code << "    float qq = dot(q, q), b = dot(q, rd), c = qq - r * r, h = b * b - c;\n";
         g.code << "    qq_min = min(qq_min, qq);\n";
         g.code << "    float th = c <= 0.0 ? 0.0 : (b >= 0.0 || h < 0.0 ? 1e30 : c / (sqrt(h) - b));\n";
-        g.code << "    if (th < skip) {\n      skip = th;\n      g_ray_met = th > 0.0;\n    }\n  }\n";
+        g.code << "    if (th < th_min) {\n      th_min = th;\n      slot = " << k << ";\n    }\n  }\n";
       }
+      g.code << "  if (th_min < skip) {\n    skip = th_min;\n    g_ray_met = th_min > 0.0;\n"
+                "    g_ray_met_slot = first + slot;\n  }\n";
+      g.code << "  g_ray_any = th_min;\n";
       g.code << "  best = min(best, sqrt(qq_min) - r);\n";
       g.code << "  g_ray_skip = skip;\n  return best;\n}\n";
       functions_ << g.code.str();
@@ -695,12 +724,28 @@ class SceneWriter {
     const std::string gh = std::to_string(l.grid_header), gc = std::to_string(l.grid_cells);
     Function g;
     g.code << "bool sdRootSphereNormal(vec3 p, out vec3 normal, out float field) {\n";
+    if (l.grid_slots) {
+      // The march ended on this sphere's analytic hit (the first hit, so no
+      // sphere is nearer than its surface at p): its radial direction, the
+      // same arithmetic as the slots below, with no lookup.
+      has_sphere_hit_ = true;
+      g.code << "  if (g_hit_sphere >= 0) {\n    vec3 q_near = p + sd_data[" << l.grid_entries
+             << " + g_hit_sphere].xyz;\n    field = sqrt(dot(q_near, q_near)) - " << sphereCloudRadius(n)
+             << ";\n    float len = length(q_near);\n"
+             << "    normal = len > 0.0 ? q_near / len : vec3(0.0, 1.0, 0.0);\n    return true;\n  }\n";
+    }
     g.code << "  vec4 g0 = sd_data[" << gh << "], g1 = sd_data[" << gh << " + 1];\n";
     g.code << "  if (any(lessThan(p, g0.xyz)) || any(greaterThan(p, g0.xyz + g1.xyz * g0.w))) return false;\n";
     g.code << "  ivec3 dims = ivec3(g1.xyz);\n";
     g.code << "  ivec3 c = clamp(ivec3(floor((p - g0.xyz) / g0.w)), ivec3(0), dims - 1);\n";
-    g.code << "  vec4 cell = sd_data[" << gc << " + c.x + dims.x * (c.y + dims.y * c.z)];\n";
-    g.code << "  int count = int(cell.y), first = int(cell.x);\n";
+    if (l.grid_slots) {
+      g.code << "  int ci = c.x + dims.x * (c.y + dims.y * c.z);\n";
+      g.code << "  vec4 cell = sd_data[" << gc << " + ci];\n";
+      g.code << "  int count = int(cell.y), first = ci * " << ir::kGridListMax << ";\n";
+    } else {
+      g.code << "  vec4 cell = sd_data[" << gc << " + c.x + dims.x * (c.y + dims.y * c.z)];\n";
+      g.code << "  int count = int(cell.y), first = int(cell.x);\n";
+    }
     g.code << countEvent(kEventLookups);
     if (l.grid_slots) {
       // A crowded cell: one nearest-first traversal for the nearest sphere
@@ -1408,6 +1453,7 @@ EmitResult emitGlsl(const ir::Scene& scene, const EmitOptions& options) {
   if (writer.hasRaySkip()) result.stats.features.insert("SDFC_HAS_RAY_SKIP");
   if (writer.hasSphereNormals()) result.stats.features.insert("SDFC_HAS_SPHERE_NORMALS");
   if (writer.hasSphereMaterial()) result.stats.features.insert("SDFC_HAS_SPHERE_MATERIAL");
+  if (writer.hasSphereHit()) result.stats.features.insert("SDFC_HAS_SPHERE_HIT");
   int count_kind = 0, count_quantity = 0;
   if (options.with_kernel && countEventFromName(options.count_event, count_kind, count_quantity))
     result.stats.features.insert("SDFC_COUNT_EVENTS");

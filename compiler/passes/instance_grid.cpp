@@ -34,6 +34,17 @@ double boxBoxDistance(const Aabb& a, const Aabb& b) {
   return glm::length(gap);
 }
 
+// The sphere's radius when every instance is the same sphere placed by an
+// offset alone (a point cloud), else 0: its distance to a cell is then exact.
+double cloudRadius(const ir::InstanceSet& set, const ir::Node& templ) {
+  if (set.param_count != 0 || templ.kind != ir::NodeKind::Primitive || templ.primitive != PrimitiveKind::Sphere ||
+      templ.args.empty() || !templ.args[0].isConst())
+    return 0;
+  for (const ir::Instance& inst : set.instances)
+    if (inst.transform >= 0) return 0;
+  return templ.args[0].value;
+}
+
 }  // namespace
 
 void buildInstanceGrid(ir::InstanceSet& set, const ir::Node& templ) {
@@ -108,6 +119,12 @@ void buildInstanceGrid(ir::InstanceSet& set, const ir::Node& templ) {
   g.count.resize(cells);
   g.reach.resize(cells);
   std::vector<std::pair<double, std::uint32_t>> near;
+  // A point cloud's spheres are ranked by their own distance to the cell,
+  // dist(C, centre) - r (0 if it touches), not their boxes': the argument
+  // above needs only dist(C, shape_i) >= reach, and a ball is nearer its box's
+  // corners than it. Fewer spheres touch a cell (fewer crowded cells) and
+  // reaches are longer.
+  const double sphere_r = cloudRadius(set, templ);
   for (int z = 0; z < g.dims.z; ++z)
     for (int y = 0; y < g.dims.y; ++y)
       for (int x = 0; x < g.dims.x; ++x) {
@@ -116,7 +133,11 @@ void buildInstanceGrid(ir::InstanceSet& set, const ir::Node& templ) {
         const Aabb box{lo, lo + cell};
         near.clear();
         for (std::uint32_t k = cand_first[c]; k < cand_first[c + 1]; ++k) {
-          const double d = boxBoxDistance(box, boxes[cand[k]]);
+          const double d = sphere_r > 0
+                               ? std::max(glm::length(glm::max(glm::max(box.lo + set.instances[cand[k]].offset,
+                                                                        -set.instances[cand[k]].offset - box.hi),
+                                                               dvec3(0))) - sphere_r, 0.0)
+                               : boxBoxDistance(box, boxes[cand[k]]);
           if (d < reach) near.push_back({d, cand[k]});
         }
         std::sort(near.begin(), near.end());

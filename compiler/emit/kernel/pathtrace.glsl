@@ -50,6 +50,9 @@ int g_plane_hit = -1;
 // |distance| at the point the last march() returned: how far it may lie off the surface.
 float g_hit_offness = 0.0;
 float march(vec3 ro, vec3 rd, float t_max, float side, out int steps) {
+#ifdef SDFC_HAS_SPHERE_HIT
+  g_hit_sphere = -1;
+#endif
 #ifdef SDFC_HAS_PLANES
   // Analytic planes and spheres are not in sdScene: intersect them here and
   // march no farther.
@@ -101,6 +104,9 @@ float march(vec3 ro, vec3 rd, float t_max, float side, out int steps) {
 #ifdef SDFC_HAS_RAY_SKIP
     g_ray_skip = 0.0;
     g_ray_met = false;
+#endif
+#ifdef SDFC_HAS_SPHERE_HIT
+    g_ray_any = 1e30;
 #endif
     float d = side * sdScene(ro + rd * t);
     if (i > 0) slope = (d - d_prev) / max(t - t_prev, 1e-30);
@@ -216,8 +222,20 @@ float march(vec3 ro, vec3 rd, float t_max, float side, out int steps) {
     if (t_stop < 0.0 && side > 0.0 && g_ray_met && t + g_ray_skip <= t_max) {
       t_hit = t + g_ray_skip;
       d_hit = 0.0;
+#ifdef SDFC_HAS_SPHERE_HIT
+      g_hit_sphere = g_ray_met_slot;  // its slot: surfaceNormal needs no lookup
+#endif
       break;
     }
+#ifdef SDFC_HAS_SPHERE_HIT
+    // A shadow ray needs any hit, not the first: a listed sphere met short of
+    // t_max blocks it, however far past the cell it lies.
+    if (g_ray_any_hit && t_stop < 0.0 && side > 0.0 && t + g_ray_any <= t_max) {
+      t_hit = t + g_ray_any;
+      d_hit = 0.0;
+      break;
+    }
+#endif
     // The root grid's ray skip (docs/large_scenes.md), where longer, is safe
     // by itself: no overlap check after it, and it may pass t_max. Inside
     // solids (side < 0) it does not apply.
@@ -543,6 +561,25 @@ vec3 g_aov_normal = vec3(0.0);
 float g_aov_dist = -1.0;
 vec3 g_aov_albedo = vec3(0.0);
 int g_aov_steps = 0;
+#if defined(SDFC_HAS_MIRROR) || defined(SDFC_HAS_GLASS) || defined(SDFC_HAS_METAL)
+
+// FrameParams::skip_aov_ray == kAovSpecular (runtime/renderer.h, gpu::kAovSpecular):
+// as kAovJittered, but where a sample's first hit is specular the features are
+// those of the first non-specular vertex along the path it took, at most
+// kAovSpecularDepth specular vertices deep (docs/denoise.md, "through specular
+// bounces"): the reflected or refracted surface is what the colour shows.
+const uint kAovSpecular = 3u;
+const int kAovSpecularDepth = 3;
+// GGX metal at most this rough passes the features on: its reflection lobe
+// (about 2 alpha wide) still shows the reflected surface, not a blur of it.
+const float kAovSpecularRoughness = 0.1;
+
+// Whether a vertex of material m passes the features on to the next vertex.
+bool aovThroughSpecular(Material m) {
+  return m.model == MAT_MIRROR || m.model == MAT_GLASS ||
+         (m.model == MAT_METAL && m.roughness <= kAovSpecularRoughness);
+}
+#endif
 
 // Next-event estimation: with a light and a material that has a smooth lobe.
 #if defined(SDFC_HAS_SUN) || defined(SDFC_HAS_SPHERE_LIGHTS)
@@ -590,6 +627,13 @@ vec3 tracePath(vec3 ro, vec3 rd, int max_bounces, bool record_aov) {
   vec3 shadow_origin = vec3(0.0), shadow_dir = vec3(0.0), shadow_radiance = vec3(0.0);
   float shadow_dist = -1.0;
   const int light_samples = kNextEvent ? int(frame.light_samples) : 0;
+#if defined(SDFC_HAS_MIRROR) || defined(SDFC_HAS_GLASS) || defined(SDFC_HAS_METAL)
+  // kAovSpecular: true while the path has met only specular vertices; the
+  // features then follow it, their albedo tinted by its throughput, their
+  // distance the length of the path (a plane mirror's virtual image's depth).
+  bool aov_follow = record_aov && frame.skip_aov_ray == kAovSpecular;
+  float aov_path = 0.0;
+#endif
   for (int it = loopZero(); it < max_bounces + 1 + max_bounces * light_samples; it++) {
     g_loop_iterations++;
     int steps;
@@ -598,8 +642,14 @@ vec3 tracePath(vec3 ro, vec3 rd, int max_bounces, bool record_aov) {
     g_event_kind = max_bounces == 0 ? -1 : (shadow_ray ? 2 : (depth == 0 ? 0 : 1));
     if (!shadow_ray || shadow_valid) countEvent(0);
 #endif
+#ifdef SDFC_HAS_SPHERE_HIT
+    g_ray_any_hit = shadow_ray;
+#endif
     float t = march(shadow_ray ? shadow_origin : ro, shadow_ray ? shadow_dir : rd,
                     shadow_ray ? (shadow_valid ? shadow_dist : -1.0) : 3.0e38, shadow_ray ? 1.0 : side, steps);
+#ifdef SDFC_HAS_SPHERE_HIT
+    g_ray_any_hit = false;
+#endif
 #ifdef SDFC_COUNT_EVENTS
     if (t >= 0.0) countEvent(5);
 #endif
@@ -616,6 +666,13 @@ vec3 tracePath(vec3 ro, vec3 rd, int max_bounces, bool record_aov) {
           g_aov_dist = t_light;
           g_aov_steps = steps;
         }
+#if defined(SDFC_HAS_MIRROR) || defined(SDFC_HAS_GLASS) || defined(SDFC_HAS_METAL)
+        if (aov_follow && depth > 0) {
+          g_aov_normal = normalize(ro + rd * t_light - kSphereLights[light_hit].xyz);
+          g_aov_dist = aov_path + t_light;
+          g_aov_albedo = vec3(0.0);  // as a light seen directly
+        }
+#endif
         radiance += throughput * kSphereLightRadiance[light_hit] *
                     misBsdfWeight(prev_pdf, lightPdf(kSunLights + light_hit, prev_pos));
         break;
@@ -655,6 +712,17 @@ vec3 tracePath(vec3 ro, vec3 rd, int max_bounces, bool record_aov) {
         g_aov_albedo = m.albedo;
         g_aov_steps = steps;
       }
+#if defined(SDFC_HAS_MIRROR) || defined(SDFC_HAS_GLASS) || defined(SDFC_HAS_METAL)
+      if (aov_follow) {
+        aov_path += t;
+        if (depth > 0) {
+          g_aov_normal = n;
+          g_aov_dist = aov_path;
+          g_aov_albedo = throughput * m.albedo;
+        }
+        aov_follow = depth < kAovSpecularDepth && aovThroughSpecular(m);
+      }
+#endif
       radiance += throughput * m.emission;  // emitters found by BSDF sampling: weight 1
       if (depth >= max_bounces || m.model == MAT_EMISSIVE) break;
 
@@ -814,7 +882,11 @@ void main() {
   // kAovJittered: every sample records its first hit and the AOVs are their
   // means (misses count as 0; coverage = hit fraction), as the colour is
   // antialiased over the same jittered rays (docs/denoise.md).
+#if defined(SDFC_HAS_MIRROR) || defined(SDFC_HAS_GLASS) || defined(SDFC_HAS_METAL)
+  bool jittered = frame.skip_aov_ray == kAovJittered || frame.skip_aov_ray == kAovSpecular;
+#else
   bool jittered = frame.skip_aov_ray == kAovJittered;
+#endif
   vec4 aov_nd = vec4(0.0), aov_as = vec4(0.0);
   float coverage = 0.0;
   // s = -1 is the unjittered primary ray for the AOVs (pass-split independent;
