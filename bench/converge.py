@@ -20,6 +20,8 @@ Levers are configurations that add one thing at a time:
   nlr          nlm + jittered features and a first-order regression (denoiser
                lever, round 3; system driver)
   nlr-mesa25   the same on Mesa 25.0.7
+  baseline-mesa25, derived-mesa25, svgf-mesa25: those on Mesa 25.0.7, so each
+               lever can be compared on one driver
 All but the -mesa25 ones are pinned to the system's Mesa 22.3.6 (--driver system) so
 the driver's share stays separate.
 """
@@ -44,6 +46,10 @@ CONVERGE_CONFIGS = {
     "nlm-mesa25": (["--denoise", "nlm"], "bundled"),
     "nlr": (["--denoise", "nlr"], "system"),
     "nlr-mesa25": (["--denoise", "nlr"], "bundled"),
+    "baseline-mesa25": (["--paper-baseline", "--no-bounds", "--white-noise", "--denoise", "bilateral"],
+                        "bundled"),
+    "derived-mesa25": ([], "bundled"),
+    "svgf-mesa25": (["--denoise", "svgf"], "bundled"),
 }
 SEED = 7
 
@@ -79,7 +85,7 @@ def ladder(args, scene, name, flags, env, ref, ref_var, errors, writer):
                 err = errors(sb.read_pfm(out), ref, ref_var)
         med = lambda k: statistics.median(r[k] for r in runs)
         row = {"scene": os.path.basename(scene), "config": name, "spp": spp, "size": args.size,
-               "wall_s": med("wall_s"), "render_s": med("render_s"),
+               "wall_s": med("wall_s"), "cpu_s": med("cpu_s"), "render_s": med("render_s"),
                "pipeline_ms": med("pipeline_ms"), "compile_ms": med("compile_ms"), **err}
         rows.append(row)
         writer.writerow(row)
@@ -93,16 +99,18 @@ def ladder(args, scene, name, flags, env, ref, ref_var, errors, writer):
     return rows
 
 
-def time_to(rows, metric, target):
-    pts = [(r["wall_s"], r[metric]) for r in rows]
-    # A point already under the target at the first rung: that rung's time.
+def time_to(rows, metric, target, x="wall_s"):
+    """Where the log-log error(x) curve reaches target; x is a row's wall_s,
+    cpu_s or spp."""
+    pts = [(r[x], r[metric]) for r in rows]
+    # A point already under the target at the first rung: that rung's x.
     first = min(rows, key=lambda r: r["spp"])
     if first[metric] <= target:
-        return first["wall_s"], "at first rung"
+        return first[x], "at first rung"
     t, how = sb.time_to_error(pts, target)
     # Past two more doublings of the last rung the curve is a plateau (a biased
     # filter), not a trend: an extrapolated figure would mean nothing.
-    last_s = max(r["wall_s"] for r in rows)
+    last_s = max(r[x] for r in rows)
     if t is not None and how == "extrapolated" and t > 4 * last_s:
         return None, f"never (levels off at {min(r[metric] for r in rows):.2g})"
     return t, how
@@ -112,7 +120,8 @@ def run(args, reference, errors):
     """Returns the rows and a per-scene summary {scene: {config: {...}}}."""
     path = os.path.join(args.results, f"converge_{args.size}.csv")
     summary, all_rows = {}, []
-    fields = ["scene", "config", "spp", "size", "wall_s", "render_s", "pipeline_ms", "compile_ms",
+    fields = ["scene", "config", "spp", "size", "wall_s"] + \
+        (["cpu_s"] if getattr(args, "cpu_time", False) else []) + ["render_s", "pipeline_ms", "compile_ms",
               "rmse", "relmse", "rmse_debiased", "relmse_debiased", "rmse_floor", "relmse_floor",
               "flip"]
     with open(path, "w", newline="") as f:
@@ -135,7 +144,15 @@ def run(args, reference, errors):
                 t_rel, how_rel = time_to(rows, "relmse", args.relmse_target)
                 t = max(t_flip, t_rel) if t_flip and t_rel else None
                 summary[name][config] = {"flip_s": t_flip, "flip_how": how_flip,
-                                         "relmse_s": t_rel, "relmse_how": how_rel, "both_s": t}
+                                         "relmse_s": t_rel, "relmse_how": how_rel, "both_s": t,
+                                         "driver": driver}
+                # The same read-offs in process CPU seconds and in samples per pixel.
+                for x in ("cpu_s", "spp"):
+                    got = [time_to(rows, m, target, x) for m, target in
+                           (("flip", args.flip_target), ("relmse", args.relmse_target))]
+                    summary[name][config][x] = got
+                    summary[name][config][x + "_both"] = \
+                        max(got[0][0], got[1][0]) if got[0][0] and got[1][0] else None
     return all_rows, summary, path
 
 
@@ -157,6 +174,38 @@ def report_lines(args, summary, ref_spp):
             both = ("never" if never else "-") if s["both_s"] is None else f"{s['both_s']:.1f}"
             lines.append(f"| {scene} | {config} | {mark(s['flip_s'], s['flip_how'])} | "
                          f"{mark(s['relmse_s'], s['relmse_how'])} | {both} | {speed} |")
+    if getattr(args, "cpu_time", False):
+        lines += cpu_lines(args, summary)
+    return lines
+
+
+def cpu_lines(args, summary):
+    """--cpu-time: the same read-offs in process CPU seconds (user + sys of all
+    the process's threads; less sensitive to other people's load than wall time)
+    and in samples per pixel, with each configuration's driver."""
+    def cell(value, how, fmt):
+        if value is None:
+            return how if how and how.startswith("never") else "-"
+        return fmt.format(value) + (" x" if how == "extrapolated" else "")
+    lines = ["", f"The same in process CPU seconds (user + sys) and in samples per pixel (the spp "
+             "read off the log-log error(spp) curve between rungs); speedup = the same driver's "
+             "baseline CPU s over this one's, to the FLIP target.", "",
+             "| scene | config | driver | CPU s to FLIP | CPU s to relMSE | CPU s to both | "
+             "spp to FLIP | spp to relMSE | CPU speedup over same-driver baseline (FLIP) |",
+             "|---|---|---|---|---|---|---|---|---|"]
+    for scene, configs in summary.items():
+        for config, s in configs.items():
+            (c_flip, h_flip), (c_rel, h_rel) = s["cpu_s"]
+            (n_flip, hn_flip), (n_rel, hn_rel) = s["spp"]
+            base_name = "baseline-mesa25" if s["driver"] == "bundled" else "baseline"
+            base = configs.get(base_name, {}).get("cpu_s", [(None, None)])[0][0]
+            speed = f"{base / c_flip:.2f}x" if base and c_flip else "-"
+            never = any(str(h).startswith("never") for h in (h_flip, h_rel))
+            both = ("never" if never else "-") if s["cpu_s_both"] is None else f"{s['cpu_s_both']:.1f}"
+            driver = "Mesa 25.0.7" if s["driver"] == "bundled" else "Mesa 22.3.6"
+            lines.append(f"| {scene} | {config} | {driver} | {cell(c_flip, h_flip, '{:.1f}')} | "
+                         f"{cell(c_rel, h_rel, '{:.1f}')} | {both} | {cell(n_flip, hn_flip, '{:.1f}')} | "
+                         f"{cell(n_rel, hn_rel, '{:.1f}')} | {speed} |")
     return lines
 
 

@@ -7,6 +7,7 @@ import hashlib
 import os
 import re
 import subprocess
+import tempfile
 import threading
 import time
 
@@ -42,15 +43,24 @@ def parse_stderr(text):
 
 
 def render(sdfc, scene, output, flags, env=None):
-    """Run `sdfc render`; returns (parsed stderr, wall seconds of the process)."""
+    """Run `sdfc render`; returns parsed stderr plus the process's wall seconds
+    (wall_s) and CPU seconds, user + sys of all its threads (cpu_s: steadier
+    than wall time on a machine other people load)."""
     cmd = [sdfc, "render", scene, "-o", output] + list(flags)
-    start = time.perf_counter()
-    proc = subprocess.run(cmd, capture_output=True, text=True, env=env)
-    wall = time.perf_counter() - start
+    with tempfile.TemporaryFile("w+") as err:
+        start = time.perf_counter()
+        proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=err, env=env)
+        # wait4, not wait: it returns this child's own resource usage.
+        _, status, usage = os.wait4(proc.pid, 0)
+        wall = time.perf_counter() - start
+        proc.returncode = os.waitstatus_to_exitcode(status)
+        err.seek(0)
+        stderr = err.read()
     if proc.returncode != 0:
-        raise RuntimeError(f"{' '.join(cmd)} failed ({proc.returncode}):\n{proc.stderr}")
-    info = parse_stderr(proc.stderr)
+        raise RuntimeError(f"{' '.join(cmd)} failed ({proc.returncode}):\n{stderr}")
+    info = parse_stderr(stderr)
     info["wall_s"] = wall
+    info["cpu_s"] = usage.ru_utime + usage.ru_stime
     return info
 
 
