@@ -539,7 +539,7 @@ class SceneWriter {
       pushVec4(float(grid.lo.x), float(grid.lo.y), float(grid.lo.z), float(grid.cell));
       pushVec4(float(grid.dims.x), float(grid.dims.y), float(grid.dims.z), float(grid.margin));
       l.grid_cells = data_.size() / 4;
-      l.grid_slots = options_.with_kernel && &n == ray_skip_set_ && sphereCloud(n, l) &&
+      l.grid_slots = options_.with_kernel && &n == ray_skip_set_ && sphereCloud(n) &&
                      grid.cells() * ir::kGridListMax * 16 <= kMaxCopiedRecordBytes;
       data_.reserve(data_.size() + grid.cells() * 4 + grid.entries.size() + 4);
       for (size_t c = 0; c < grid.cells(); ++c)
@@ -600,7 +600,14 @@ class SceneWriter {
            << ";\n";
     g.code << "  ivec3 dims = ivec3(g1.xyz);\n  vec3 f = (p - g0.xyz) / g0.w;\n";
     g.code << "  ivec3 c = clamp(ivec3(floor(f)), ivec3(0), dims - 1);\n";
-    if (l.grid_slots && !mat && ray_skip_set_ == &n) {
+    // The root set's lookup also bounds the first hit along g_ray_dir (the
+    // same argument along the ray, instance_grid.cpp): to the cell's exit plus
+    // the reach, or to a listed instance, exactly for a sphere.
+    const bool skip = !mat && ray_skip_set_ == &n;
+    const std::string ray_hit = skip ? rayHitFunction(n, l, one) : "";
+    if (!ray_hit.empty()) sphereNormalFunction(n, l, visits);
+    const bool unrolled = l.grid_slots && !ray_hit.empty();
+    if (unrolled) {
       // Fixed slots start at ci * kGridListMax (what cell.x holds): computed,
       // not read, and loaded before the cell is tested, so their loads wait
       // neither for the cell's nor for a mask that depends on it (a crowded
@@ -613,13 +620,6 @@ class SceneWriter {
       g.code << "  vec4 cell = sd_data[" << gc << " + c.x + dims.x * (c.y + dims.y * c.z)];\n";
     }
     g.code << "  int count = int(cell.y);\n";
-    // The root set's lookup also bounds the first hit along g_ray_dir (the
-    // same argument along the ray, instance_grid.cpp): to the cell's exit plus
-    // the reach, or to a listed instance, exactly for a sphere.
-    const bool skip = !mat && ray_skip_set_ == &n;
-    const std::string ray_hit = skip ? rayHitFunction(n, l, one) : "";
-    if (!ray_hit.empty()) sphereNormalFunction(n, l, visits);
-    const bool unrolled = l.grid_slots && !ray_hit.empty();
     g.code << countEvent(kEventLookups);
     // Fixed slots take no loop iterations: only a crowded cell needs the hierarchy.
     g.code << "  if (count < 0" << (unrolled ? std::string() : " || count > " + visits) << ") return " << tree
@@ -779,11 +779,7 @@ class SceneWriter {
   }
 
   // One sphere of constant radius placed by offsets (a point cloud).
-  static bool sphereCloud(const ir::Node& n, const InstanceLayout& l) {
-    const ir::Node& templ = *n.children[0];
-    return !l.affine && n.instances->param_count == 0 && templ.kind == ir::NodeKind::Primitive &&
-           templ.primitive == PrimitiveKind::Sphere && !templ.args.empty() && templ.args[0].isConst();
-  }
+  static bool sphereCloud(const ir::Node& n) { return ir::isSphereCloud(*n.instances, *n.children[0]); }
 
   // A sphere cloud's constant radius as a GLSL literal.
   static std::string sphereCloudRadius(const ir::Node& n) { return glslFloat(n.children[0]->args[0].value); }
@@ -840,7 +836,7 @@ class SceneWriter {
   // (0 inside, 1e30 if it misses), for sets of one constant sphere placed by
   // offsets; else "" and the caller bounds the hit by the distance.
   std::string rayHitFunction(const ir::Node& n, const InstanceLayout& l, const std::string& one) {
-    if (!sphereCloud(n, l)) return "";
+    if (!sphereCloud(n)) return "";
     const std::string name = one + "_ray";
     if (!helper_names_.insert(name).second) return name;
     Function g;

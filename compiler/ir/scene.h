@@ -84,6 +84,16 @@ struct Node {
   double cost = 0;
 };
 
+// A point cloud: the copies of an Instances node are one sphere of constant
+// radius placed by offsets alone (no rotation or scale, no per-instance
+// parameters). The grid ranks its spheres by their own distance
+// (passes/instance_grid.cpp); the emitter gives it fixed slots, analytic ray
+// hits and radial normals.
+inline bool isSphereCloud(const InstanceSet& set, const Node& templ) {
+  return set.transforms.empty() && set.param_count == 0 && templ.kind == NodeKind::Primitive &&
+         templ.primitive == PrimitiveKind::Sphere && !templ.args.empty() && templ.args[0].isConst();
+}
+
 enum class MaterialModel { Diffuse = 0, Mirror = 1, Glass = 2, Emissive = 3, Metal = 4 };
 
 struct Material {

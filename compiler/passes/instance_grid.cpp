@@ -34,15 +34,9 @@ double boxBoxDistance(const Aabb& a, const Aabb& b) {
   return glm::length(gap);
 }
 
-// The sphere's radius when every instance is the same sphere placed by an
-// offset alone (a point cloud), else 0: its distance to a cell is then exact.
-double cloudRadius(const ir::InstanceSet& set, const ir::Node& templ) {
-  if (set.param_count != 0 || templ.kind != ir::NodeKind::Primitive || templ.primitive != PrimitiveKind::Sphere ||
-      templ.args.empty() || !templ.args[0].isConst())
-    return 0;
-  for (const ir::Instance& inst : set.instances)
-    if (inst.transform >= 0) return 0;
-  return templ.args[0].value;
+// Distance from a ball of radius r centred at c to a box, 0 where they touch.
+double ballBoxDistance(const Aabb& box, const dvec3& c, double r) {
+  return std::max(glm::length(glm::max(glm::max(box.lo - c, c - box.hi), dvec3(0))) - r, 0.0);
 }
 
 }  // namespace
@@ -124,7 +118,7 @@ void buildInstanceGrid(ir::InstanceSet& set, const ir::Node& templ) {
   // above needs only dist(C, shape_i) >= reach, and a ball is nearer its box's
   // corners than it. Fewer spheres touch a cell (fewer crowded cells) and
   // reaches are longer.
-  const double sphere_r = cloudRadius(set, templ);
+  const double sphere_r = ir::isSphereCloud(set, templ) ? templ.args[0].value : 0;
   for (int z = 0; z < g.dims.z; ++z)
     for (int y = 0; y < g.dims.y; ++y)
       for (int x = 0; x < g.dims.x; ++x) {
@@ -133,11 +127,9 @@ void buildInstanceGrid(ir::InstanceSet& set, const ir::Node& templ) {
         const Aabb box{lo, lo + cell};
         near.clear();
         for (std::uint32_t k = cand_first[c]; k < cand_first[c + 1]; ++k) {
-          const double d = sphere_r > 0
-                               ? std::max(glm::length(glm::max(glm::max(box.lo + set.instances[cand[k]].offset,
-                                                                        -set.instances[cand[k]].offset - box.hi),
-                                                               dvec3(0))) - sphere_r, 0.0)
-                               : boxBoxDistance(box, boxes[cand[k]]);
+          // A cloud's instance at offset o is the sphere centred at -o.
+          const double d = sphere_r > 0 ? ballBoxDistance(box, -set.instances[cand[k]].offset, sphere_r)
+                                        : boxBoxDistance(box, boxes[cand[k]]);
           if (d < reach) near.push_back({d, cand[k]});
         }
         std::sort(near.begin(), near.end());
