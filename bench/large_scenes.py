@@ -158,8 +158,9 @@ def depth_disagreement(before, after, scene, dir_, flags_before=(), any_side=Fal
 
 def grid_summary(sdfc, scene):
     proc = subprocess.run([sdfc, "compile", scene, "--emit", "ir"], capture_output=True, text=True)
-    m = re.search(r"grid (\S+) cells of [^,]*, lists of ([0-9.]+) on average, (\d+) crowded", proc.stdout)
-    return "%s, lists %s, %s crowded" % m.groups() if m else "none"
+    m = re.search(r"grid (\S+) cells of [^,]*, lists of ([0-9.]+) on average, (?:(\d+) split, )?(\d+) crowded",
+                  proc.stdout)
+    return "%s, lists %s, %s split, %s crowded" % (m.group(1), m.group(2), m.group(3) or 0, m.group(4)) if m else "none"
 
 
 def main():
@@ -210,7 +211,7 @@ def main():
         for _ in range(args.repeats):
             for n in speed_counts:
                 runs[n].append(ms_once(args.sdfc, scenes[n], dir_, args.spp))
-        emit("| instances | sphere radius | grid (cells, mean list, crowded cells) | loop iterations / pixel | primary steps / pixel | ms per sample (median) | runs |")
+        emit("| instances | sphere radius | grid (cells, mean list, split and crowded cells) | loop iterations / pixel | primary steps / pixel | ms per sample (median) | runs |")
         emit("|---:|---:|---|---:|---:|---:|---|")
         med = {}
         for n in speed_counts:

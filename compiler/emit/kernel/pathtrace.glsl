@@ -110,6 +110,34 @@ float march(vec3 ro, vec3 rd, float t_max, float side, out int steps) {
 #endif
     float d = side * sdScene(ro + rd * t);
     if (i > 0) slope = (d - d_prev) / max(t - t_prev, 1e-30);
+#ifdef SDFC_HAS_SPHERE_HIT
+    // A point cloud's cell step (docs/large_scenes.md): where the lookup came
+    // from a grid cell (g_ray_skip > 0: outside every listed sphere) and no
+    // stop, probe or check is pending, the skip alone decides, as below: a
+    // met sphere is the hit, a shadow ray ends on any listed hit, else the
+    // march steps by the skip or d. Only when every active lane is in that
+    // state (lanes run in lockstep) is the rest of the body skipped.
+    if (subgroupAll(side > 0.0 && g_ray_skip > 0.0 && t_stop < 0.0 && !probe && !leaving && !relaxed)) {
+      steps = i + 1;
+      if (g_ray_met && t + g_ray_skip <= t_max) {
+        t_hit = t + g_ray_skip;
+        d_hit = 0.0;
+        g_hit_sphere = g_ray_met_slot;
+        break;
+      }
+      if (g_ray_any_hit && t + g_ray_any <= t_max) {
+        t_hit = t + g_ray_any;
+        d_hit = 0.0;
+        break;
+      }
+      if (i + 1 >= kSceneMaxSteps) break;  // out of steps: a miss
+      t_prev = t;
+      d_prev = d;
+      t += max(g_ray_skip, d * kSceneStepScale);
+      if (t > t_max) break;
+      continue;
+    }
+#endif
     if (probe) {
       probe = false;
       if (d <= d_prev) {  // moving in (or along): a hit where it started
