@@ -606,7 +606,6 @@ class SceneWriter {
     out << "    q = q * 2.0 - vec3(o);\n";
     if (sized) out << "    size *= 0.5;\n";
     out << "    cell = sd_data[" << l.grid_cells << " + ci];\n";
-    out << countEvent(kEventLookups, "  ");
     if (slots) {
       out << "    first = ci * " << ir::kGridListMax << ";\n";
       std::string loads = slotLoads(l, "");
