@@ -116,10 +116,11 @@ int uniformMaterial(const ir::Node& n, int inherited) {
 // Hierarchy traversals one evaluation of `n` may make (the renderer divides
 // the loop cap's room by it): a set inside a repeat's neighbour cells or in
 // several uses of a definition counts once per evaluation of it.
-int traversalsPerEvaluation(const ir::Node& n) {
-  if (n.kind == ir::NodeKind::Instances) return 1;
+// `free_set`: Instances nodes whose evaluations never reach their hierarchy.
+int traversalsPerEvaluation(const ir::Node& n, const ir::Node* free_set) {
+  if (n.kind == ir::NodeKind::Instances) return &n == free_set ? 0 : 1;
   int sum = 0;
-  for (const ir::NodeRef& c : n.children) sum += traversalsPerEvaluation(*c);
+  for (const ir::NodeRef& c : n.children) sum += traversalsPerEvaluation(*c, free_set);
   if (n.kind == ir::NodeKind::Repeat && sum > 0)
     for (int a = 0; a < 3; ++a)
       if (repeatNeedsNeighbours(n, a)) sum *= 3;
@@ -414,6 +415,19 @@ class SceneWriter {
  public:
   std::vector<float> takeData() { return std::move(data_); }
   int instanceSets() const { return static_cast<int>(instance_layouts_.size()); }
+  // The root point cloud of one material when its fixed-slot grid has no
+  // crowded cell: its lookups and sphere normals never walk the hierarchy nor
+  // loop over a list (sdSceneMaterial is sdScene's distance and a constant),
+  // so a pass needs no hierarchy visits for it and may take as many samples
+  // as any scene's.
+  const ir::Node* traversalFreeSet() const {
+    if (!ray_skip_set_ || !has_sphere_hit_ || !has_sphere_material_) return nullptr;
+    auto it = instance_layouts_.find(ray_skip_set_);
+    if (it == instance_layouts_.end() || !it->second.grid_slots) return nullptr;
+    const std::vector<std::int32_t>& count = ray_skip_set_->instances->grid.count;
+    if (std::find(count.begin(), count.end(), ir::kGridCrowded) != count.end()) return nullptr;
+    return ray_skip_set_;
+  }
 
  private:
   int bounded_ = 0;
@@ -1494,7 +1508,8 @@ EmitResult emitGlsl(const ir::Scene& scene, const EmitOptions& options) {
   if (options.with_kernel && countEventFromName(options.count_event, count_kind, count_quantity))
     result.stats.features.insert("SDFC_COUNT_EVENTS");
   result.stats.instance_sets = writer.instanceSets();
-  result.stats.traversals_per_evaluation = scene.root ? traversalsPerEvaluation(*scene.root) : 0;
+  result.stats.traversals_per_evaluation =
+      scene.root ? traversalsPerEvaluation(*scene.root, writer.traversalFreeSet()) : 0;
   result.scene_data = writer.takeData();
   std::ostringstream out;
   out << "#version 450\n";
