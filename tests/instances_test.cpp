@@ -712,6 +712,39 @@ TEST_F(InstancesGpu, PointCloudDepthIsTheExactFirstHit) {
   EXPECT_EQ(off, 0);
 }
 
+// A pixel's value does not depend on the pixels beside it in the lanes:
+// the cell step (taken only when all lanes of a group may take it) and the
+// march body do the same for a lane that may. The same absolute pixels drawn
+// one column and one row over (FrameParams.tile_x/y, so each group holds
+// other neighbours) are bit-identical.
+TEST_F(InstancesGpu, PointCloudPixelsDoNotDependOnTheirLaneNeighbours) {
+  const CompiledScene data = compiled(denseCloud(3000, 0.1), 32);
+  ASSERT_EQ(data.emitted.stats.features.count("SDFC_HAS_SPHERE_HIT"), 1u);
+  Renderer r(*context_, data);
+  const uint32_t w = 192, h = 108;
+  gpu::FrameParams p = makeFrameParams(cameraFor(data.scene), w, h, 0);
+  p.seed = 3;
+  p.view = gpu::kViewBeauty;
+  p.max_bounces = 3;
+  p.light_samples = 1;
+  p.sample_base = 0;
+  p.sample_count = 8;
+  FloatImage a, b, nd, as;
+  r.renderPass(p, 60, a, nd, as);
+  p.tile_x = 1;
+  p.tile_y = 1;
+  r.renderPass(p, 60, b, nd, as);
+  size_t differing = 0, compared = 0;
+  for (uint32_t y = 0; y + 1 < h; ++y)
+    for (uint32_t x = 0; x + 1 < w; ++x)
+      for (int ch = 0; ch < 3; ++ch) {
+        ++compared;
+        differing += a.rgba[((size_t(y) + 1) * w + x + 1) * 4 + ch] != b.rgba[(size_t(y) * w + x) * 4 + ch];
+      }
+  std::printf("%zu of %zu values differ\n", differing, compared);
+  EXPECT_EQ(differing, 0u);
+}
+
 // --count-event: the kernel's per-pixel event counts (docs/large_scenes.md,
 // decomposition) in the iterations view's green channel. One path per pixel
 // at 1 spp: exactly one primary segment, and it always hits (the ground
