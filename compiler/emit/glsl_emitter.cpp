@@ -599,12 +599,11 @@ class SceneWriter {
     return std::find(grid.count.begin(), grid.count.end(), ir::kGridSplit) != grid.count.end();
   }
 
-  // Fixed slots of cell `first / kGridListMax` into s0..s7.
-  static std::string slotLoads(const InstanceLayout& l, const std::string& declare) {
+  // The fixed slots of the cell at `first` into s0..s7 (declared when `type` is given).
+  static std::string slotLoads(const InstanceLayout& l, const std::string& indent, const std::string& type) {
     std::ostringstream out;
     for (int k = 0; k < ir::kGridListMax; ++k)
-      out << "  " << (declare.empty() ? "  " : declare) << "s" << k << " = sd_data[" << l.grid_entries
-          << " + first + " << k << "].xyz;\n";
+      out << indent << type << "s" << k << " = sd_data[" << l.grid_entries << " + first + " << k << "].xyz;\n";
     return out.str();
   }
 
@@ -620,18 +619,15 @@ class SceneWriter {
     out << "    q = q * 2.0 - vec3(o);\n";
     if (sized) out << "    size *= 0.5;\n";
     out << "    cell = sd_data[" << l.grid_cells << " + ci];\n";
-    if (slots) {
-      out << "    first = ci * " << ir::kGridListMax << ";\n";
-      std::string loads = slotLoads(l, "");
-      out << loads;
-    }
+    if (slots) out << "    first = ci * " << ir::kGridListMax << ";\n" << slotLoads(l, "    ", "");
     out << "  }\n";
     return out.str();
   }
 
   // The grid's lookup (ir::InstanceGrid): outside its box the margin bound,
-  // in a crowded cell (or with fewer visits than the list) the hierarchy,
-  // else the cell's list and its reach.
+  // in a split cell its octant's sub-cell, in a crowded (sub-)cell (or with
+  // fewer visits than the list) the hierarchy, else the cell's list and its
+  // reach.
   void gridFunction(const ir::Node& n, const InstanceLayout& l, bool mat, const std::string& name,
                     const std::string& one, const std::string& tree) {
     const std::string gh = std::to_string(l.grid_header), gc = std::to_string(l.grid_cells),
@@ -666,7 +662,7 @@ class SceneWriter {
       // neither for the cell's nor for a mask that depends on it (a crowded
       // or split cell's slots hold far dummies, loaded and unused).
       g.code << "  int first = ci * " << ir::kGridListMax << ";\n";
-      g.code << slotLoads(l, "vec3 ");
+      g.code << slotLoads(l, "  ", "vec3 ");
     }
     g.code << "  vec4 cell = sd_data[" << gc << " + ci];\n";
     g.code << "  vec3 q = f - vec3(c);\n";
