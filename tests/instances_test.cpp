@@ -5,12 +5,14 @@
 // noise; `instances(...)` is checked like everything else.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <random>
 #include <sstream>
 
+#include "camera.h"
 #include "driver/compile.h"
 #include "eval/evaluator.h"
 #include "gpu_points.h"
@@ -155,7 +157,7 @@ TEST(Instances, GridBoundIsALowerBoundAndExactWithinReach) {
       const dvec3 hi = g.lo + dvec3(g.dims) * g.cell;
       std::uniform_real_distribution<double> ux(g.lo.x - 2, hi.x + 2), uy(g.lo.y - 2, hi.y + 2),
           uz(g.lo.z - 2, hi.z + 2);
-      int exact = 0, bounded = 0, crowded = 0, shrunk = 0;
+      int exact = 0, bounded = 0, crowded = 0, shrunk = 0, in_split = 0;
       for (int i = 0; i < 3000; ++i) {
         const dvec3 p(ux(rng), uy(rng), uz(rng));
         auto one = [&](size_t k) { return eval.instanceDistance(*n, k, p); };
@@ -172,9 +174,10 @@ TEST(Instances, GridBoundIsALowerBoundAndExactWithinReach) {
         }
         const bool inside = glm::all(glm::greaterThanEqual(p, g.lo)) && glm::all(glm::lessThan(p, hi));
         if (!inside) continue;
-        const glm::ivec3 cell = glm::clamp(glm::ivec3(glm::floor((p - g.lo) / g.cell)), glm::ivec3(0), g.dims - 1);
-        const size_t index = size_t(cell.x) + size_t(g.dims.x) * (size_t(cell.y) + size_t(g.dims.y) * cell.z);
+        const ir::GridCellAt at = instanceGridCellAt(g, p);
+        const size_t index = at.index;
         shrunk += g.reach[index] < g.margin;
+        in_split += index >= size_t(g.dims.x) * g.dims.y * g.dims.z;
         if (brute < g.reach[index]) {
           ASSERT_NEAR(bound, brute, 1e-12) << set.origin;
           ++exact;
@@ -182,9 +185,16 @@ TEST(Instances, GridBoundIsALowerBoundAndExactWithinReach) {
           ++bounded;
         }
       }
-      std::printf("%s: %d exact, %d bounded (nearest beyond reach), %d crowded, %d in shrunk cells\n",
-                  set.origin.c_str(), exact, bounded, crowded, shrunk);
+      const size_t split = size_t(std::count(g.count.begin(), g.count.end(), ir::kGridSplit));
+      std::printf("%s: %d exact, %d bounded (nearest beyond reach), %d crowded, %d in shrunk cells, "
+                  "%d in the sub-cells of %zu split cells\n",
+                  set.origin.c_str(), exact, bounded, crowded, shrunk, in_split, split);
       EXPECT_GT(exact, 50);
+      // Every split cell has 8 sub-cells after the grid's cells, and a cell
+      // is split only if it was crowded (reach 0).
+      EXPECT_EQ(g.cells(), size_t(g.dims.x) * g.dims.y * g.dims.z + 8 * split);
+      for (size_t c = 0; c < size_t(g.dims.x) * g.dims.y * g.dims.z; ++c)
+        if (g.count[c] == ir::kGridSplit) EXPECT_EQ(g.reach[c], 0.0);
     }
   }
 }
@@ -348,8 +358,7 @@ TEST(Instances, MetSphereNormalEqualsTheLookups) {
   // The lookup's sphere at c: the cell's list in slot order, nearest centre.
   auto lookup = [&](const dvec3& at) -> long {
     if (glm::any(glm::lessThan(at, g.lo)) || glm::any(glm::greaterThan(at, hi))) return -2;
-    const glm::ivec3 cell = glm::clamp(glm::ivec3(glm::floor((at - g.lo) / g.cell)), glm::ivec3(0), g.dims - 1);
-    const size_t index = size_t(cell.x) + size_t(g.dims.x) * (size_t(cell.y) + size_t(g.dims.y) * cell.z);
+    const size_t index = instanceGridCellAt(g, at).index;
     double qq_min = 1e300;
     long best = -1;
     const bool crowded = g.count[index] < 0;
@@ -649,6 +658,91 @@ TEST_F(InstancesGpu, DenseCloudThroughTheGridEqualsTheInlineForm) {
                 radius, two_materials ? ", two materials" : "", diff / (a.rgba.size() * 0.75), sum_b / (b.rgba.size() * 0.75), worst);
     EXPECT_LT(diff / sum_b, 5e-3);
   }
+}
+
+// The point cloud's march (fixed slots and the cell step, docs/large_scenes.md)
+// against float64: each pixel's primary depth (the depth view: the unjittered
+// ray through the pixel centre) is the first hit over all 600 spheres and the
+// ground, solved in closed form. The cloud has split cells.
+TEST_F(InstancesGpu, PointCloudDepthIsTheExactFirstHit) {
+  const CompiledScene data = compiled(denseCloud(600, 0.2), 32);
+  ASSERT_EQ(data.emitted.stats.features.count("SDFC_HAS_SPHERE_HIT"), 1u);
+  std::vector<const ir::Node*> sets;
+  collectSets(data.scene.root, sets);
+  ASSERT_EQ(sets.size(), 1u);
+  const ir::InstanceSet& set = *sets[0]->instances;
+  EXPECT_GT(std::count(set.grid.count.begin(), set.grid.count.end(), ir::kGridSplit), 0);
+  const uint32_t w = 160, h = 90;
+  RenderOverrides o;
+  o.width = w;
+  o.height = h;
+  o.spp = 1;
+  o.view = gpu::kViewDepth;
+  Renderer r(*context_, data);
+  const CameraDesc camera = cameraFor(data.scene);
+  const FloatImage depth = r.render(camera, renderSettingsFor(data, o)).color;
+  // The kernel's cameraRay in float64, from the same float basis.
+  const gpu::FrameParams f = makeFrameParams(camera, w, h, 0);
+  const dvec3 ro(f.cam_origin), right(f.cam_right), up(f.cam_up), forward(f.cam_forward);
+  const double tan_half = f.cam_origin.w, aspect = double(w) / h;
+  int on_spheres = 0, off = 0;
+  double worst = 0;
+  for (uint32_t y = 0; y < h; ++y)
+    for (uint32_t x = 0; x < w; ++x) {
+      const double nx = 2.0 * (x + 0.5) / w - 1, ny = 1 - 2.0 * (y + 0.5) / h;
+      const dvec3 rd = glm::normalize(forward + (nx * aspect * tan_half) * right + (ny * tan_half) * up);
+      double exact = rd.y < 0 ? -ro.y / rd.y : 1e300;
+      bool sphere = false;
+      for (size_t k = 0; k < set.size(); ++k) {
+        const double t = rayHitSphere(ro, rd, -set.instances[k].offset, 0.2);
+        if (t < exact) {
+          exact = t;
+          sphere = true;
+        }
+      }
+      const double got = depth.rgba[(size_t(y) * w + x) * 4];
+      const double rel = std::fabs(got - exact) / exact;
+      on_spheres += sphere;
+      worst = std::max(worst, rel);
+      off += rel > 1e-4;
+    }
+  std::printf("%u pixels, %d on spheres: %d off by more than 1e-4 relative, worst %.3g\n", w * h, on_spheres, off,
+              worst);
+  EXPECT_GT(on_spheres, int(w * h / 10));
+  EXPECT_EQ(off, 0);
+}
+
+// A pixel's value does not depend on the pixels beside it in the lanes:
+// the cell step (taken only when all lanes of a group may take it) and the
+// march body do the same for a lane that may. The same absolute pixels drawn
+// one column and one row over (FrameParams.tile_x/y, so each group holds
+// other neighbours) are bit-identical.
+TEST_F(InstancesGpu, PointCloudPixelsDoNotDependOnTheirLaneNeighbours) {
+  const CompiledScene data = compiled(denseCloud(3000, 0.1), 32);
+  ASSERT_EQ(data.emitted.stats.features.count("SDFC_HAS_SPHERE_HIT"), 1u);
+  Renderer r(*context_, data);
+  const uint32_t w = 192, h = 108;
+  gpu::FrameParams p = makeFrameParams(cameraFor(data.scene), w, h, 0);
+  p.seed = 3;
+  p.view = gpu::kViewBeauty;
+  p.max_bounces = 3;
+  p.light_samples = 1;
+  p.sample_base = 0;
+  p.sample_count = 8;
+  FloatImage a, b, nd, as;
+  r.renderPass(p, 60, a, nd, as);
+  p.tile_x = 1;
+  p.tile_y = 1;
+  r.renderPass(p, 60, b, nd, as);
+  size_t differing = 0, compared = 0;
+  for (uint32_t y = 0; y + 1 < h; ++y)
+    for (uint32_t x = 0; x + 1 < w; ++x)
+      for (int ch = 0; ch < 3; ++ch) {
+        ++compared;
+        differing += a.rgba[((size_t(y) + 1) * w + x + 1) * 4 + ch] != b.rgba[(size_t(y) * w + x) * 4 + ch];
+      }
+  std::printf("%zu of %zu values differ\n", differing, compared);
+  EXPECT_EQ(differing, 0u);
 }
 
 // --count-event: the kernel's per-pixel event counts (docs/large_scenes.md,

@@ -116,10 +116,11 @@ int uniformMaterial(const ir::Node& n, int inherited) {
 // Hierarchy traversals one evaluation of `n` may make (the renderer divides
 // the loop cap's room by it): a set inside a repeat's neighbour cells or in
 // several uses of a definition counts once per evaluation of it.
-int traversalsPerEvaluation(const ir::Node& n) {
-  if (n.kind == ir::NodeKind::Instances) return 1;
+// `free_set`: Instances nodes whose evaluations never reach their hierarchy.
+int traversalsPerEvaluation(const ir::Node& n, const ir::Node* free_set) {
+  if (n.kind == ir::NodeKind::Instances) return &n == free_set ? 0 : 1;
   int sum = 0;
-  for (const ir::NodeRef& c : n.children) sum += traversalsPerEvaluation(*c);
+  for (const ir::NodeRef& c : n.children) sum += traversalsPerEvaluation(*c, free_set);
   if (n.kind == ir::NodeKind::Repeat && sum > 0)
     for (int a = 0; a < 3; ++a)
       if (repeatNeedsNeighbours(n, a)) sum *= 3;
@@ -414,6 +415,19 @@ class SceneWriter {
  public:
   std::vector<float> takeData() { return std::move(data_); }
   int instanceSets() const { return static_cast<int>(instance_layouts_.size()); }
+  // The root point cloud of one material when its fixed-slot grid has no
+  // crowded cell: its lookups and sphere normals never walk the hierarchy nor
+  // loop over a list (sdSceneMaterial is sdScene's distance and a constant),
+  // so a pass needs no hierarchy visits for it and may take as many samples
+  // as any scene's.
+  const ir::Node* traversalFreeSet() const {
+    if (!ray_skip_set_ || !has_sphere_hit_ || !has_sphere_material_) return nullptr;
+    auto it = instance_layouts_.find(ray_skip_set_);
+    if (it == instance_layouts_.end() || !it->second.grid_slots) return nullptr;
+    const std::vector<std::int32_t>& count = ray_skip_set_->instances->grid.count;
+    if (std::find(count.begin(), count.end(), ir::kGridCrowded) != count.end()) return nullptr;
+    return ray_skip_set_;
+  }
 
  private:
   int bounded_ = 0;
@@ -542,9 +556,11 @@ class SceneWriter {
       l.grid_slots = options_.with_kernel && &n == ray_skip_set_ && sphereCloud(n) &&
                      grid.cells() * ir::kGridListMax * 16 <= kMaxCopiedRecordBytes;
       data_.reserve(data_.size() + grid.cells() * 4 + grid.entries.size() + 4);
+      // A split cell's x is its first sub-cell's index; fixed slots are at
+      // cell index x kGridListMax, which the lookup computes.
       for (size_t c = 0; c < grid.cells(); ++c)
-        pushVec4(float(l.grid_slots ? c * ir::kGridListMax : grid.first[c]), float(grid.count[c]),
-                 float(grid.reach[c]), 0);
+        pushVec4(float(l.grid_slots && grid.count[c] != ir::kGridSplit ? c * ir::kGridListMax : grid.first[c]),
+                 float(grid.count[c]), float(grid.reach[c]), 0);
       l.grid_entries = data_.size() / 4;
       if (l.grid_slots) {
         l.grid_records = true;
@@ -579,9 +595,39 @@ class SceneWriter {
     return instance_layouts_.emplace(&n, l).first->second;
   }
 
+  static bool gridHasSplitCells(const ir::InstanceGrid& grid) {
+    return std::find(grid.count.begin(), grid.count.end(), ir::kGridSplit) != grid.count.end();
+  }
+
+  // The fixed slots of the cell at `first` into s0..s7 (declared when `type` is given).
+  static std::string slotLoads(const InstanceLayout& l, const std::string& indent, const std::string& type) {
+    std::ostringstream out;
+    for (int k = 0; k < ir::kGridListMax; ++k)
+      out << indent << type << "s" << k << " = sd_data[" << l.grid_entries << " + first + " << k << "].xyz;\n";
+    return out.str();
+  }
+
+  // A split cell (ir::kGridSplit: too crowded for one list) hands p to its
+  // octant's sub-cell, half the size: ci, q, size and cell (and the fixed
+  // slots) become the sub-cell's. q * 2 - o is exact in float.
+  std::string splitCellLookup(const InstanceLayout& l, bool slots, bool sized) const {
+    std::ostringstream out;
+    if (sized) out << "  float size = g0.w;\n";
+    out << "  if (cell.y < -1.5) {  // split: the octant's sub-cell\n";
+    out << "    ivec3 o = ivec3(greaterThanEqual(q, vec3(0.5)));\n";
+    out << "    ci = int(cell.x) + o.x + 2 * o.y + 4 * o.z;\n";
+    out << "    q = q * 2.0 - vec3(o);\n";
+    if (sized) out << "    size *= 0.5;\n";
+    out << "    cell = sd_data[" << l.grid_cells << " + ci];\n";
+    if (slots) out << "    first = ci * " << ir::kGridListMax << ";\n" << slotLoads(l, "    ", "");
+    out << "  }\n";
+    return out.str();
+  }
+
   // The grid's lookup (ir::InstanceGrid): outside its box the margin bound,
-  // in a crowded cell (or with fewer visits than the list) the hierarchy,
-  // else the cell's list and its reach.
+  // in a split cell its octant's sub-cell, in a crowded (sub-)cell (or with
+  // fewer visits than the list) the hierarchy, else the cell's list and its
+  // reach.
   void gridFunction(const ir::Node& n, const InstanceLayout& l, bool mat, const std::string& name,
                     const std::string& one, const std::string& tree) {
     const std::string gh = std::to_string(l.grid_header), gc = std::to_string(l.grid_cells),
@@ -607,34 +653,35 @@ class SceneWriter {
     const std::string ray_hit = skip ? rayHitFunction(n, l, one) : "";
     if (!ray_hit.empty()) sphereNormalFunction(n, l, visits);
     const bool unrolled = l.grid_slots && !ray_hit.empty();
+    const bool split = gridHasSplitCells(grid);
+    const std::string size = split ? "size" : "g0.w";
+    g.code << "  int ci = c.x + dims.x * (c.y + dims.y * c.z);\n";
     if (unrolled) {
       // Fixed slots start at ci * kGridListMax (what cell.x holds): computed,
       // not read, and loaded before the cell is tested, so their loads wait
       // neither for the cell's nor for a mask that depends on it (a crowded
-      // cell's slots hold far dummies, loaded and unused).
-      g.code << "  int ci = c.x + dims.x * (c.y + dims.y * c.z), first = ci * " << ir::kGridListMax << ";\n";
-      for (int k = 0; k < ir::kGridListMax; ++k)
-        g.code << "  vec3 s" << k << " = sd_data[" << ge << " + first + " << k << "].xyz;\n";
-      g.code << "  vec4 cell = sd_data[" << gc << " + ci];\n";
-    } else {
-      g.code << "  vec4 cell = sd_data[" << gc << " + c.x + dims.x * (c.y + dims.y * c.z)];\n";
+      // or split cell's slots hold far dummies, loaded and unused).
+      g.code << "  int first = ci * " << ir::kGridListMax << ";\n";
+      g.code << slotLoads(l, "  ", "vec3 ");
     }
-    g.code << "  int count = int(cell.y);\n";
+    g.code << "  vec4 cell = sd_data[" << gc << " + ci];\n";
+    g.code << "  vec3 q = f - vec3(c);\n";
     g.code << countEvent(kEventLookups);
+    if (split) g.code << splitCellLookup(l, unrolled, true);
+    g.code << "  int count = int(cell.y);\n";
     // Fixed slots take no loop iterations: only a crowded cell needs the hierarchy.
     g.code << "  if (count < 0" << (unrolled ? std::string() : " || count > " + visits) << ") return " << tree
            << "(p" << (mat ? ", inherited" : "") << ");\n";
     g.code << "  // Unlisted instances are at least the reach plus the way to the cell's faces away.\n";
-    g.code << "  vec3 q = f - vec3(c);\n";
     g.code << "  float face = min(min(min(q.x, q.y), q.z), min(min(1.0 - q.x, 1.0 - q.y), 1.0 - q.z));\n";
-    g.code << "  " << (mat ? "vec2 best = vec2(cell.z + g0.w * max(face, 0.0), inherited);"
-                            : "float best = cell.z + g0.w * max(face, 0.0);")
+    g.code << "  " << (mat ? "vec2 best = vec2(cell.z + " + size + " * max(face, 0.0), inherited);"
+                            : "float best = cell.z + " + size + " * max(face, 0.0);")
            << "\n";
     if (!unrolled) g.code << "  int first = int(cell.x);\n";
     if (skip) {
       g.code << "  vec3 rd = g_ray_dir;\n";
       g.code << "  vec3 to_exit = mix(q, 1.0 - q, greaterThan(rd, vec3(0.0))) / max(abs(rd), 1e-30);\n";
-      g.code << "  float skip = cell.z + g0.w * max(min(min(to_exit.x, to_exit.y), to_exit.z), 0.0);\n";
+      g.code << "  float skip = cell.z + " << size << " * max(min(min(to_exit.x, to_exit.y), to_exit.z), 0.0);\n";
     }
     if (unrolled) {
       // kGridListMax fixed slots in straight-line code (padded lists). One
@@ -736,17 +783,20 @@ class SceneWriter {
     }
     g.code << "  vec4 g0 = sd_data[" << gh << "], g1 = sd_data[" << gh << " + 1];\n";
     g.code << "  if (any(lessThan(p, g0.xyz)) || any(greaterThan(p, g0.xyz + g1.xyz * g0.w))) return false;\n";
-    g.code << "  ivec3 dims = ivec3(g1.xyz);\n";
-    g.code << "  ivec3 c = clamp(ivec3(floor((p - g0.xyz) / g0.w)), ivec3(0), dims - 1);\n";
+    g.code << "  ivec3 dims = ivec3(g1.xyz);\n  vec3 f = (p - g0.xyz) / g0.w;\n";
+    g.code << "  ivec3 c = clamp(ivec3(floor(f)), ivec3(0), dims - 1);\n";
+    g.code << "  int ci = c.x + dims.x * (c.y + dims.y * c.z);\n";
+    g.code << "  vec4 cell = sd_data[" << gc << " + ci];\n";
+    g.code << countEvent(kEventLookups);
+    if (gridHasSplitCells(n.instances->grid)) {
+      g.code << "  vec3 q = f - vec3(c);\n";
+      g.code << splitCellLookup(l, false, false);
+    }
     if (l.grid_slots) {
-      g.code << "  int ci = c.x + dims.x * (c.y + dims.y * c.z);\n";
-      g.code << "  vec4 cell = sd_data[" << gc << " + ci];\n";
       g.code << "  int count = int(cell.y), first = ci * " << ir::kGridListMax << ";\n";
     } else {
-      g.code << "  vec4 cell = sd_data[" << gc << " + c.x + dims.x * (c.y + dims.y * c.z)];\n";
       g.code << "  int count = int(cell.y), first = int(cell.x);\n";
     }
-    g.code << countEvent(kEventLookups);
     if (l.grid_slots) {
       // A crowded cell: one nearest-first traversal for the nearest sphere
       // (instead of 4 taps and the material, each walking the hierarchy).
@@ -1454,12 +1504,15 @@ EmitResult emitGlsl(const ir::Scene& scene, const EmitOptions& options) {
   if (options.with_kernel && countEventFromName(options.count_event, count_kind, count_quantity))
     result.stats.features.insert("SDFC_COUNT_EVENTS");
   result.stats.instance_sets = writer.instanceSets();
-  result.stats.traversals_per_evaluation = scene.root ? traversalsPerEvaluation(*scene.root) : 0;
+  result.stats.traversals_per_evaluation =
+      scene.root ? traversalsPerEvaluation(*scene.root, writer.traversalFreeSet()) : 0;
   result.scene_data = writer.takeData();
   std::ostringstream out;
   out << "#version 450\n";
   if (options.line_directives) out << "#extension GL_GOOGLE_cpp_style_line_directive : require\n";
-  if (result.stats.bounded_subtrees > 0) out << "#extension GL_KHR_shader_subgroup_vote : require\n";
+  // subgroupAny / subgroupAll: bounded subtrees and the point-cloud march's fast path.
+  if (result.stats.bounded_subtrees > 0 || writer.hasSphereHit())
+    out << "#extension GL_KHR_shader_subgroup_vote : require\n";
   out << "// Generated by sdfc. Features:";
   for (const std::string& f : result.stats.features) out << " " << f;
   out << "\n";

@@ -100,17 +100,21 @@ std::string dumpNode(const Node& n, int indent) {
             << " hierarchy nodes, depth " << set.depth << ", per-instance params " << set.param_count
             << ", transforms " << set.transforms.size();
         if (!set.grid.empty()) {
-          // The grid's shape and how often a cell leaves it to the hierarchy.
-          size_t listed = 0, crowded = 0;
+          // The grid's shape, and how often a cell is split or left to the hierarchy.
+          size_t listed = 0, listing = 0, split = 0, crowded = 0;
           for (std::int32_t c : set.grid.count) {
-            if (c < 0) ++crowded;
-            else listed += size_t(c);
+            if (c == kGridSplit) ++split;
+            else if (c < 0) ++crowded;
+            else {
+              listed += size_t(c);
+              ++listing;
+            }
           }
-          const size_t listing = std::max<size_t>(set.grid.cells() - crowded, 1);
-          char buf[160];
-          std::snprintf(buf, sizeof buf, "; grid %dx%dx%d cells of %g, lists of %.2f on average, %zu crowded",
+          char buf[200];
+          std::snprintf(buf, sizeof buf,
+                        "; grid %dx%dx%d cells of %g, lists of %.2f on average, %zu split, %zu crowded",
                         set.grid.dims.x, set.grid.dims.y, set.grid.dims.z, set.grid.cell,
-                        double(listed) / double(listing), crowded);
+                        double(listed) / double(std::max<size_t>(listing, 1)), split, crowded);
           out << buf;
         }
         out << ")";

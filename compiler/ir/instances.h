@@ -43,10 +43,14 @@ constexpr std::uint32_t kBvhLeafSize = 4;
 // kGridListMax of them, so for p in the cell
 //   d = min(min over the list, reach[c] + distance from p to the cell's faces)
 // is a lower bound on the set's distance, and exact where the nearest instance
-// is listed. count[c] < 0: too many instances crowd the cell; the hierarchy
-// answers there. Outside the grid's box every instance is at least `margin`
-// farther than the box.
+// is listed. A cell too crowded for one list is split into 8 octant sub-cells
+// (count kGridSplit, first: the first sub-cell's index, octant x + 2y + 4z,
+// stored after the dims.x * dims.y * dims.z cells); a sub-cell still crowded
+// (count kGridCrowded) leaves its points to the hierarchy. Outside the grid's
+// box every instance is at least `margin` farther than the box.
 constexpr int kGridListMax = 8;
+constexpr std::int32_t kGridCrowded = -1;
+constexpr std::int32_t kGridSplit = -2;
 
 struct InstanceGrid {
   glm::dvec3 lo{0};
@@ -54,12 +58,21 @@ struct InstanceGrid {
   glm::ivec3 dims{0};        // cells per axis; the grid's box is lo + dims * cell
   double margin = 0;
   std::vector<std::uint32_t> first;  // per cell: its list's start in `entries`
-  std::vector<std::int32_t> count;   // per cell: list length, -1: use the hierarchy
+  std::vector<std::int32_t> count;   // per cell: list length, kGridCrowded or kGridSplit
   std::vector<double> reach;         // per cell
   std::vector<std::uint32_t> entries;  // instance indices (leaf order)
 
   bool empty() const { return count.empty(); }
-  size_t cells() const { return count.size(); }
+  size_t cells() const { return count.size(); }  // sub-cells included
+};
+
+// Where p (inside the grid's box) is looked up: the cell's index, or its
+// octant's if the cell is split; p in that cell's units (0..1 per axis); the
+// cell's edge. The shader's arithmetic (passes/instance_grid.cpp).
+struct GridCellAt {
+  size_t index = 0;
+  glm::dvec3 q{0};
+  double size = 0;
 };
 
 struct InstanceSet {

@@ -8,6 +8,9 @@
 // dist(C, box_i) >= reach, so box_i misses the interior of C grown by the
 // ball of radius reach, and for p in C
 //   dist(p, shape_i) >= dist(p, box_i) >= reach + dist(p, faces of C).
+// A cell too crowded for that (reach 0) is split into octants with lists of
+// their own (sub-cells, half the size and reach); only an octant still
+// crowded leaves its points to the hierarchy.
 // Outside the grid's box G = bounds grown by `margin` on every side,
 // dist(p, bounds) >= dist(p, G) + margin (per axis the excess over the bounds
 // is the excess over G plus margin; the sum of squares only grows).
@@ -119,42 +122,86 @@ void buildInstanceGrid(ir::InstanceSet& set, const ir::Node& templ) {
   // corners than it. Fewer spheres touch a cell (fewer crowded cells) and
   // reaches are longer.
   const double sphere_r = ir::isSphereCloud(set, templ) ? templ.args[0].value : 0;
+  // Cell c (main or sub-cell) with box `box` lists the nearest of the main
+  // cell `from`'s candidates within `target`.
+  auto listCell = [&](size_t c, const Aabb& box, size_t from, double target) {
+    near.clear();
+    for (std::uint32_t k = cand_first[from]; k < cand_first[from + 1]; ++k) {
+      // A cloud's instance at offset o is the sphere centred at -o.
+      const double d = sphere_r > 0 ? ballBoxDistance(box, -set.instances[cand[k]].offset, sphere_r)
+                                    : boxBoxDistance(box, boxes[cand[k]]);
+      if (d < target) near.push_back({d, cand[k]});
+    }
+    std::sort(near.begin(), near.end());
+    double r = target;
+    size_t keep = near.size();
+    if (keep > size_t(ir::kGridListMax)) {
+      // The nearest kGridListMax; the rest are at least as far as the first left out.
+      r = near[ir::kGridListMax].first;
+      keep = ir::kGridListMax;
+      while (keep > 0 && near[keep - 1].first >= r) --keep;
+    }
+    g.first[c] = static_cast<std::uint32_t>(g.entries.size());
+    g.reach[c] = r;
+    // More than kGridListMax boxes touch the cell: its reach is 0 and the
+    // steps in it would never leave it. (A small reach only makes small
+    // steps: still right, unlike a hierarchy that runs out of visits and
+    // returns a box distance.)
+    if (!(r > 0)) {
+      g.count[c] = ir::kGridCrowded;
+      return;
+    }
+    g.count[c] = static_cast<std::int32_t>(keep);
+    for (size_t k = 0; k < keep; ++k) g.entries.push_back(near[k].second);
+  };
   for (int z = 0; z < g.dims.z; ++z)
     for (int y = 0; y < g.dims.y; ++y)
       for (int x = 0; x < g.dims.x; ++x) {
         const size_t c = cellIndex(x, y, z);
         const dvec3 lo = g.lo + dvec3(x, y, z) * cell;
-        const Aabb box{lo, lo + cell};
-        near.clear();
-        for (std::uint32_t k = cand_first[c]; k < cand_first[c + 1]; ++k) {
-          // A cloud's instance at offset o is the sphere centred at -o.
-          const double d = sphere_r > 0 ? ballBoxDistance(box, -set.instances[cand[k]].offset, sphere_r)
-                                        : boxBoxDistance(box, boxes[cand[k]]);
-          if (d < reach) near.push_back({d, cand[k]});
+        listCell(c, Aabb{lo, lo + cell}, c, reach);
+      }
+  // A crowded cell is split once into its 8 octants, each with its own list
+  // and half the reach (a sub-cell's candidates are among its cell's: what
+  // lies within reach / 2 of the octant lies within reach of the cell). Only
+  // an octant still crowded leaves its points to the hierarchy: a dense
+  // clump costs one more lookup, not a traversal.
+  const double half = 0.5 * cell;
+  for (int z = 0; z < g.dims.z; ++z)
+    for (int y = 0; y < g.dims.y; ++y)
+      for (int x = 0; x < g.dims.x; ++x) {
+        const size_t c = cellIndex(x, y, z);
+        if (g.count[c] != ir::kGridCrowded) continue;
+        const size_t sub = g.count.size();
+        g.first[c] = static_cast<std::uint32_t>(sub);
+        g.count[c] = ir::kGridSplit;
+        g.reach[c] = 0;
+        g.first.resize(sub + 8);
+        g.count.resize(sub + 8);
+        g.reach.resize(sub + 8);
+        const dvec3 lo = g.lo + dvec3(x, y, z) * cell;
+        for (int o = 0; o < 8; ++o) {
+          const dvec3 sub_lo = lo + dvec3(o & 1, (o >> 1) & 1, (o >> 2) & 1) * half;
+          listCell(sub + size_t(o), Aabb{sub_lo, sub_lo + half}, c, kReachInCells * half);
         }
-        std::sort(near.begin(), near.end());
-        double r = reach;
-        size_t keep = near.size();
-        if (keep > size_t(ir::kGridListMax)) {
-          // The nearest kGridListMax; the rest are at least as far as the first left out.
-          r = near[ir::kGridListMax].first;
-          keep = ir::kGridListMax;
-          while (keep > 0 && near[keep - 1].first >= r) --keep;
-        }
-        g.first[c] = static_cast<std::uint32_t>(g.entries.size());
-        g.reach[c] = r;
-        // More than kGridListMax boxes touch the cell: its reach is 0 and the
-        // steps in it would never leave it. The hierarchy answers there. (A
-        // small reach only makes small steps: still right, unlike a hierarchy
-        // that runs out of visits and returns a box distance.)
-        if (!(r > 0)) {
-          g.count[c] = -1;
-          continue;
-        }
-        g.count[c] = static_cast<std::int32_t>(keep);
-        for (size_t k = 0; k < keep; ++k) g.entries.push_back(near[k].second);
       }
   if (g.entries.size() > kMaxIndex) g = ir::InstanceGrid{};
+}
+
+ir::GridCellAt instanceGridCellAt(const ir::InstanceGrid& g, const glm::dvec3& p) {
+  const dvec3 f = (p - g.lo) / g.cell;
+  const glm::ivec3 c = glm::clamp(glm::ivec3(glm::floor(f)), glm::ivec3(0), g.dims - 1);
+  ir::GridCellAt at;
+  at.index = size_t(c.x) + size_t(g.dims.x) * (size_t(c.y) + size_t(g.dims.y) * c.z);
+  at.q = f - dvec3(c);
+  at.size = g.cell;
+  if (g.count[at.index] == ir::kGridSplit) {
+    const glm::ivec3 o(glm::greaterThanEqual(at.q, dvec3(0.5)));
+    at.index = g.first[at.index] + size_t(o.x + 2 * o.y + 4 * o.z);
+    at.q = at.q * 2.0 - dvec3(o);
+    at.size *= 0.5;
+  }
+  return at;
 }
 
 double instanceGridBound(const ir::InstanceSet& set, const glm::dvec3& p,
@@ -163,14 +210,12 @@ double instanceGridBound(const ir::InstanceSet& set, const glm::dvec3& p,
   const dvec3 hi = g.lo + dvec3(g.dims) * g.cell;
   const dvec3 outside = glm::max(glm::max(g.lo - p, p - hi), dvec3(0));
   if (outside != dvec3(0)) return glm::length(outside) + g.margin;
-  const dvec3 f = (p - g.lo) / g.cell;
-  const glm::ivec3 c = glm::clamp(glm::ivec3(glm::floor(f)), glm::ivec3(0), g.dims - 1);
-  const size_t index = size_t(c.x) + size_t(g.dims.x) * (size_t(c.y) + size_t(g.dims.y) * c.z);
-  if (g.count[index] < 0) return std::nan("");
-  const dvec3 lo = g.lo + dvec3(c) * g.cell;
-  const dvec3 in = glm::min(p - lo, lo + g.cell - p);
-  double best = g.reach[index] + std::max(0.0, std::min({in.x, in.y, in.z}));
-  for (std::int32_t k = 0; k < g.count[index]; ++k) best = std::min(best, distance_of(g.entries[g.first[index] + k]));
+  const ir::GridCellAt at = instanceGridCellAt(g, p);
+  if (g.count[at.index] < 0) return std::nan("");
+  const dvec3 in = glm::min(at.q, 1.0 - at.q);
+  double best = g.reach[at.index] + at.size * std::max(0.0, std::min({in.x, in.y, in.z}));
+  for (std::int32_t k = 0; k < g.count[at.index]; ++k)
+    best = std::min(best, distance_of(g.entries[g.first[at.index] + k]));
   return best;
 }
 
@@ -183,16 +228,14 @@ double instanceGridRaySkip(const ir::InstanceSet& set, const glm::dvec3& p, cons
   const ir::InstanceGrid& g = set.grid;
   const dvec3 hi = g.lo + dvec3(g.dims) * g.cell;
   if (glm::any(glm::lessThan(p, g.lo)) || glm::any(glm::greaterThan(p, hi))) return 0;
-  const dvec3 f = (p - g.lo) / g.cell;
-  const glm::ivec3 c = glm::clamp(glm::ivec3(glm::floor(f)), glm::ivec3(0), g.dims - 1);
-  const size_t index = size_t(c.x) + size_t(g.dims.x) * (size_t(c.y) + size_t(g.dims.y) * c.z);
-  if (g.count[index] < 0) return 0;
-  const dvec3 q = f - dvec3(c);
+  const ir::GridCellAt at = instanceGridCellAt(g, p);
+  if (g.count[at.index] < 0) return 0;
   double exit = 1e300;
   for (int a = 0; a < 3; ++a)
-    if (dir[a] != 0) exit = std::min(exit, (dir[a] > 0 ? 1 - q[a] : q[a]) / std::fabs(dir[a]));
-  double skip = g.reach[index] + g.cell * std::max(exit, 0.0);
-  for (std::int32_t k = 0; k < g.count[index]; ++k) skip = std::min(skip, hit_of(g.entries[g.first[index] + k]));
+    if (dir[a] != 0) exit = std::min(exit, (dir[a] > 0 ? 1 - at.q[a] : at.q[a]) / std::fabs(dir[a]));
+  double skip = g.reach[at.index] + at.size * std::max(exit, 0.0);
+  for (std::int32_t k = 0; k < g.count[at.index]; ++k)
+    skip = std::min(skip, hit_of(g.entries[g.first[at.index] + k]));
   return skip;
 }
 

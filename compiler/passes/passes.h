@@ -26,6 +26,7 @@ void buildInstanceHierarchy(ir::InstanceSet& set, const ir::Node& templ);
 // would not pay), and its bound at p in float64 given each instance's distance
 // (NaN where the cell defers to the hierarchy): what the shader computes.
 void buildInstanceGrid(ir::InstanceSet& set, const ir::Node& templ);
+ir::GridCellAt instanceGridCellAt(const ir::InstanceGrid& grid, const glm::dvec3& p);
 double instanceGridBound(const ir::InstanceSet& set, const glm::dvec3& p,
                          const std::function<double(size_t)>& distance_of);
 // How far the ray p + t dir (unit) may go with no instance surface, given a

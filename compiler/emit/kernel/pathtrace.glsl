@@ -110,6 +110,41 @@ float march(vec3 ro, vec3 rd, float t_max, float side, out int steps) {
 #endif
     float d = side * sdScene(ro + rd * t);
     if (i > 0) slope = (d - d_prev) / max(t - t_prev, 1e-30);
+#ifdef SDFC_HAS_SPHERE_HIT
+    // A point cloud's cell step (docs/large_scenes.md): where the lookup came
+    // from a grid cell (g_ray_skip > 0: outside every listed sphere) and no
+    // stop, probe or check is pending, the skip decides alone: a met sphere
+    // is the hit, a shadow ray ends on any listed hit, else the march steps
+    // by the skip or d, unrelaxed, with no hit band. The body below does the
+    // same for such a lane; only when every active lane takes a cell step
+    // (lanes run in lockstep) is the rest of it skipped.
+    bool cell_step = side > 0.0 && g_ray_skip > 0.0 && t_stop < 0.0 && !probe && !leaving && !relaxed;
+    if (subgroupAll(cell_step)) {
+      steps = i + 1;
+      if (i + 1 >= kSceneMaxSteps) {  // out of steps, as below
+        exhausted = slope < 0.0;
+        t_prev = t;
+        d_prev = d;
+        break;
+      }
+      if (g_ray_met && t + g_ray_skip <= t_max) {
+        t_hit = t + g_ray_skip;
+        d_hit = 0.0;
+        g_hit_sphere = g_ray_met_slot;
+        break;
+      }
+      if (g_ray_any_hit && t + g_ray_any <= t_max) {
+        t_hit = t + g_ray_any;
+        d_hit = 0.0;
+        break;
+      }
+      t_prev = t;
+      d_prev = d;
+      t += max(g_ray_skip, d * kSceneStepScale);
+      if (t > t_max) break;
+      continue;
+    }
+#endif
     if (probe) {
       probe = false;
       if (d <= d_prev) {  // moving in (or along): a hit where it started
@@ -173,6 +208,9 @@ float march(vec3 ro, vec3 rd, float t_max, float side, out int steps) {
         continue;
       }
       float band = narrow ? dErr(ro_mag, t) : hitEps(ro_mag, t);
+#ifdef SDFC_HAS_SPHERE_HIT
+      if (cell_step) band = -1.0;  // no band: d > 0 and the skip is exact
+#endif
       if (i == 0 && t == 0.0 && abs(d) < band) {
         // On a surface at the ray's origin: step off it and look, far enough
         // that d moves by many roundings of the scene's unit-sized terms.
@@ -214,6 +252,9 @@ float march(vec3 ro, vec3 rd, float t_max, float side, out int steps) {
       omega = clamp(kRelaxMax / (1.0 - min(slope * kSceneStepScale, 0.0)), 1.0, kRelaxMax);
       if (t + d * kSceneStepScale * omega > t_max) omega = 1.0;
     }
+#ifdef SDFC_HAS_SPHERE_HIT
+    if (cell_step) omega = 1.0;
+#endif
     relaxed = omega > 1.0;
     float t_next = t + d * kSceneStepScale * omega;
 #ifdef SDFC_HAS_RAY_SKIP
