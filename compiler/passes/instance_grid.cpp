@@ -133,6 +133,22 @@ void buildInstanceGrid(ir::InstanceSet& set, const ir::Node& templ) {
       if (d < target) near.push_back({d, cand[k]});
     }
     std::sort(near.begin(), near.end());
+    if (sphere_r > 0) {
+      // Copies of one sphere (a point listed twice in a file) are one
+      // surface: list it once, or 9 copies would crowd every cell near them.
+      // A copy has its twin's distance, so it sorts beside it.
+      size_t kept = 0;
+      for (size_t k = 0; k < near.size(); ++k) {
+        const ir::Instance& a = set.instances[near[k].second];
+        bool copy = false;
+        for (size_t j = kept; j-- > 0 && near[j].first == near[k].first;) {
+          const ir::Instance& b = set.instances[near[j].second];
+          copy = copy || (a.offset == b.offset && a.material == b.material);
+        }
+        if (!copy) near[kept++] = near[k];
+      }
+      near.resize(kept);
+    }
     double r = target;
     size_t keep = near.size();
     if (keep > size_t(ir::kGridListMax)) {
