@@ -49,6 +49,30 @@ int g_plane_hit = -1;
 #endif
 // |distance| at the point the last march() returned: how far it may lie off the surface.
 float g_hit_offness = 0.0;
+#ifdef SDFC_HAS_RAY_SKIP
+// The listed hits that end a march at t (docs/large_scenes.md), short of
+// t_max: the skip onto a met sphere, which is the first hit (exact to float
+// rounding; a shadow ray is blocked), and, for a shadow ray, which needs any
+// hit, a listed sphere met however far past the cell it lies. Sets the hit.
+bool listedHitEnds(float t, float t_max, inout float t_hit, inout float d_hit) {
+  if (g_ray_met && t + g_ray_skip <= t_max) {
+    t_hit = t + g_ray_skip;
+    d_hit = 0.0;
+#ifdef SDFC_HAS_SPHERE_HIT
+    g_hit_sphere = g_ray_met_slot;  // its slot: surfaceNormal needs no lookup
+#endif
+    return true;
+  }
+#ifdef SDFC_HAS_SPHERE_HIT
+  if (g_ray_any_hit && t + g_ray_any <= t_max) {
+    t_hit = t + g_ray_any;
+    d_hit = 0.0;
+    return true;
+  }
+#endif
+  return false;
+}
+#endif
 float march(vec3 ro, vec3 rd, float t_max, float side, out int steps) {
 #ifdef SDFC_HAS_SPHERE_HIT
   g_hit_sphere = -1;
@@ -127,17 +151,7 @@ float march(vec3 ro, vec3 rd, float t_max, float side, out int steps) {
         d_prev = d;
         break;
       }
-      if (g_ray_met && t + g_ray_skip <= t_max) {
-        t_hit = t + g_ray_skip;
-        d_hit = 0.0;
-        g_hit_sphere = g_ray_met_slot;
-        break;
-      }
-      if (g_ray_any_hit && t + g_ray_any <= t_max) {
-        t_hit = t + g_ray_any;
-        d_hit = 0.0;
-        break;
-      }
+      if (listedHitEnds(t, t_max, t_hit, d_hit)) break;
       t_prev = t;
       d_prev = d;
       t += max(g_ray_skip, d * kSceneStepScale);
@@ -258,25 +272,7 @@ float march(vec3 ro, vec3 rd, float t_max, float side, out int steps) {
     relaxed = omega > 1.0;
     float t_next = t + d * kSceneStepScale * omega;
 #ifdef SDFC_HAS_RAY_SKIP
-    // The skip ends on a sphere's analytic hit short of t_max: that is the
-    // hit (exact to float rounding; a shadow ray is blocked), no step there.
-    if (t_stop < 0.0 && side > 0.0 && g_ray_met && t + g_ray_skip <= t_max) {
-      t_hit = t + g_ray_skip;
-      d_hit = 0.0;
-#ifdef SDFC_HAS_SPHERE_HIT
-      g_hit_sphere = g_ray_met_slot;  // its slot: surfaceNormal needs no lookup
-#endif
-      break;
-    }
-#ifdef SDFC_HAS_SPHERE_HIT
-    // A shadow ray needs any hit, not the first: a listed sphere met short of
-    // t_max blocks it, however far past the cell it lies.
-    if (g_ray_any_hit && t_stop < 0.0 && side > 0.0 && t + g_ray_any <= t_max) {
-      t_hit = t + g_ray_any;
-      d_hit = 0.0;
-      break;
-    }
-#endif
+    if (t_stop < 0.0 && side > 0.0 && listedHitEnds(t, t_max, t_hit, d_hit)) break;
     // The root grid's ray skip (docs/large_scenes.md), where longer, is safe
     // by itself: no overlap check after it, and it may pass t_max. Inside
     // solids (side < 0) it does not apply.
