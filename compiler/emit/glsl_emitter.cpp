@@ -42,6 +42,13 @@ constexpr int kPrunesPerVisit = 3;
 // instance); beyond it they hold 4-byte indices, which keeps a million
 // instances' data (76 MB) within lavapipe's 128 MiB storage buffer range.
 constexpr size_t kMaxCopiedRecordBytes = size_t(32) << 20;
+// The root sphere cloud's fixed slots: each cell's kGridListMax centres packed
+// as 24 floats (6 vec4, no unused w), where all the scene's data then stays
+// within kMaxSlotDataBytes, under the 128 MiB storage buffer range every
+// Vulkan device has (a million spheres: 122 MB, their grid capped at 800,000
+// cells by instance_grid.cpp); else index lists.
+constexpr int kSlotVec4 = ir::kGridListMax * 3 / 4;
+constexpr size_t kMaxSlotDataBytes = size_t(124) << 20;
 // --count-event quantities (kCountEventQuantities) the scene code counts.
 constexpr int kEventLookups = 2, kEventEntries = 3, kEventVisits = 4;
 
@@ -405,8 +412,9 @@ class SceneWriter {
     bool grid = false;   // a grid: header (2 vec4), cells (1 vec4 each), lists (4 per vec4)
     size_t grid_header = 0, grid_cells = 0, grid_entries = 0;
     bool grid_records = false;  // lists hold copies of one-vec4 records, not indices
-    // Every cell's list is kGridListMax records (padded with copies of its
-    // last, or a far dummy), tested without a loop (the root's sphere cloud).
+    // Every cell's list is kGridListMax centres (padded with copies of its
+    // last, or a far dummy), kSlotVec4 vec4 a cell, tested without a loop (the
+    // root's sphere cloud).
     bool grid_slots = false;
   };
   std::map<const ir::Node*, InstanceLayout> instance_layouts_;
@@ -554,7 +562,7 @@ class SceneWriter {
       pushVec4(float(grid.dims.x), float(grid.dims.y), float(grid.dims.z), float(grid.margin));
       l.grid_cells = data_.size() / 4;
       l.grid_slots = options_.with_kernel && &n == ray_skip_set_ && sphereCloud(n) &&
-                     grid.cells() * ir::kGridListMax * 16 <= kMaxCopiedRecordBytes;
+                     data_.size() * 4 + grid.cells() * (1 + kSlotVec4) * 16 <= kMaxSlotDataBytes;
       data_.reserve(data_.size() + grid.cells() * 4 + grid.entries.size() + 4);
       // A split cell's x is its first sub-cell's index; fixed slots are at
       // cell index x kGridListMax, which the lookup computes.
@@ -564,17 +572,17 @@ class SceneWriter {
       l.grid_entries = data_.size() / 4;
       if (l.grid_slots) {
         l.grid_records = true;
-        data_.reserve(data_.size() + grid.cells() * ir::kGridListMax * 4);
+        data_.reserve(data_.size() + grid.cells() * kSlotVec4 * 4);
         for (size_t c = 0; c < grid.cells(); ++c) {
           const int count = std::max(grid.count[c], 0);
           for (int k = 0; k < ir::kGridListMax; ++k) {
             if (count == 0) {
               // Far from everything: never the minimum distance or hit.
-              pushVec4(1e15f, 1e15f, 1e15f, -1);
+              data_.insert(data_.end(), {1e15f, 1e15f, 1e15f});
               continue;
             }
             const size_t r = (l.records + grid.entries[grid.first[c] + std::min(k, count - 1)]) * 4;
-            pushVec4(data_[r], data_[r + 1], data_[r + 2], data_[r + 3]);
+            data_.insert(data_.end(), {data_[r], data_[r + 1], data_[r + 2]});
           }
         }
         return instance_layouts_.emplace(&n, l).first->second;
@@ -599,11 +607,26 @@ class SceneWriter {
     return std::find(grid.count.begin(), grid.count.end(), ir::kGridSplit) != grid.count.end();
   }
 
-  // The fixed slots of the cell at `first` into s0..s7 (declared when `type` is given).
-  static std::string slotLoads(const InstanceLayout& l, const std::string& indent, const std::string& type) {
+  // Slot k's centre: floats 3k..3k+2 of its cell's 24, read from the cell's
+  // kSlotVec4 vec4 a0.. (a centre may straddle two of them).
+  static std::string slotCentre(int k) {
+    const int j = 3 * k, first = j / 4, last = (j + 2) / 4;
+    const std::string xyzw = "xyzw";
+    if (first == last) return "a" + std::to_string(first) + "." + xyzw.substr(j % 4, 3);
+    return "vec3(a" + std::to_string(first) + "." + xyzw.substr(j % 4) + ", a" + std::to_string(last) + "." +
+           xyzw.substr(0, (j + 3) % 4) + ")";
+  }
+
+  // The fixed slots of cell ci into s0..s7 (declared first when `declare`).
+  static std::string slotLoads(const InstanceLayout& l, const std::string& indent, bool declare) {
     std::ostringstream out;
-    for (int k = 0; k < ir::kGridListMax; ++k)
-      out << indent << type << "s" << k << " = sd_data[" << l.grid_entries << " + first + " << k << "].xyz;\n";
+    if (declare) out << indent << "vec3 s0, s1, s2, s3, s4, s5, s6, s7;\n";
+    out << indent << "{\n";
+    for (int j = 0; j < kSlotVec4; ++j)
+      out << indent << "  vec4 a" << j << " = sd_data[" << l.grid_entries << " + ci * " << kSlotVec4 << " + " << j
+          << "];\n";
+    for (int k = 0; k < ir::kGridListMax; ++k) out << indent << "  s" << k << " = " << slotCentre(k) << ";\n";
+    out << indent << "}\n";
     return out.str();
   }
 
@@ -619,7 +642,7 @@ class SceneWriter {
     out << "    q = q * 2.0 - vec3(o);\n";
     if (sized) out << "    size *= 0.5;\n";
     out << "    cell = sd_data[" << l.grid_cells << " + ci];\n";
-    if (slots) out << "    first = ci * " << ir::kGridListMax << ";\n" << slotLoads(l, "    ", "");
+    if (slots) out << "    first = ci * " << ir::kGridListMax << ";\n" << slotLoads(l, "    ", false);
     out << "  }\n";
     return out.str();
   }
@@ -657,12 +680,13 @@ class SceneWriter {
     const std::string size = split ? "size" : "g0.w";
     g.code << "  int ci = c.x + dims.x * (c.y + dims.y * c.z);\n";
     if (unrolled) {
-      // Fixed slots start at ci * kGridListMax (what cell.x holds): computed,
-      // not read, and loaded before the cell is tested, so their loads wait
-      // neither for the cell's nor for a mask that depends on it (a crowded
-      // or split cell's slots hold far dummies, loaded and unused).
+      // Fixed slots start at ci * kSlotVec4: computed, not read, and loaded
+      // before the cell is tested, so their loads wait neither for the cell's
+      // nor for a mask that depends on it (a crowded or split cell's slots
+      // hold far dummies, loaded and unused). Slot k of cell ci is numbered
+      // first + k (g_ray_met_slot).
       g.code << "  int first = ci * " << ir::kGridListMax << ";\n";
-      g.code << slotLoads(l, "  ", "vec3 ");
+      g.code << slotLoads(l, "  ", true);
     }
     g.code << "  vec4 cell = sd_data[" << gc << " + ci];\n";
     g.code << "  vec3 q = f - vec3(c);\n";
@@ -776,8 +800,13 @@ class SceneWriter {
       // sphere is nearer than its surface at p): its radial direction, the
       // same arithmetic as the slots below, with no lookup.
       has_sphere_hit_ = true;
-      g.code << "  if (g_hit_sphere >= 0) {\n    vec3 q_near = p + sd_data[" << l.grid_entries
-             << " + g_hit_sphere].xyz;\n    field = sqrt(dot(q_near, q_near)) - " << sphereCloudRadius(n)
+      g.code << "  if (g_hit_sphere >= 0) {\n";
+      // Its centre: floats j..j+2 of its cell's packed slots at vec4 v.
+      g.code << "    int v = " << l.grid_entries << " + (g_hit_sphere / " << ir::kGridListMax << ") * " << kSlotVec4
+             << ", j = 3 * (g_hit_sphere % " << ir::kGridListMax << ");\n";
+      g.code << "    vec3 q_near = p + vec3(sd_data[v + j / 4][j % 4], sd_data[v + (j + 1) / 4][(j + 1) % 4],\n"
+                "                           sd_data[v + (j + 2) / 4][(j + 2) % 4]);\n";
+      g.code << "    field = sqrt(dot(q_near, q_near)) - " << sphereCloudRadius(n)
              << ";\n    float len = length(q_near);\n"
              << "    normal = len > 0.0 ? q_near / len : vec3(0.0, 1.0, 0.0);\n    return true;\n  }\n";
     }
@@ -811,9 +840,10 @@ class SceneWriter {
       // kGridListMax fixed slots in straight-line code (padded lists); the
       // nearest by squared distance, one square root after.
       g.code << "  float qq_min = 1e30;\n";
+      g.code << slotLoads(l, "  ", true);
       for (int k = 0; k < ir::kGridListMax; ++k)
-        g.code << "  {\n" << countEvent(kEventEntries, "  ") << "    vec3 q = p + sd_data["
-               << l.grid_entries << " + first + " << k << "].xyz;\n    float qq = dot(q, q);\n"
+        g.code << "  {\n" << countEvent(kEventEntries, "  ") << "    vec3 q = p + s" << k
+               << ";\n    float qq = dot(q, q);\n"
                << "    if (qq < qq_min) {\n      qq_min = qq;\n      q_near = q;\n    }\n  }\n";
       g.code << "  field = sqrt(qq_min) - r;\n";
     } else {

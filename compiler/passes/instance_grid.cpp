@@ -31,6 +31,11 @@ constexpr double kCellsPerInstance = 1.0;
 constexpr double kReachInCells = 0.5;
 // Floats index the lists on the GPU: exact below 2^24.
 constexpr size_t kMaxIndex = (size_t(1) << 24) - 1;
+// A sphere cloud's cells become fixed slots in the shader's data (96 bytes a
+// cell, glsl_emitter.cpp). At most this many cells keep a million spheres'
+// data (122 MB with their records and hierarchy) within the 128 MiB storage
+// buffer range every Vulkan device has; there a cell holds 1.3 spheres.
+constexpr double kMaxSphereCloudCells = 800000;
 
 double boxBoxDistance(const Aabb& a, const Aabb& b) {
   const dvec3 gap = glm::max(glm::max(a.lo - b.hi, b.lo - a.hi), dvec3(0));
@@ -65,14 +70,16 @@ void buildInstanceGrid(ir::InstanceSet& set, const ir::Node& templ) {
   // axis counted at least one typical instance wide), never smaller than a
   // typical instance.
   const dvec3 extent = glm::max(bounds.hi - bounds.lo, dvec3(typical));
-  double cell = std::max(std::cbrt(extent.x * extent.y * extent.z / (kCellsPerInstance * double(n))), typical);
-  const double max_cells = std::min<double>(4.0 * double(n) + 4096, double(kMaxIndex));
+  double max_cells = std::min<double>(4.0 * double(n) + 4096, double(kMaxIndex));
+  if (ir::isSphereCloud(set, templ)) max_cells = std::min(max_cells, kMaxSphereCloudCells);
+  double cell =
+      std::max(std::cbrt(extent.x * extent.y * extent.z / std::min(kCellsPerInstance * double(n), max_cells)), typical);
   glm::dvec3 dims;
   for (;;) {
     g.margin = kReachInCells * cell;
     dims = glm::ceil((bounds.hi - bounds.lo + 2.0 * g.margin) / cell);
     if (dims.x * dims.y * dims.z <= max_cells) break;
-    cell *= 1.25;
+    cell *= 1.05;
   }
   g.cell = cell;
   g.dims = glm::ivec3(dims);

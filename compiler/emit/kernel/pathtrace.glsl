@@ -133,6 +133,13 @@ float march(vec3 ro, vec3 rd, float t_max, float side, out int steps) {
     g_ray_any = 1e30;
 #endif
     float d = side * sdScene(ro + rd * t);
+#ifdef SDFC_HAS_RAY_SKIP
+    // A skip shorter than float resolves at t would not move the ray: at the
+    // exit face of a cell whose reach is tiny (its 9th sphere just outside),
+    // rays of a million-sphere cloud stood there until out of steps. The
+    // floor can pass only what lies within that rounding beyond the reach.
+    if (g_ray_skip > 0.0) g_ray_skip = max(g_ray_skip, dErr(ro_mag, t));
+#endif
     if (i > 0) slope = (d - d_prev) / max(t - t_prev, 1e-30);
 #ifdef SDFC_HAS_SPHERE_HIT
     // A point cloud's cell step (docs/large_scenes.md): where the lookup came
