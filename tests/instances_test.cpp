@@ -635,7 +635,8 @@ TEST_F(InstancesGpu, DenseCloudThroughTheGridEqualsTheInlineForm) {
     EXPECT_EQ(data.emitted.stats.features.count("SDFC_HAS_RAY_SKIP"), 1u);
     EXPECT_EQ(data.emitted.glsl.find("_one_ray(") != std::string::npos, radius > 0);
     EXPECT_EQ(data.emitted.stats.features.count("SDFC_HAS_SPHERE_MATERIAL"), radius > 0 && !two_materials ? 1u : 0u);
-    EXPECT_EQ(data.emitted.glsl.find(" + first + 7") != std::string::npos, radius > 0);
+    // Fixed slots: one material packs 8 centres in 6 vec4; two keep a record (w: material) each.
+    EXPECT_EQ(data.emitted.glsl.find(two_materials ? "ci * 8 + 7]" : "ci * 6 + 5]") != std::string::npos, radius > 0);
     RenderOverrides o;
     o.width = 64;
     o.height = 36;

@@ -42,12 +42,13 @@ constexpr int kPrunesPerVisit = 3;
 // instance); beyond it they hold 4-byte indices, which keeps a million
 // instances' data (76 MB) within lavapipe's 128 MiB storage buffer range.
 constexpr size_t kMaxCopiedRecordBytes = size_t(32) << 20;
-// The root sphere cloud's fixed slots: each cell's kGridListMax centres packed
-// as 24 floats (6 vec4, no unused w), where all the scene's data then stays
+// The root sphere cloud's fixed slots, where all the scene's data then stays
 // within kMaxSlotDataBytes, under the 128 MiB storage buffer range every
 // Vulkan device has (a million spheres: 122 MB, their grid capped at 800,000
-// cells by instance_grid.cpp); else index lists.
-constexpr int kSlotVec4 = ir::kGridListMax * 3 / 4;
+// cells by instance_grid.cpp); else index lists. Each cell's kGridListMax
+// centres are packed as 24 floats (kPackedSlotVec4 vec4) when the scene has
+// one material; else they are records, a vec4 each, whose w is the material.
+constexpr int kPackedSlotVec4 = ir::kGridListMax * 3 / 4;
 constexpr size_t kMaxSlotDataBytes = size_t(124) << 20;
 // --count-event quantities (kCountEventQuantities) the scene code counts.
 constexpr int kEventLookups = 2, kEventEntries = 3, kEventVisits = 4;
@@ -186,6 +187,8 @@ class SceneWriter {
           root.children.size() == 1)
         only = root.children[0].get();
       if (only->kind == ir::NodeKind::Instances && !only->instances->grid.empty()) ray_skip_set_ = only;
+      // One material: sdSceneMaterial reads none, so the slots need no w.
+      packed_slots_ = uniformMaterial(root, -1) != kMixed;
     }
     // Distance function.
     {
@@ -307,6 +310,7 @@ class SceneWriter {
   bool has_scene_box_ = false;
   // The instance set whose grid computes g_ray_skip (SDFC_HAS_RAY_SKIP), if any.
   const ir::Node* ray_skip_set_ = nullptr;
+  bool packed_slots_ = false;  // its fixed slots hold centres only (kPackedSlotVec4 a cell)
   bool has_sphere_normals_ = false;  // sdRootSphereNormal was emitted
   bool has_sphere_material_ = false;  // and kRootSphereMaterial: the scene has one material
   bool has_sphere_hit_ = false;  // march() keeps the slot of a met sphere (g_hit_sphere)
@@ -413,9 +417,10 @@ class SceneWriter {
     size_t grid_header = 0, grid_cells = 0, grid_entries = 0;
     bool grid_records = false;  // lists hold copies of one-vec4 records, not indices
     // Every cell's list is kGridListMax centres (padded with copies of its
-    // last, or a far dummy), kSlotVec4 vec4 a cell, tested without a loop (the
+    // last, or a far dummy), slot_vec4 vec4 a cell, tested without a loop (the
     // root's sphere cloud).
     bool grid_slots = false;
+    int slot_vec4 = 0;  // kPackedSlotVec4 (centres only) or kGridListMax (records)
   };
   std::map<const ir::Node*, InstanceLayout> instance_layouts_;
   std::vector<float> data_;
@@ -561,8 +566,9 @@ class SceneWriter {
       pushVec4(float(grid.lo.x), float(grid.lo.y), float(grid.lo.z), float(grid.cell));
       pushVec4(float(grid.dims.x), float(grid.dims.y), float(grid.dims.z), float(grid.margin));
       l.grid_cells = data_.size() / 4;
+      l.slot_vec4 = packed_slots_ ? kPackedSlotVec4 : ir::kGridListMax;
       l.grid_slots = options_.with_kernel && &n == ray_skip_set_ && sphereCloud(n) &&
-                     data_.size() * 4 + grid.cells() * (1 + kSlotVec4) * 16 <= kMaxSlotDataBytes;
+                     data_.size() * 4 + grid.cells() * size_t(1 + l.slot_vec4) * 16 <= kMaxSlotDataBytes;
       data_.reserve(data_.size() + grid.cells() * 4 + grid.entries.size() + 4);
       // A split cell's x is its first sub-cell's index; fixed slots are at
       // cell index x kGridListMax, which the lookup computes.
@@ -572,17 +578,15 @@ class SceneWriter {
       l.grid_entries = data_.size() / 4;
       if (l.grid_slots) {
         l.grid_records = true;
-        data_.reserve(data_.size() + grid.cells() * kSlotVec4 * 4);
+        const int floats = packed_slots_ ? 3 : 4;
+        data_.reserve(data_.size() + grid.cells() * l.slot_vec4 * 4);
         for (size_t c = 0; c < grid.cells(); ++c) {
           const int count = std::max(grid.count[c], 0);
           for (int k = 0; k < ir::kGridListMax; ++k) {
-            if (count == 0) {
-              // Far from everything: never the minimum distance or hit.
-              data_.insert(data_.end(), {1e15f, 1e15f, 1e15f});
-              continue;
-            }
-            const size_t r = (l.records + grid.entries[grid.first[c] + std::min(k, count - 1)]) * 4;
-            data_.insert(data_.end(), {data_[r], data_[r + 1], data_[r + 2]});
+            // Far from everything (an empty cell): never the minimum distance or hit.
+            const float far[4] = {1e15f, 1e15f, 1e15f, -1};
+            const size_t r = (l.records + grid.entries[grid.first[c] + std::min(k, std::max(count - 1, 0))]) * 4;
+            for (int j = 0; j < floats; ++j) data_.push_back(count == 0 ? far[j] : data_[r + j]);
           }
         }
         return instance_layouts_.emplace(&n, l).first->second;
@@ -607,8 +611,8 @@ class SceneWriter {
     return std::find(grid.count.begin(), grid.count.end(), ir::kGridSplit) != grid.count.end();
   }
 
-  // Slot k's centre: floats 3k..3k+2 of its cell's 24, read from the cell's
-  // kSlotVec4 vec4 a0.. (a centre may straddle two of them).
+  // Slot k's packed centre: floats 3k..3k+2 of its cell's 24, read from the
+  // cell's kPackedSlotVec4 vec4 a0.. (a centre may straddle two of them).
   static std::string slotCentre(int k) {
     const int j = 3 * k, first = j / 4, last = (j + 2) / 4;
     const std::string xyzw = "xyzw";
@@ -621,10 +625,13 @@ class SceneWriter {
   static std::string slotLoads(const InstanceLayout& l, const std::string& indent, bool declare) {
     std::ostringstream out;
     if (declare) out << indent << "vec3 s0, s1, s2, s3, s4, s5, s6, s7;\n";
+    const std::string cell = std::to_string(l.grid_entries) + " + ci * " + std::to_string(l.slot_vec4) + " + ";
+    if (l.slot_vec4 != kPackedSlotVec4) {
+      for (int k = 0; k < ir::kGridListMax; ++k) out << indent << "s" << k << " = sd_data[" << cell << k << "].xyz;\n";
+      return out.str();
+    }
     out << indent << "{\n";
-    for (int j = 0; j < kSlotVec4; ++j)
-      out << indent << "  vec4 a" << j << " = sd_data[" << l.grid_entries << " + ci * " << kSlotVec4 << " + " << j
-          << "];\n";
+    for (int j = 0; j < kPackedSlotVec4; ++j) out << indent << "  vec4 a" << j << " = sd_data[" << cell << j << "];\n";
     for (int k = 0; k < ir::kGridListMax; ++k) out << indent << "  s" << k << " = " << slotCentre(k) << ";\n";
     out << indent << "}\n";
     return out.str();
@@ -680,7 +687,7 @@ class SceneWriter {
     const std::string size = split ? "size" : "g0.w";
     g.code << "  int ci = c.x + dims.x * (c.y + dims.y * c.z);\n";
     if (unrolled) {
-      // Fixed slots start at ci * kSlotVec4: computed, not read, and loaded
+      // Fixed slots start at ci * slot_vec4: computed, not read, and loaded
       // before the cell is tested, so their loads wait neither for the cell's
       // nor for a mask that depends on it (a crowded or split cell's slots
       // hold far dummies, loaded and unused). Slot k of cell ci is numbered
@@ -781,6 +788,7 @@ class SceneWriter {
   // The record of list entry e (in scope as `e`).
   std::string listedRecord(const InstanceLayout& l) const {
     const std::string ge = std::to_string(l.grid_entries);
+    // Fixed slots read as records only with a material to read: unpacked.
     if (l.grid_records) return ge + " + e";
     return std::to_string(l.records) + " + int(sd_data[" + ge + " + (e >> 2)][e & 3]) * " +
            std::to_string(l.stride);
@@ -801,11 +809,15 @@ class SceneWriter {
       // same arithmetic as the slots below, with no lookup.
       has_sphere_hit_ = true;
       g.code << "  if (g_hit_sphere >= 0) {\n";
-      // Its centre: floats j..j+2 of its cell's packed slots at vec4 v.
-      g.code << "    int v = " << l.grid_entries << " + (g_hit_sphere / " << ir::kGridListMax << ") * " << kSlotVec4
-             << ", j = 3 * (g_hit_sphere % " << ir::kGridListMax << ");\n";
-      g.code << "    vec3 q_near = p + vec3(sd_data[v + j / 4][j % 4], sd_data[v + (j + 1) / 4][(j + 1) % 4],\n"
-                "                           sd_data[v + (j + 2) / 4][(j + 2) % 4]);\n";
+      if (l.slot_vec4 == kPackedSlotVec4) {
+        // Its centre: floats j..j+2 of its cell's packed slots at vec4 v.
+        g.code << "    int v = " << l.grid_entries << " + (g_hit_sphere / " << ir::kGridListMax << ") * "
+               << kPackedSlotVec4 << ", j = 3 * (g_hit_sphere % " << ir::kGridListMax << ");\n";
+        g.code << "    vec3 q_near = p + vec3(sd_data[v + j / 4][j % 4], sd_data[v + (j + 1) / 4][(j + 1) % 4],\n"
+                  "                           sd_data[v + (j + 2) / 4][(j + 2) % 4]);\n";
+      } else {
+        g.code << "    vec3 q_near = p + sd_data[" << l.grid_entries << " + g_hit_sphere].xyz;\n";
+      }
       g.code << "    field = sqrt(dot(q_near, q_near)) - " << sphereCloudRadius(n)
              << ";\n    float len = length(q_near);\n"
              << "    normal = len > 0.0 ? q_near / len : vec3(0.0, 1.0, 0.0);\n    return true;\n  }\n";
