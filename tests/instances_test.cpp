@@ -816,6 +816,8 @@ TEST_F(InstancesGpu, AMillionSpheresTakeFixedSlotsWithinTheStorageRange) {
   ASSERT_EQ(sets.size(), 1u);
   const ir::InstanceGrid& grid = sets[0]->instances->grid;
   EXPECT_LE(size_t(grid.dims.x) * grid.dims.y * grid.dims.z, 800000u);
+  std::printf("a million spheres: %zu bytes of scene data, %zu grid cells\n",
+              data.emitted.scene_data.size() * sizeof(float), grid.cells());
   EXPECT_LE(data.emitted.scene_data.size() * sizeof(float), size_t(128) << 20);
   // Fixed slots: straight-line loads of a cell's 6 vec4 (no loop over a list).
   EXPECT_NE(data.emitted.glsl.find("ci * 6 + 5]"), std::string::npos);
