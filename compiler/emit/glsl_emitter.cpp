@@ -579,14 +579,19 @@ class SceneWriter {
       if (l.grid_slots) {
         l.grid_records = true;
         const int floats = packed_slots_ ? 3 : 4;
+        const float far[4] = {1e15f, 1e15f, 1e15f, -1};
         data_.reserve(data_.size() + grid.cells() * l.slot_vec4 * 4);
         for (size_t c = 0; c < grid.cells(); ++c) {
           const int count = std::max(grid.count[c], 0);
           for (int k = 0; k < ir::kGridListMax; ++k) {
-            // Far from everything (an empty cell): never the minimum distance or hit.
-            const float far[4] = {1e15f, 1e15f, 1e15f, -1};
-            const size_t r = (l.records + grid.entries[grid.first[c] + std::min(k, std::max(count - 1, 0))]) * 4;
-            for (int j = 0; j < floats; ++j) data_.push_back(count == 0 ? far[j] : data_[r + j]);
+            // An empty, crowded or split cell's slots: far from everything,
+            // never the minimum distance or hit (and no list entry to read).
+            if (count == 0) {
+              data_.insert(data_.end(), far, far + floats);
+              continue;
+            }
+            const size_t r = (l.records + grid.entries[grid.first[c] + std::min(k, count - 1)]) * 4;
+            for (int j = 0; j < floats; ++j) data_.push_back(data_[r + j]);
           }
         }
         return instance_layouts_.emplace(&n, l).first->second;
