@@ -15,7 +15,7 @@ render alone. With --reps > 1 the configs run interleaved rep by rep (so load
 changes hit them alike) and the seconds are medians; errors are from the first rep
 (the same seed gives the same image). --cpu-time adds the process's CPU seconds
 (user + sys) and the filter's own CPU ms (sdfc's `denoised ... (N CPU ms)`),
-medians too. Writes ADAPTIVE_<size>.md and results/adaptive_<size>.csv under --out.
+medians too. Writes results/ADAPTIVE_<size>.md and results/adaptive_<size>.csv under --out.
 """
 import argparse
 import csv
@@ -138,7 +138,7 @@ def main():
              f"{' --cpu-time' if args.cpu_time else ''}` in {(time.time() - start) / 60:.1f} min "
              f"(load average {f'{load_start:.1f} at the start, ' if args.cpu_time else ''}"
              f"{load:.1f} at the end); data results/adaptive_{args.size}{tag}.csv. Seed {args.seed}; "
-             "references as bench/DENOISE_640x360.md. `+a` = --adaptive (options after the "
+             "references as bench/results/DENOISE_640x360.md. `+a` = --adaptive (options after the "
              "colon); seconds: whole process / render() alone, medians over the reps, interleaved.",
              "", "| scene | config | spp | relMSE | FLIP | wall s | render s | runs |" +
              (" CPU s | filter CPU ms | CPU runs |" if args.cpu_time else ""),
@@ -148,7 +148,7 @@ def main():
                      f"{r['flip']:.4f} | {r['wall_s']:.1f} | {r['render_s']:.1f} | {r['wall_runs']} |" +
                      (f" {r['cpu_s']:.1f} | {r['filter_cpu_ms']:.0f} | {r['cpu_runs']} |"
                       if args.cpu_time else ""))
-    report = os.path.join(args.out, f"ADAPTIVE_{args.size}{tag}.md")
+    report = os.path.join(args.out, "results", f"ADAPTIVE_{args.size}{tag}.md")
     with open(report, "w") as f:
         f.write("\n".join(lines) + "\n")
     print("\n".join(lines))

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Render-farm figures for docs/farm.md, written to bench/FARM.md:
+"""Render-farm figures for docs/farm.md, written to bench/results/FARM.md:
 
 1. Per-shard overhead (process start, Vulkan context, compile, pipeline creation,
    shard write) against render time, for shards of a few samples of a 1080p castle
@@ -59,7 +59,7 @@ def main():
                     help="shard sizes (samples per pixel per shard) to time")
     ap.add_argument("--reps", type=int, default=3)
     ap.add_argument("--merge-shards", type=int, default=64)
-    ap.add_argument("--out", default=os.path.join(ROOT, "bench/FARM.md"))
+    ap.add_argument("--out", default=os.path.join(ROOT, "bench/results/FARM.md"))
     args = ap.parse_args()
     machine = machine_info()
     if machine["device"] == "?":  # no vulkaninfo: sdfc's own list

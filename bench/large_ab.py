@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """Interleaved A/B of several sdfc builds on bench/large_scenes.py's point clouds
-(docs/large_scenes.md): CPU ms per sample (user + sys, (9 spp - 1 spp) / 8, 640x360),
+(docs/design/large_scenes.md): CPU ms per sample (user + sys, (9 spp - 1 spp) / 8, 640x360),
 medians of --repeats rounds, every build and count once per round, and the
 100,000 vs 100 ratio per build.
 

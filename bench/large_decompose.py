@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Where a point cloud's render time goes (docs/large_scenes.md, "Decomposition"):
+"""Where a point cloud's render time goes (docs/design/large_scenes.md, "Decomposition"):
 per pixel and sample, how many ray segments of each kind (primary, bounce,
 shadow), how many shading events (hits on the cloud that compute a normal), and
 per segment the march loop iterations, grid lookups, list entries and hierarchy

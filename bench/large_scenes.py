@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Large scenes as data (docs/large_scenes.md): how compile time, pipeline
+"""Large scenes as data (docs/design/large_scenes.md): how compile time, pipeline
 creation, shader size, render speed and memory grow with the instance count.
 
   bench/large_scenes.py [--sdfc build/cli/sdfc] [--out bench/results/large_scenes.md]

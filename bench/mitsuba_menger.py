@@ -22,7 +22,7 @@ against sdfc's own float64 distance (`sdfc eval`) at random points.
 
     /usr/bin/python3 bench/mitsuba_menger.py [--sdfc build/cli/sdfc] [--level 5] [--spp 16]
 
-Writes bench/MENGER_MITSUBA.md (unless --no-report). The full run takes
+Writes bench/results/MENGER_MITSUBA.md (unless --no-report). The full run takes
 about 6-8 minutes on the 2-CPU lavapipe machine, most of it Mitsuba's
 acceleration structure build over 38.4 M triangles.
 """
@@ -305,8 +305,8 @@ def main():
     ap.add_argument("--no-visibility", action="store_true",
                     help="skip the 0-bounce (pure visibility) comparison")
     ap.add_argument("--keep", metavar="DIR", help="keep the PLY, scenes and images in DIR")
-    ap.add_argument("--no-report", action="store_true", help="do not write bench/MENGER_MITSUBA.md")
-    ap.add_argument("--report", default=os.path.join(HERE, "MENGER_MITSUBA.md"))
+    ap.add_argument("--no-report", action="store_true", help="do not write bench/results/MENGER_MITSUBA.md")
+    ap.add_argument("--report", default=os.path.join(HERE, "results", "MENGER_MITSUBA.md"))
     # Internal: the worker processes.
     ap.add_argument("--worker", choices=["mesh", "mitsuba"], help=argparse.SUPPRESS)
     ap.add_argument("--ply", help=argparse.SUPPRESS)

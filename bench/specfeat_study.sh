@@ -3,7 +3,7 @@
 # features against nlr through specular first hits, with and without --adaptive,
 # castle / colonnade / glass Menger at 640x360 16 spp, seeds 7 and 8 (errors are
 # deterministic per seed), then the render time of the two, 3 interleaved runs.
-# About 6 min on an idle machine. Writes bench/ADAPTIVE_640x360_specfeat_*.md.
+# About 6 min on an idle machine. Writes bench/results/ADAPTIVE_640x360_specfeat_*.md.
 #   sh bench/specfeat_study.sh [path/to/sdfc]
 set -e
 cd "$(dirname "$0")/.."

@@ -2,7 +2,7 @@
 """The denoisers against the issue-13 target table, computed small.
 
 Issue 13's target compares, on the castle against a converged reference, 16 spp
-denoised with 256 spp undenoised (bench/DENOISE_640x360.md has the 640x360
+denoised with 256 spp undenoised (bench/results/DENOISE_640x360.md has the 640x360
 table). Here the same table at 160x90 (a 512-spp white-noise reference, made
 in the test: no cache, no timing), and checks what the filter must do:
   - nlr (the default filter to use) at 16 spp beats svgf at 16 spp (relMSE

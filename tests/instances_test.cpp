@@ -1,4 +1,4 @@
-// Large scenes as data (docs/large_scenes.md): a union's copies of one shape
+// Large scenes as data (docs/design/large_scenes.md): a union's copies of one shape
 // become an Instances node with a hierarchy. The float64 evaluator through
 // the hierarchy must equal the inline union (brute force) exactly; the GPU
 // form must match the evaluator within float32 and the inline images beyond
@@ -718,7 +718,7 @@ DepthCheck checkCloudDepth(VulkanContext& context, const CompiledScene& data, do
   return c;
 }
 
-// The point cloud's march (fixed slots and the cell step, docs/large_scenes.md)
+// The point cloud's march (fixed slots and the cell step, docs/design/large_scenes.md)
 // is exact on a dense cloud with split cells.
 TEST_F(InstancesGpu, PointCloudDepthIsTheExactFirstHit) {
   const CompiledScene data = compiled(denseCloud(600, 0.2), 32);
@@ -836,7 +836,7 @@ TEST_F(InstancesGpu, AMillionSpheresTakeFixedSlotsWithinTheStorageRange) {
 // more than 1% short), so the march stays exact there too. One pixel may be
 // off: pixel (123, 40) stops 0.7% short, its ray not out of steps; the scene
 // has 4 crowded octants, left to the hierarchy, near which that can happen
-// (docs/large_scenes.md, "A tight clump").
+// (docs/design/large_scenes.md, "A tight clump").
 TEST_F(InstancesGpu, RepeatedPointsAreListedOnceAndStayExact) {
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> layer(-5, 5);
@@ -900,7 +900,7 @@ TEST_F(InstancesGpu, PointCloudPixelsDoNotDependOnTheirLaneNeighbours) {
   EXPECT_EQ(differing, 0u);
 }
 
-// --count-event: the kernel's per-pixel event counts (docs/large_scenes.md,
+// --count-event: the kernel's per-pixel event counts (docs/design/large_scenes.md,
 // decomposition) in the iterations view's green channel. One path per pixel
 // at 1 spp: exactly one primary segment, and it always hits (the ground
 // plane is under every pixel); bounce and shadow rays at most max_bounces

@@ -24,6 +24,8 @@ packages=(
   libclang-rt-14-dev
   # the render farm's tests: a single-node Slurm cluster
   slurmctld slurmd slurm-client munge
+  # the language server's test in a real client
+  neovim
   # sdfc view: the window (GLFW), and its tests under Xvfb with an X screenshot (xwd)
   libglfw3-dev xvfb xauth x11-apps
 )

@@ -180,7 +180,7 @@ class SceneWriter {
       }
     }
     // The root's grid may tell march() how far the ray can go with no
-    // surface, when the set is all the marched scene is (docs/large_scenes.md).
+    // surface, when the set is all the marched scene is (docs/design/large_scenes.md).
     if (options_.with_kernel) {
       const ir::Node* only = &root;
       if (root.kind == ir::NodeKind::Union && root.smooth.isConst() && root.smooth.value == 0 &&
@@ -509,7 +509,7 @@ class SceneWriter {
     }
   }
 
-  // ---- instances: data, a hierarchy and one loop (docs/large_scenes.md) ----
+  // ---- instances: data, a hierarchy and one loop (docs/design/large_scenes.md) ----
 
   void pushVec4(float x, float y, float z, float w) {
     data_.push_back(x);
@@ -672,7 +672,7 @@ class SceneWriter {
     Function g;
     g.code << lineDirective(n);
     g.code << "// Grid of " << grid.dims.x << "x" << grid.dims.y << "x" << grid.dims.z << " cells at sd_data[" << gh
-           << "]: a lookup and a list of at most " << ir::kGridListMax << " (docs/large_scenes.md).\n";
+           << "]: a lookup and a list of at most " << ir::kGridListMax << " (docs/design/large_scenes.md).\n";
     g.code << (mat ? "vec2 " : "float ") << name << "(vec3 p" << (mat ? ", float inherited" : "") << ") {\n";
     g.code << "  vec4 g0 = sd_data[" << gh << "], g1 = sd_data[" << gh << " + 1];\n";
     g.code << "  vec3 o = max(max(g0.xyz - p, p - (g0.xyz + g1.xyz * g0.w)), 0.0);\n";

@@ -39,7 +39,7 @@ struct EmitOptions {
   // one to the kernel's loop counter, so `--view iterations` shows the
   // logical work (lavapipe masks skipped code rather than jumping over it).
   bool count_evaluations = false;
-  // Instrumentation (`--count-event`, docs/large_scenes.md): "kind.quantity"
+  // Instrumentation (`--count-event`, docs/design/large_scenes.md): "kind.quantity"
   // names one per-pixel event count the iterations view writes to green.
   std::string count_event;
   // Planes directly in the scene are intersected analytically by the kernel

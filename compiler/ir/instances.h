@@ -2,7 +2,7 @@
 // `instances(...)`) that share a template, each with its own rigid placement,
 // primitive parameters and material, and a bounding-volume hierarchy over
 // them. The evaluator and the emitted shader both visit the hierarchy nearest
-// first and stop when no box can hold anything nearer (docs/large_scenes.md).
+// first and stop when no box can hold anything nearer (docs/design/large_scenes.md).
 #pragma once
 #include <glm/glm.hpp>
 #include <cstdint>

@@ -3,7 +3,7 @@
 // root-to-leaf descent of the hierarchy whose visits grow with log(count) and
 // whose loose, overlapping boxes in dense clouds cost many sibling visits.
 //
-// Why the bound holds (docs/large_scenes.md): cell C lists every instance i
+// Why the bound holds (docs/design/large_scenes.md): cell C lists every instance i
 // with dist(C, box_i) < reach, and every instance left out has
 // dist(C, box_i) >= reach, so box_i misses the interior of C grown by the
 // ball of radius reach, and for p in C
