@@ -17,6 +17,7 @@ std::string whyBound(const ir::Node& n) {
   switch (n.kind) {
     case ir::NodeKind::Primitive:
       if (n.primitive == PrimitiveKind::Torus) return "the minor radius can exceed the major radius";
+      if (n.primitive == PrimitiveKind::Ellipsoid) return "an ellipsoid has no closed-form distance; this is |p / radii| - 1 scaled by the smallest radius";
       return "this primitive's formula is a bound";
     case ir::NodeKind::Union:
     case ir::NodeKind::Intersect:

@@ -31,6 +31,8 @@ const char* nodeName(const ir::Node& n) {
     case ir::NodeKind::Repeat: return "repeat";
     case ir::NodeKind::Elongate: return "elongate";
     case ir::NodeKind::Morph: return "morph";
+    case ir::NodeKind::Round: return "round";
+    case ir::NodeKind::Shell: return "shell";
   }
   return "shape";
 }

@@ -65,6 +65,11 @@ std::vector<SceneCase> primitiveScenes() {
       {"prism", "scene { prism(size: 1, depth: 0.6) }"},
       {"hexprism", "scene { hexprism(radius: 0.5, depth: 0.8) }"},
       {"menger", "scene { menger(level: 3, size: 1.5) }"},
+      {"octahedron", "scene { octahedron(radius: 0.9) }"},
+      {"pyramid", "scene { pyramid(size: 1.2, height: 0.9) }"},
+      {"round cone", "scene { round_cone(bottom: 0.5, top: 0.2, height: 0.8) }"},
+      {"round cone, top larger", "scene { round_cone(bottom: 0.15, top: 0.4, height: 0.6) }"},
+      {"ellipsoid", "scene { ellipsoid(radii: [0.9, 0.5, 0.7]) }"},
   };
 }
 
@@ -90,6 +95,9 @@ std::vector<SceneCase> operatorScenes() {
       {"repeat limited", "scene { repeat(cell: [0.8, 0.8, 0], count: [3, 2, 0]) { sphere(radius: 0.5) } }"},
       {"elongate", "scene { elongate([0.6, 0, 0.3]) { torus(major: 0.5, minor: 0.15) } }"},
       {"morph", "scene { morph(t: 0.3) { sphere(radius: 0.6) box(size: [1, 1, 1]) } }"},
+      {"round", "scene { round(radius: 0.2) { box(size: [1, 0.6, 0.8]) } }"},
+      {"round by time", "scene { round(radius: 0.1 + 0.1 * sin(time)) { octahedron(radius: 0.6) } }"},
+      {"shell", "scene { shell(thickness: 0.1) { subtract { sphere(radius: 0.8) box(size: [2, 0.5, 2]) } } }"},
       {"transform chain",
        "scene { translate([0.2, 0.1, 0]) { rotate(axis: [0, 0, 1], degrees: 30) { scale(1.5) {\n"
        "  translate([0.1, 0, 0]) { rotate(euler: [10, 0, 45]) { box(size: [0.5, 0.3, 0.4], rounding: 0.05) } } } } } }"},

@@ -230,6 +230,26 @@ TEST(Operators, RepeatWithOffCentreChild) {
   EXPECT_EQ(wrong, 0) << "points where repeat misses the nearest copy";
 }
 
+// Offsets: a rounded box is a box grown by the radius (the rounded box of
+// the larger size), a shell of a sphere is | |p| - r | - t / 2, and both keep
+// the child's material and exactness.
+TEST(Operators, RoundAndShellAreExactOffsets) {
+  const Compiled rounded = compile("round(radius: 0.2) { box(size: [1, 1, 1]) }");
+  const Compiled grown = compile("box(size: [1.4, 1.4, 1.4], rounding: 0.2)");
+  const Compiled shelled = compile("shell(thickness: 0.2) { sphere(radius: 1) }");
+  const Compiled zero = compile("round(radius: 0) { torus(major: 0.6, minor: 0.2) }");
+  const Compiled torus = compile("torus(major: 0.6, minor: 0.2)");
+  for (dvec3 p : randomPoints(3000, 2, 29)) {
+    ASSERT_NEAR(rounded.distance(p), grown.distance(p), kExact);
+    ASSERT_NEAR(shelled.distance(p), std::fabs(glm::length(p) - 1) - 0.1, kExact);
+    ASSERT_EQ(zero.distance(p), torus.distance(p));
+  }
+  EXPECT_TRUE(rounded.scene.scene.root->exact);
+  EXPECT_TRUE(shelled.scene.scene.root->exact);
+  // A bound stays a bound.
+  EXPECT_FALSE(compile("round(radius: 0.1) { ellipsoid(radii: [1, 0.5, 0.5]) }").scene.scene.root->exact);
+}
+
 TEST(Operators, ElongatedSphereIsACapsuleAndElongatedBoxABiggerBox) {
   const Compiled e = compile("elongate([0, 1.2, 0]) { sphere(radius: 0.4) }");
   const Compiled cap = compile("capsule(radius: 0.4, height: 1.2)");

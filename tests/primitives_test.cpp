@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <functional>
 #include <random>
@@ -155,6 +156,88 @@ double refMenger(const double* a, dvec3 p) {
   return d;
 }
 
+
+// ---- convex solids: signed distance from the support function ----
+
+// A convex set K has signed distance max over unit u of (u . p - h_K(u)),
+// h_K its support function, inside and outside alike. In 2D the maximum
+// over the angle is found by a dense scan refined by golden sections.
+double convexDistance2(dvec2 p, const std::function<double(dvec2)>& support) {
+  auto g = [&](double a) {
+    const dvec2 u(std::cos(a), std::sin(a));
+    return glm::dot(u, p) - support(u);
+  };
+  const int n = 4096;
+  int best = 0;
+  for (int i = 1; i < n; ++i)
+    if (g(2 * kPi * i / n) > g(2 * kPi * best / n)) best = i;
+  double lo = 2 * kPi * (best - 1) / n, hi = 2 * kPi * (best + 1) / n;
+  const double r = (std::sqrt(5.0) - 1) / 2;
+  for (int it = 0; it < 80; ++it) {
+    const double a = hi - r * (hi - lo), b = lo + r * (hi - lo);
+    if (g(a) < g(b)) lo = a; else hi = b;
+  }
+  return g((lo + hi) / 2);
+}
+
+// Round cone: the meridian section is the convex hull of the discs of radius
+// r1 at (0, 0) and r2 at (0, h), whose support is the larger of theirs.
+double refRoundCone(const double* a, dvec3 p) {
+  return convexDistance2(meridian(p), [a](dvec2 u) { return std::max(a[0], u.y * a[2] + a[1]); });
+}
+
+// Convex polytope given by its faces as triangles with outward order: inside,
+// minus the nearest face plane; outside, the nearest face, each face by
+// projection onto its plane when the foot falls inside it, else its edges.
+double pointTriangle(dvec3 p, dvec3 a, dvec3 b, dvec3 c) {
+  const dvec3 n = glm::normalize(glm::cross(b - a, c - a));
+  const dvec3 foot = p - glm::dot(p - a, n) * n;
+  auto side = [&](dvec3 x, dvec3 y) { return glm::dot(glm::cross(y - x, foot - x), n) >= 0; };
+  if (side(a, b) && side(b, c) && side(c, a)) return std::fabs(glm::dot(p - a, n));
+  auto seg = [&](dvec3 x, dvec3 y) {
+    const double t = std::clamp(glm::dot(p - x, y - x) / glm::dot(y - x, y - x), 0.0, 1.0);
+    return glm::length(p - (x + t * (y - x)));
+  };
+  return std::min({seg(a, b), seg(b, c), seg(c, a)});
+}
+using Triangle = std::array<dvec3, 3>;
+double convexPolytope(dvec3 p, const std::vector<Triangle>& faces) {
+  double plane = -1e300, surface = 1e300;
+  for (const Triangle& t : faces) {
+    const dvec3 n = glm::normalize(glm::cross(t[1] - t[0], t[2] - t[0]));
+    plane = std::max(plane, glm::dot(p - t[0], n));
+    surface = std::min(surface, pointTriangle(p, t[0], t[1], t[2]));
+  }
+  return plane <= 0 ? plane : surface;
+}
+std::vector<Triangle> octahedronFaces(double r) {
+  std::vector<Triangle> faces;
+  for (int i = 0; i < 8; ++i) {
+    const dvec3 s((i & 1) ? -1 : 1, (i & 2) ? -1 : 1, (i & 4) ? -1 : 1);
+    Triangle t = {dvec3(r * s.x, 0, 0), dvec3(0, r * s.y, 0), dvec3(0, 0, r * s.z)};
+    if (s.x * s.y * s.z < 0) std::swap(t[1], t[2]);  // outward winding
+    faces.push_back(t);
+  }
+  return faces;
+}
+std::vector<Triangle> pyramidFaces(double size, double h) {
+  const double a = size / 2;
+  const dvec3 apex(0, h, 0), c[4] = {{a, 0, a}, {a, 0, -a}, {-a, 0, -a}, {-a, 0, a}};
+  std::vector<Triangle> faces;
+  for (int i = 0; i < 4; ++i) faces.push_back({c[i], c[(i + 1) % 4], apex});
+  faces.push_back({c[0], c[3], c[2]});
+  faces.push_back({c[0], c[2], c[1]});
+  return faces;
+}
+double refOctahedron(const double* a, dvec3 p) { return convexPolytope(p, octahedronFaces(a[0])); }
+double refPyramid(const double* a, dvec3 p) { return convexPolytope(p, pyramidFaces(a[0], a[1])); }
+// The ellipsoid is a bound: its reference is the bound as documented, and
+// EllipsoidIsALowerBound checks it against the true surface.
+double refEllipsoid(const double* a, dvec3 p) {
+  const double k = std::sqrt(p.x * p.x / (a[0] * a[0]) + p.y * p.y / (a[1] * a[1]) + p.z * p.z / (a[2] * a[2]));
+  return (k - 1) * std::min({a[0], a[1], a[2]});
+}
+
 // ---- independent inside tests ----
 
 bool insideMenger(const double* a, dvec3 p) {
@@ -230,6 +313,13 @@ void addRevolution(Surface& s, const std::vector<dvec2>& line, int n_around, dou
       return dvec3(q.x * std::cos(2 * kPi * w), q.y, q.x * std::sin(2 * kPi * w));
     });
   }
+}
+
+
+// Triangles sampled as patches (one corner is the patch's degenerate edge).
+void addTriangles(Surface& s, const std::vector<Triangle>& faces, int n) {
+  for (const Triangle& t : faces)
+    addPatch(s, n, n, [&](double u, double v) { return t[0] + u * (t[1] - t[0]) + u * v * (t[2] - t[1]); });
 }
 
 // ---- per primitive test setups ----
@@ -403,6 +493,55 @@ std::vector<Case> cases() {
     out.push_back({"menger", a, refMenger, [a](dvec3 p) { return insideMenger(a.data(), p); },
                    nullptr, 1.2});
   }
+  out.push_back({"octahedron", {0.9}, refOctahedron,
+                 [](dvec3 p) { return std::fabs(p.x) + std::fabs(p.y) + std::fabs(p.z) < 0.9; },
+                 [] {
+                   Surface s;
+                   addTriangles(s, octahedronFaces(0.9), 120);
+                   return s;
+                 },
+                 1.3});
+  out.push_back({"pyramid", {1.2, 0.9}, refPyramid,
+                 [](dvec3 p) {
+                   const double w = 0.6 * (1 - p.y / 0.9);
+                   return p.y > 0 && p.y < 0.9 && std::fabs(p.x) < w && std::fabs(p.z) < w;
+                 },
+                 [] {
+                   Surface s;
+                   addTriangles(s, pyramidFaces(1.2, 0.9), 160);
+                   return s;
+                 },
+                 1.2});
+  for (const std::vector<double>& a : {std::vector<double>{0.5, 0.2, 0.8}, std::vector<double>{0.15, 0.4, 0.6}}) {
+    out.push_back({"round_cone", a, refRoundCone,
+                   [a](dvec3 p) {
+                     // In one of the spheres, or in the frustum between their tangent circles.
+                     const dvec2 q = meridian(p);
+                     if (glm::length(q) < a[0] || glm::length(q - dvec2(0, a[2])) < a[1]) return true;
+                     const double b = (a[0] - a[1]) / a[2], c = std::sqrt(1 - b * b);
+                     const dvec2 t1 = a[0] * dvec2(c, b), t2 = dvec2(0, a[2]) + a[1] * dvec2(c, b);
+                     return insidePolygon(q, {{-t1.x, t1.y}, t1, t2, {-t2.x, t2.y}});
+                   },
+                   [a] {
+                     // The meridian: the bottom arc, the tangent segment, the top arc.
+                     const double b = (a[0] - a[1]) / a[2], tangent = std::asin(b);
+                     std::vector<dvec2> line;
+                     for (int i = 0; i <= 200; ++i) {
+                       const double t = -kPi / 2 + (tangent + kPi / 2) * i / 200;
+                       line.push_back(a[0] * dvec2(std::cos(t), std::sin(t)));
+                     }
+                     for (int i = 0; i <= 200; ++i) {
+                       const double t = tangent + (kPi / 2 - tangent) * i / 200;
+                       line.push_back(dvec2(0, a[2]) + a[1] * dvec2(std::cos(t), std::sin(t)));
+                     }
+                     Surface s;
+                     addRevolution(s, line, 400, 0.006);
+                     return s;
+                   },
+                   1.3});
+  }
+  out.push_back({"ellipsoid", {0.9, 0.5, 0.7}, refEllipsoid,
+                 [](dvec3 p) { return glm::length(p / dvec3(0.9, 0.5, 0.7)) < 1; }, nullptr, 1.3});
   return out;
 }
 
@@ -518,9 +657,40 @@ TEST(Primitives, GradientHasUnitLengthAwayFromMedialAxis) {
   }
 }
 
-TEST(Primitives, OnlyMengerIsABound) {
+TEST(Primitives, OnlyMengerAndEllipsoidAreBounds) {
   for (const PrimitiveInfo& info : primitiveCatalogue())
-    EXPECT_EQ(info.exact, info.kind != PrimitiveKind::Menger) << info.name;
+    EXPECT_EQ(info.exact, info.kind != PrimitiveKind::Menger && info.kind != PrimitiveKind::Ellipsoid)
+        << info.name;
+}
+
+// The ellipsoid's bound never exceeds the distance to its surface (sampled
+// densely by angle), has the right sign, equals the sphere's distance when
+// the radii agree, and is within min/max(radii) of the truth.
+TEST(Primitives, EllipsoidIsALowerBound) {
+  const double r[3] = {0.9, 0.35, 0.6};
+  Surface s;
+  addPatch(s, 600, 1200, [&](double u, double v) {
+    const double t = kPi * u, f = 2 * kPi * v;
+    return dvec3(r[0] * std::sin(t) * std::cos(f), r[1] * std::cos(t), r[2] * std::sin(t) * std::sin(f));
+  });
+  std::mt19937_64 rng(23);
+  std::uniform_real_distribution<double> u(-1.4, 1.4);
+  double tightest = 1;
+  for (int i = 0; i < 400; ++i) {
+    const dvec3 p(u(rng), u(rng), u(rng));
+    double nearest = 1e300;
+    for (const dvec3& q : s.points) nearest = std::min(nearest, glm::length(p - q));
+    const double d = findPrimitive("ellipsoid")->distance(r, p);
+    ASSERT_LE(std::fabs(d), nearest + 1e-12) << p.x << " " << p.y << " " << p.z;
+    ASSERT_EQ(d < 0, glm::length(p / dvec3(r[0], r[1], r[2])) < 1);
+    if (nearest > 0.05) tightest = std::min(tightest, std::fabs(d) / nearest);
+  }
+  EXPECT_GE(tightest, 0.35 / 0.9 - 0.01);
+  const double same[3] = {0.7, 0.7, 0.7}, radius = 0.7;
+  for (int i = 0; i < 100; ++i) {
+    const dvec3 p(u(rng), u(rng), u(rng));
+    EXPECT_NEAR(findPrimitive("ellipsoid")->distance(same, p), findPrimitive("sphere")->distance(&radius, p), 1e-15);
+  }
 }
 
 // The .sdf spelling reaches the same function with the parameters in the
@@ -541,6 +711,10 @@ TEST(Primitives, SceneTextEvaluatesTheSamePrimitive) {
       {"prism(size: 1, depth: 0.6)", "prism", {1, 0.6}},
       {"hexprism(radius: 0.5, depth: 0.8)", "hexprism", {0.5, 0.8}},
       {"menger(level: 2, size: 1.5)", "menger", {2, 1.5}},
+      {"octahedron(radius: 0.9)", "octahedron", {0.9}},
+      {"pyramid(size: 1.2, height: 0.9)", "pyramid", {1.2, 0.9}},
+      {"round_cone(bottom: 0.5, top: 0.2, height: 0.8)", "round_cone", {0.5, 0.2, 0.8}},
+      {"ellipsoid(radii: [0.9, 0.5, 0.7])", "ellipsoid", {0.9, 0.5, 0.7}},
   };
   std::mt19937_64 rng(19);
   std::uniform_real_distribution<double> u(-1.5, 1.5);

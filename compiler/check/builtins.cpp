@@ -50,6 +50,13 @@ const std::vector<BuiltinSignature>& builtinSignatures() {
       {"elongate", BuiltinCategory::Operator,
        {{"amount", ArgType::Vector3, ValueRule::NonNegative, kRequired, kTime}},
        "stretch by inserting `amount` of length at the centre"},
+      // Offsets of any shape.
+      {"round", BuiltinCategory::Operator,
+       {{"radius", ArgType::Number, ValueRule::NonNegative, kRequired, kTime}},
+       "grow the shape by `radius`: edges and corners become rounded"},
+      {"shell", BuiltinCategory::Operator,
+       {{"thickness", ArgType::Number, ValueRule::Positive, kRequired, kTime}},
+       "a wall of `thickness` centred on the surface"},
       // Materials.
       {"diffuse", BuiltinCategory::Material, {colour("albedo")}, "Lambertian"},
       {"mirror", BuiltinCategory::Material, {colour("tint")}, "perfect specular reflection"},

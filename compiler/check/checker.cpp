@@ -721,6 +721,15 @@ class Checker {
         }
         return true;
       }
+      case PrimitiveKind::RoundCone:
+        // Otherwise one sphere holds the other and no cone touches both.
+        if (c(2) <= std::fabs(c(0) - c(1))) {
+          diags_.error(e.range, "round_cone 'height' (" + fmt(c(2)) +
+                                    ") must exceed the difference of 'bottom' and 'top' (" +
+                                    fmt(std::fabs(c(0) - c(1))) + "), or one sphere holds the other");
+          return false;
+        }
+        return true;
       case PrimitiveKind::Torus:
         if (c(1) > c(0))
           diags_.warning(e.range, "torus 'minor' > 'major' makes a spindle torus; its distance "
@@ -860,6 +869,12 @@ class Checker {
           node->count[i] = static_cast<int>(cv[i]);
         }
       }
+    } else if (name == "round" || name == "shell") {
+      auto s = numberArg(*arg(0), sig.args[0], name);
+      if (!s) return {};
+      node->kind = name == "round" ? ir::NodeKind::Round : ir::NodeKind::Shell;
+      // The IR keeps the offset from the surface: a shell's half thickness.
+      node->amount = name == "round" ? *s : ir::binary('*', *s, ir::constant(0.5));
     } else if (name == "elongate") {
       auto v = vectorArg(*arg(0), sig.args[0], name);
       if (!v) return {};

@@ -505,6 +505,16 @@ class SceneWriter {
                b + ".y)";
       }
       case ir::NodeKind::Instances: return instances(n, p, f, mat, mine);
+      case ir::NodeKind::Round:
+      case ir::NodeKind::Shell: {
+        const std::string c = node(*n.children[0], p, f, mat, mine);
+        const std::string x = mat ? c + ".x" : c;
+        const std::string r = var(f, "d");
+        const bool shell = n.kind == ir::NodeKind::Shell;
+        f.code << "  float " << r << " = " << (shell ? "abs(" + x + ")" : x) << " - " << n.amount.glsl() << ";"
+               << lineComment(n) << (shell ? " shell\n" : " round\n");
+        return mat ? "vec2(" + r + ", " + c + ".y)" : r;
+      }
       default: return domain(n, p, f, mat, mine);
     }
   }
@@ -972,9 +982,7 @@ class SceneWriter {
     if (set.param_count > 0) {
       // The template's primitive with this instance's parameters.
       const PrimitiveInfo& info = primitiveInfo(templ.primitive);
-      if (std::string(info.glsl_source).find("sdBox2(") != std::string::npos)
-        needHelper("sdBox2", box2Glsl());
-      needHelper(info.glsl_function, info.glsl_source);
+      needPrimitive(info);
       const int base = l.affine ? 4 : 1;
       for (int v = 0; v < l.param_vec4; ++v)
         g.code << "  vec4 a" << v << " = sd_data[rec + " << base + v << "];\n";
@@ -1133,13 +1141,23 @@ class SceneWriter {
     return name + "(" + p + (mat ? ", " + inherited : "") + ")";
   }
 
+  // A primitive's GLSL function and the shared helpers it calls, once each.
+  void needPrimitive(const PrimitiveInfo& info) {
+    const std::string source = info.glsl_source;
+    if (source.find("sdBox2(") != std::string::npos) needHelper("sdBox2", box2Glsl());
+    if (source.find("sdTriangleDistance(") != std::string::npos)
+      needHelper("sdTriangleDistance", triangleGlsl());
+    needHelper(info.glsl_function, info.glsl_source);
+  }
+
   std::string primitive(const ir::Node& n, const std::string& p, Function& f) {
     const PrimitiveInfo& info = primitiveInfo(n.primitive);
     std::string fn = info.glsl_function;
-    if (std::string(info.glsl_source).find("sdBox2(") != std::string::npos)
+    if (n.primitive == PrimitiveKind::Menger) {
       needHelper("sdBox2", box2Glsl());
-    if (n.primitive == PrimitiveKind::Menger) return menger(n, p, f);
-    needHelper(fn, info.glsl_source);
+      return menger(n, p, f);
+    }
+    needPrimitive(info);
     std::string call = fn + "(" + p;
     size_t slot = 0;
     for (const ParamSpec& spec : info.params) {

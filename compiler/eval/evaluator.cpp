@@ -219,6 +219,16 @@ EvalResult Evaluator::evalNode(const ir::Node& n, const dvec3& p, int inherited)
       return child(0, p - glm::clamp(p, -h, h));
     }
     case ir::NodeKind::Instances: return evalInstances(n, p, mat);
+    case ir::NodeKind::Round: {
+      EvalResult r = child(0, p);
+      r.distance -= n.amount.at(t);
+      return r;
+    }
+    case ir::NodeKind::Shell: {
+      EvalResult r = child(0, p);
+      r.distance = std::fabs(r.distance) - n.amount.at(t);
+      return r;
+    }
     case ir::NodeKind::Morph: {
       const double w = n.amount.at(t);
       EvalResult a = child(0, p), b = child(1, p);

@@ -32,6 +32,8 @@ const char* kindName(NodeKind k) {
     case NodeKind::Repeat: return "repeat";
     case NodeKind::Elongate: return "elongate";
     case NodeKind::Morph: return "morph";
+    case NodeKind::Round: return "round";
+    case NodeKind::Shell: return "shell";
     case NodeKind::Instances: return "instances";
   }
   return "?";
@@ -94,6 +96,8 @@ std::string dumpNode(const Node& n, int indent) {
             << n.count.z << "]";
         break;
       case NodeKind::Morph: out << " t=" << n.amount.text(); break;
+      case NodeKind::Round: out << " radius=" << n.amount.text(); break;
+      case NodeKind::Shell: out << " half-thickness=" << n.amount.text(); break;
       case NodeKind::Instances: {
         const InstanceSet& set = *n.instances;
         out << " " << set.size() << " (data form: " << set.origin << "; " << set.nodes.size()

@@ -37,6 +37,8 @@ enum class NodeKind {
   Repeat,                      // infinite or limited repetition
   Elongate,                    // child(p - clamp(p, -h, h))
   Morph,                       // t * a + (1 - t) * b
+  Round,                       // child - amount: the shape grown by a radius
+  Shell,                       // |child| - amount: a wall of half thickness amount
   Instances,                   // union of placed copies of children[0], as data
 };
 
@@ -58,7 +60,8 @@ struct Node {
   // normal (unit). Repeat: cell size (0 = not repeated along that axis).
   // Elongate: half extents.
   Vec3 vec;
-  // Rotate: angle in degrees; Scale: factor; Reflect: offset; Morph: t.
+  // Rotate: angle in degrees; Scale: factor; Reflect: offset; Morph: t;
+  // Round: radius; Shell: half the wall's thickness.
   Scalar amount;
   // Repeat: copies per axis (0 = infinite).
   glm::ivec3 count{0};

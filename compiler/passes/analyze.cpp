@@ -111,6 +111,17 @@ class Analyzer {
         n.cost += 0.2;
         break;
       }
+      case ir::NodeKind::Round:
+      case ir::NodeKind::Shell: {
+        // An offset of an exact distance is exact: from outside, the nearest
+        // point of the grown surface is r further along the same normal;
+        // from inside, a ball of depth |d| plus r. It keeps the child's
+        // exactness and Lipschitz factor.
+        const double r = upper(n.amount);
+        n.bounds = first->bounds.finite() && std::isfinite(r) ? first->bounds.grow(r) : Aabb::infinite();
+        n.cost += 0.1;
+        break;
+      }
       case ir::NodeKind::Morph: {
         const ir::Interval t = n.amount.range();
         n.exact = false;

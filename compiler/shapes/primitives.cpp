@@ -168,6 +168,96 @@ double menger(const double* a, const dvec3& p) {
 }
 Aabb mengerBounds(const double* a) { return {dvec3(-a[1] / 2), dvec3(a[1] / 2)}; }
 
+// Distance from p to the triangle abc (no sign): the nearest of the face's
+// interior, its edges and its vertices (Ericson, Real-Time Collision
+// Detection, 5.1.5: the region of p by its barycentric coordinates).
+double triangleDistance(const dvec3& p, const dvec3& a, const dvec3& b, const dvec3& c) {
+  const dvec3 ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = glm::dot(ab, ap), d2 = glm::dot(ac, ap);
+  if (d1 <= 0 && d2 <= 0) return glm::length(ap);
+  const dvec3 bp = p - b;
+  const double d3 = glm::dot(ab, bp), d4 = glm::dot(ac, bp);
+  if (d3 >= 0 && d4 <= d3) return glm::length(bp);
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return glm::length(ap - ab * (d1 / (d1 - d3)));
+  const dvec3 cp = p - c;
+  const double d5 = glm::dot(ab, cp), d6 = glm::dot(ac, cp);
+  if (d6 >= 0 && d5 <= d6) return glm::length(cp);
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return glm::length(ap - ac * (d2 / (d2 - d6)));
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0)
+    return glm::length(bp - (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6))));
+  const double denom = 1 / (va + vb + vc);
+  return glm::length(ap - ab * (vb * denom) - ac * (vc * denom));
+}
+
+// octahedron(radius): |x| + |y| + |z| <= radius. The eight faces are mirror
+// images, so the nearest surface point of |p| lies on the face in the
+// positive octant; inside, the nearest face is that one's plane.
+double octahedron(const double* a, const dvec3& p) {
+  const double s = a[0];
+  const dvec3 q = glm::abs(p);
+  const double m = q.x + q.y + q.z - s;
+  if (m <= 0) return m / std::sqrt(3.0);
+  return triangleDistance(q, dvec3(s, 0, 0), dvec3(0, s, 0), dvec3(0, 0, s));
+}
+Aabb octahedronBounds(const double* a) { return {dvec3(-a[0]), dvec3(a[0])}; }
+
+// pyramid(size, height): a square base of side `size` on y = 0, centred, and
+// its apex at (0, height, 0). The planes x = 0, z = 0 and x = z are mirror
+// planes, so for |p| folded to x >= z >= 0 the nearest surface point lies on
+// the +x face or on the base; inside, the nearest of the five face planes.
+double pyramid(const double* a, const dvec3& p) {
+  const double h2 = a[0] / 2, h = a[1];
+  dvec3 q(std::fabs(p.x), p.y, std::fabs(p.z));
+  if (q.z > q.x) std::swap(q.x, q.z);
+  // Outward unit normal of the +x face: the plane through (h2, 0, *) and the apex.
+  const dvec2 n = glm::normalize(dvec2(h, h2));
+  const double side = n.x * (q.x - h2) + n.y * q.y;  // signed distance to the face's plane
+  if (q.y >= 0 && side <= 0) return std::max(-q.y, side);
+  const double to_face = triangleDistance(q, dvec3(h2, 0, h2), dvec3(h2, 0, -h2), dvec3(0, h, 0));
+  const dvec3 on_base(std::min(q.x, h2), 0, std::min(q.z, h2));
+  return std::min(to_face, glm::length(q - on_base));
+}
+Aabb pyramidBounds(const double* a) {
+  return {dvec3(-a[0] / 2, 0, -a[0] / 2), dvec3(a[0] / 2, a[1], a[0] / 2)};
+}
+
+// round_cone(bottom, top, height): the convex hull of a sphere of radius
+// `bottom` at the origin and one of radius `top` at (0, height, 0) (needs
+// height > |bottom - top|, so neither holds the other). In the meridian
+// plane it is the hull of two discs: the line that touches both has unit
+// normal (a, b) with b = (bottom - top) / height; a point projects onto the
+// bottom disc, the tangent line or the top disc by its coordinate along the
+// line's direction (-b, a).
+double roundCone(const double* a, const dvec3& p) {
+  const double r1 = a[0], r2 = a[1], h = a[2];
+  const dvec2 q(len2(dvec2(p.x, p.z)), p.y);
+  const double b = (r1 - r2) / h, c = std::sqrt(1 - b * b);
+  const double along = glm::dot(q, dvec2(-b, c));
+  if (along < 0) return glm::length(q) - r1;
+  if (along > c * h) return glm::length(q - dvec2(0, h)) - r2;
+  return glm::dot(q, dvec2(c, b)) - r1;
+}
+Aabb roundConeBounds(const double* a) {
+  const double r = std::max(a[0], a[1]);
+  return {dvec3(-r, -a[0], -r), dvec3(r, a[2] + a[1], r)};
+}
+
+// ellipsoid(radii): a bound. g = |p / radii| - 1 has gradient at most
+// 1 / min(radii), so g * min(radii) is 1-Lipschitz, zero on the surface and
+// negative inside: a lower bound of the distance, exact on a sphere, and
+// min/max(radii) of it far from an elongated one (no closed form exists).
+double ellipsoid(const double* a, const dvec3& p) {
+  const dvec3 r(a[0], a[1], a[2]);
+  return (glm::length(p / r) - 1) * std::min(r.x, std::min(r.y, r.z));
+}
+Aabb ellipsoidBounds(const double* a) {
+  const dvec3 r(a[0], a[1], a[2]);
+  return {-r, r};
+}
+
 const ParamSpec kRadius{"radius", ParamType::Number, ParamRule::Positive, false, {}};
 const ParamSpec kHeight{"height", ParamType::Number, ParamRule::Positive, false, {}};
 
@@ -245,6 +335,61 @@ const char* kMengerGlsl = R"(float sdMenger(vec3 p, int level, float size) {
 }
 )";
 
+// Closest-point distance to a triangle (as triangleDistance above); the
+// octahedron and the pyramid call it for the one face they fold onto.
+const char* kTriangleGlsl = R"(float sdTriangleDistance(vec3 p, vec3 a, vec3 b, vec3 c) {
+  vec3 ab = b - a, ac = c - a, ap = p - a;
+  float d1 = dot(ab, ap), d2 = dot(ac, ap);
+  if (d1 <= 0.0 && d2 <= 0.0) return length(ap);
+  vec3 bp = p - b;
+  float d3 = dot(ab, bp), d4 = dot(ac, bp);
+  if (d3 >= 0.0 && d4 <= d3) return length(bp);
+  float vc = d1 * d4 - d3 * d2;
+  if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) return length(ap - ab * (d1 / (d1 - d3)));
+  vec3 cp = p - c;
+  float d5 = dot(ab, cp), d6 = dot(ac, cp);
+  if (d6 >= 0.0 && d5 <= d6) return length(cp);
+  float vb = d5 * d2 - d1 * d6;
+  if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) return length(ap - ac * (d2 / (d2 - d6)));
+  float va = d3 * d6 - d5 * d4;
+  if (va <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0)
+    return length(bp - (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6))));
+  float denom = 1.0 / (va + vb + vc);
+  return length(ap - ab * (vb * denom) - ac * (vc * denom));
+}
+)";
+const char* kOctahedronGlsl = R"(float sdOctahedron(vec3 p, float s) {
+  vec3 q = abs(p);
+  float m = q.x + q.y + q.z - s;
+  if (m <= 0.0) return m * 0.5773502691896258;
+  return sdTriangleDistance(q, vec3(s, 0.0, 0.0), vec3(0.0, s, 0.0), vec3(0.0, 0.0, s));
+}
+)";
+const char* kPyramidGlsl = R"(float sdPyramid(vec3 p, float size, float h) {
+  float h2 = 0.5 * size;
+  vec3 q = vec3(abs(p.x), p.y, abs(p.z));
+  if (q.z > q.x) q.xz = q.zx;
+  vec2 n = normalize(vec2(h, h2));
+  float side = n.x * (q.x - h2) + n.y * q.y;
+  if (q.y >= 0.0 && side <= 0.0) return max(-q.y, side);
+  float to_face = sdTriangleDistance(q, vec3(h2, 0.0, h2), vec3(h2, 0.0, -h2), vec3(0.0, h, 0.0));
+  return min(to_face, length(q - vec3(min(q.x, h2), 0.0, min(q.z, h2))));
+}
+)";
+const char* kRoundConeGlsl = R"(float sdRoundCone(vec3 p, float r1, float r2, float h) {
+  vec2 q = vec2(length(p.xz), p.y);
+  float b = (r1 - r2) / h, c = sqrt(1.0 - b * b);
+  float along = dot(q, vec2(-b, c));
+  if (along < 0.0) return length(q) - r1;
+  if (along > c * h) return length(q - vec2(0.0, h)) - r2;
+  return dot(q, vec2(c, b)) - r1;
+}
+)";
+const char* kEllipsoidGlsl = R"(float sdEllipsoid(vec3 p, vec3 r) {
+  return (length(p / r) - 1.0) * min(r.x, min(r.y, r.z));
+}
+)";
+
 }  // namespace
 
 bool Aabb::finite() const {
@@ -288,6 +433,21 @@ const std::vector<PrimitiveInfo>& primitiveCatalogue() {
         {"size", ParamType::Number, ParamRule::Positive, true, dvec3(1)}},
        menger, mengerBounds, "sdMenger", kMengerGlsl, false,
        "Menger sponge of `level` iterations in a cube of side `size`"},
+      {PrimitiveKind::Octahedron, "octahedron", {kRadius}, octahedron, octahedronBounds,
+       "sdOctahedron", kOctahedronGlsl, true, "octahedron |x| + |y| + |z| <= `radius`"},
+      {PrimitiveKind::Pyramid, "pyramid",
+       {{"size", ParamType::Number, ParamRule::Positive, false, {}}, kHeight},
+       pyramid, pyramidBounds, "sdPyramid", kPyramidGlsl, true,
+       "square base of side `size` on y = 0, apex at y = `height`"},
+      {PrimitiveKind::RoundCone, "round_cone",
+       {{"bottom", ParamType::Number, ParamRule::Positive, false, {}},
+        {"top", ParamType::Number, ParamRule::Positive, false, {}}, kHeight},
+       roundCone, roundConeBounds, "sdRoundCone", kRoundConeGlsl, true,
+       "spheres of radius `bottom` at the origin and `top` at y = `height`, and the cone touching both"},
+      {PrimitiveKind::Ellipsoid, "ellipsoid",
+       {{"radii", ParamType::Vector, ParamRule::PositiveVector, false, {}}},
+       ellipsoid, ellipsoidBounds, "sdEllipsoid", kEllipsoidGlsl, false,
+       "ellipsoid of semi-axes `radii` (a distance bound)"},
   };
   return catalogue;
 }
@@ -305,6 +465,7 @@ const PrimitiveInfo& primitiveInfo(PrimitiveKind kind) {
 }
 
 const char* box2Glsl() { return kBox2Glsl; }
+const char* triangleGlsl() { return kTriangleGlsl; }
 
 int flattenedParamCount(const PrimitiveInfo& info) {
   int n = 0;

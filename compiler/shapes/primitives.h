@@ -32,7 +32,8 @@ struct ParamSpec {
 };
 
 enum class PrimitiveKind {
-  Sphere, Box, Torus, Cylinder, Cone, Plane, Capsule, TriPrism, HexPrism, Menger
+  Sphere, Box, Torus, Cylinder, Cone, Plane, Capsule, TriPrism, HexPrism, Menger,
+  Octahedron, Pyramid, RoundCone, Ellipsoid
 };
 
 struct PrimitiveInfo {
@@ -56,6 +57,8 @@ int flattenedParamCount(const PrimitiveInfo& info);
 constexpr size_t kMaxPrimitiveArgs = 8;
 // GLSL of the 2D box helper some primitives share (sdBox2).
 const char* box2Glsl();
+// GLSL of the point-triangle distance the octahedron and pyramid share.
+const char* triangleGlsl();
 
 // Largest Menger level accepted: each level adds one loop pass, and level 8
 // holes are 3^-8 ~ 1.5e-4 of the sponge, near float32 marching precision.
