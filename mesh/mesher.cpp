@@ -1,5 +1,7 @@
 #include "mesher.h"
 
+#include "mesh_weld.h"
+
 namespace sdfc {
 
 MeshResult meshScene(const ir::Scene& scene, const MeshOptions& options) {
@@ -20,6 +22,11 @@ MeshResult meshScene(const ir::Scene& scene, const MeshOptions& options) {
   }
   out.mesh = dualContour(eval, grid, options, &out.contour);
   out.interrupted = out.contour.interrupted;
+  if (!out.interrupted && options.weld) {
+    const double tolerance = weldTolerance(out.mesh, out.plan.voxel);
+    out.weld = weldByPosition(out.mesh, tolerance);
+    out.weld.tolerance = tolerance;
+  }
   return out;
 }
 

@@ -42,6 +42,9 @@ struct MeshOptions {
   int project_steps = 4;
   // Skip 8^3-sample blocks that the scene's Lipschitz bound proves empty.
   bool sparse = true;
+  // Merge vertices at one point and drop what collapses (mesh_weld.h), so
+  // the mesh is what a reader merging by position sees. false = as contoured.
+  bool weld = true;
   int threads = 0;  // 0 = all cores
   // (stage, fraction done); called from worker threads, serialised.
   std::function<void(const char*, double)> progress;
@@ -103,6 +106,15 @@ struct ContourStats {
 TriangleMesh dualContour(const Evaluator& eval, const SignGrid& grid, const MeshOptions& options,
                          ContourStats* stats = nullptr);
 
+// What weldByPosition() changed.
+struct WeldStats {
+  size_t merged_vertices = 0;      // folded into another vertex at the same point
+  size_t collapsed_triangles = 0;  // two corners at one point: dropped
+  size_t fin_triangles = 0;        // pairs on the same three corners, opposite winding: dropped
+  size_t flipped_edges = 0;        // zero-area triangles with three distinct corners, repaired
+  double tolerance = 0;
+};
+
 struct MeshResult {
   TriangleMesh mesh;
   GridPlan plan;
@@ -111,8 +123,9 @@ struct MeshResult {
   uint64_t points_evaluated = 0;
   double sample_seconds = 0;
   ContourStats contour;
+  WeldStats weld;
 };
-// planGrid + sampleGrid + dualContour.
+// planGrid + sampleGrid + dualContour + weldByPosition.
 MeshResult meshScene(const ir::Scene& scene, const MeshOptions& options);
 
 }  // namespace sdfc
