@@ -14,14 +14,16 @@ namespace sdfc {
 namespace {
 
 // Zero area as the file holds it: the corners rounded to float32, and the
-// least height no more than float32 resolves at those coordinates.
+// least height no more than float32 resolves at those coordinates or a
+// millionth of the longest edge (a sliver no slicer gives an area).
 bool flatAsWritten(glm::dvec3 a, glm::dvec3 b, glm::dvec3 c) {
   a = glm::dvec3(glm::vec3(a)), b = glm::dvec3(glm::vec3(b)), c = glm::dvec3(glm::vec3(c));
   const double longest = std::max({glm::length(b - a), glm::length(c - b), glm::length(a - c)});
   if (longest == 0) return true;
   const double height = glm::length(glm::cross(b - a, c - a)) / longest;
   const glm::dvec3 m = glm::max(glm::abs(a), glm::max(glm::abs(b), glm::abs(c)));
-  return height <= std::max({m.x, m.y, m.z}) * double(std::numeric_limits<float>::epsilon());
+  return height <= std::max(std::max({m.x, m.y, m.z}) * double(std::numeric_limits<float>::epsilon()),
+                            1e-6 * longest);
 }
 
 }  // namespace

@@ -85,7 +85,7 @@ double weldTolerance(const TriangleMesh& mesh, double voxel) {
   // Four float32 ulps at the largest coordinate: two points that round to
   // one float32 are always merged, and two kept apart never round together.
   const double float_step = 4.0 * largest * double(std::numeric_limits<float>::epsilon());
-  return std::max(1e-6 * voxel, float_step);
+  return std::max(1e-4 * voxel, float_step);
 }
 
 WeldStats weldByPosition(TriangleMesh& mesh, double tolerance) {

@@ -12,7 +12,9 @@ namespace sdfc {
 
 // The distance below which two vertices are one point: float32's
 // resolution at the mesh's largest coordinate (the files hold float32),
-// and never less than 1e-6 voxel.
+// and never less than 1e-4 voxel: readers merge with tolerances of their own
+// (trimesh rounds to 1e-8, near the origin float32 holds 1e-11 apart), and
+// vertices that close are one point to any of them.
 double weldTolerance(const TriangleMesh& mesh, double voxel);
 
 // Merges vertices within `tolerance` (max-norm), drops collapsed triangles
