@@ -140,7 +140,9 @@ int runMesh(const CommandLine& cl) {
                 "triangles\n",
                 topo.boundary_edges, topo.non_manifold_edges, topo.non_manifold_vertices,
                 topo.inconsistent_edges, topo.degenerate_triangles);
-    const glm::dvec3 at = topo.problem_at.value_or(glm::dvec3(0));
+    // To a thousandth of a voxel, so 0 prints as 0 rather than 5.7e-15.
+    const double grain = 1e-3 * plan.voxel;
+    const glm::dvec3 at = glm::round(topo.problem_at.value_or(glm::dvec3(0)) / grain) * grain + 0.0;
     if (topo.non_manifold_edges || topo.non_manifold_vertices || topo.degenerate_triangles) {
       char finer[64];
       if (cl.voxel_size > 0)
