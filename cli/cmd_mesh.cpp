@@ -149,9 +149,9 @@ int runMesh(const CommandLine& cl) {
         std::snprintf(finer, sizeof finer, "--voxel-size %.3g", plan.voxel / 2);
       else
         std::snprintf(finer, sizeof finer, "--resolution %d", 2 * cl.resolution);
-      std::printf("  note: near (%.4g, %.4g, %.4g) two sheets of the surface come closer than a voxel "
-                  "(%.3g), so a slicer sees them touch; a finer grid separates them (%s), unless the "
-                  "parts touch in the scene itself\n",
+      std::printf("  note: near (%.4g, %.4g, %.4g) parts of the surface come within a voxel or two (%.3g) "
+                  "of each other (a thin wall, a narrow gap or hole), so a slicer sees them touch; a finer "
+                  "grid separates them (%s), unless they touch in the scene itself\n",
                   at.x, at.y, at.z, plan.voxel, finer);
     } else if (topo.boundary_edges) {
       std::printf("  note: open where the surface leaves the grid (near (%.4g, %.4g, %.4g))%s\n", at.x,
@@ -160,10 +160,11 @@ int runMesh(const CommandLine& cl) {
   }
   if (topo.boundary_edges == 0) std::printf("  volume: %.6g\n", meshVolume(mesh));
   const double rate = result.sample_seconds > 0 ? result.points_evaluated / result.sample_seconds : 0;
-  std::printf("  time: sampling %s (%llu points, %.3g M points/s), contouring %s, writing %s\n",
+  std::printf("  time: sampling %s (%llu points, %.3g M points/s), contouring %s, welding %s, writing %s\n",
               formatSeconds(result.sample_seconds).c_str(),
               static_cast<unsigned long long>(result.points_evaluated), rate / 1e6,
-              formatSeconds(result.contour.seconds).c_str(), formatSeconds(write_seconds).c_str());
+              formatSeconds(result.contour.seconds).c_str(), formatSeconds(result.weld.seconds).c_str(),
+              formatSeconds(write_seconds).c_str());
   return kExitOk;
 }
 

@@ -31,6 +31,7 @@ const char* nodeName(const ir::Node& n) {
     case ir::NodeKind::Repeat: return "repeat";
     case ir::NodeKind::Elongate: return "elongate";
     case ir::NodeKind::Morph: return "morph";
+    case ir::NodeKind::Instances: return "instances";
   }
   return "shape";
 }

@@ -100,6 +100,7 @@ struct ContourStats {
   size_t surface_cells = 0;
   size_t split_cells = 0;  // cells holding more than one vertex
   size_t clamped_vertices = 0;  // QEF minimum outside its cell
+  size_t tunnel_faces = 0;  // cells whose ambiguous faces took the other pairing (see dual_contour.cpp)
   bool interrupted = false;
   double seconds = 0;
 };
@@ -113,6 +114,7 @@ struct WeldStats {
   size_t fin_triangles = 0;        // pairs on the same three corners, opposite winding: dropped
   size_t flipped_edges = 0;        // zero-area triangles with three distinct corners, repaired
   double tolerance = 0;
+  double seconds = 0;
 };
 
 struct MeshResult {
