@@ -36,14 +36,17 @@ double leastHeight(const dvec3& a, const dvec3& b, const dvec3& c) {
 uint64_t edgeKey(uint32_t a, uint32_t b) { return uint64_t(std::min(a, b)) << 32 | std::max(a, b); }
 
 // Merges every pair of vertices within `tolerance` (max-norm), found
-// through a hash grid of that spacing; returns each vertex's representative.
+// through a hash grid of four times that spacing: a neighbour cell along an
+// axis is looked at only when the point is within `tolerance` of that side,
+// so most points look at their own cell alone.
 std::vector<uint32_t> clusterVertices(const std::vector<dvec3>& positions, double tolerance,
                                       size_t* merged) {
   const size_t n = positions.size();
+  const double spacing = 4 * tolerance;
   using Cell = std::array<int64_t, 3>;
   auto cellOf = [&](const dvec3& p) {
-    return Cell{int64_t(std::floor(p.x / tolerance)), int64_t(std::floor(p.y / tolerance)),
-                int64_t(std::floor(p.z / tolerance))};
+    return Cell{int64_t(std::floor(p.x / spacing)), int64_t(std::floor(p.y / spacing)),
+                int64_t(std::floor(p.z / spacing))};
   };
   std::vector<std::pair<Cell, uint32_t>> sorted(n);
   for (size_t i = 0; i < n; ++i) sorted[i] = {cellOf(positions[i]), uint32_t(i)};
@@ -51,17 +54,23 @@ std::vector<uint32_t> clusterVertices(const std::vector<dvec3>& positions, doubl
   UnionFind uf(n);
   for (size_t i = 0; i < n; ++i) {
     const auto& [cell, v] = sorted[i];
-    // Neighbours in the 13 cells "after" this one and later in its own cell:
-    // each pair is looked at once.
-    for (int dz = -1; dz <= 1; ++dz)
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx) {
+    const dvec3 p = positions[v];
+    int lo[3], hi[3];
+    for (int d = 0; d < 3; ++d) {
+      const double offset = p[d] - double(cell[size_t(d)]) * spacing;
+      lo[d] = offset <= tolerance ? -1 : 0;
+      hi[d] = offset >= spacing - tolerance ? 1 : 0;
+    }
+    // Each pair is looked at once: from the smaller cell, or in one cell by index.
+    for (int dz = lo[2]; dz <= hi[2]; ++dz)
+      for (int dy = lo[1]; dy <= hi[1]; ++dy)
+        for (int dx = lo[0]; dx <= hi[0]; ++dx) {
           const Cell other{cell[0] + dx, cell[1] + dy, cell[2] + dz};
           if (other < cell) continue;
-          auto it = std::lower_bound(sorted.begin(), sorted.end(), std::make_pair(other, uint32_t(0)));
+          auto it = other == cell ? sorted.begin() + ptrdiff_t(i) + 1
+                                  : std::lower_bound(sorted.begin(), sorted.end(), std::make_pair(other, uint32_t(0)));
           for (; it != sorted.end() && it->first == other; ++it) {
-            if (other == cell && it->second <= v) continue;
-            const dvec3 d = glm::abs(positions[it->second] - positions[v]);
+            const dvec3 d = glm::abs(positions[it->second] - p);
             if (std::max({d.x, d.y, d.z}) <= tolerance) uf.join(v, it->second);
           }
         }
