@@ -3,13 +3,13 @@
 // contouring (Ju, Losasso, Schaefer, Warren 2002, "Dual Contouring of
 // Hermite Data") so CSG edges and box corners stay sharp.
 //
-// Known limits: features thinner than a voxel can vanish or, where one
-// cell's single patch meets a neighbour across a face twice (a tunnel
-// through the cell, e.g. a level-3 Menger sponge at 17^3), still give
-// non-manifold edges; checkTopology() counts them and `sdfc mesh` prints
-// the counts. Sharp points off the lattice (a cone apex on a cell edge)
-// keep up to ~0.3 voxel of error because vertices stay in their cells.
-// Regions cut by --box are left open there.
+// Known limits: features thinner than a voxel can vanish, and sheets of the
+// surface closer than a voxel or two can share vertices (non-manifold by
+// position); checkTopology() counts them on the welded mesh and `sdfc mesh`
+// says where and which --resolution to try (docs/mesh.md). Sharp points off
+// the lattice (a cone apex on a cell edge) keep up to ~0.3 voxel of error
+// because vertices stay in their cells. Regions cut by --box are left open
+// there.
 #pragma once
 #include <atomic>
 #include <cstdint>
