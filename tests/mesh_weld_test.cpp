@@ -210,7 +210,9 @@ TEST(MeshWeld, EveryExampleReadsBackAsReported) {
     const MeshTopology topo = checkTopology(c.result.mesh);
     const bool closed = topo.closedManifold() && topo.degenerate_triangles == 0;
     EXPECT_EQ(closed, !box) << entry.path();
-    if (box) EXPECT_GT(topo.boundary_edges, 0u) << entry.path();
+    if (box) {
+      EXPECT_GT(topo.boundary_edges, 0u) << entry.path();
+    }
     expectAsReported(c, closed, entry.path().filename().string());
     ++examples;
   }
