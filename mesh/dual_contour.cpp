@@ -183,70 +183,123 @@ TriangleMesh dualContour(const Evaluator& eval, const SignGrid& grid, const Mesh
     return ivec3(int(key % cx), int(key / cx % cy), int(key / (cx * cy)));
   };
 
-  // 4. Patches and QEF vertices per cell (up to four patches a cell).
+  // 4. Patches per cell: crossings joined along each face. A face with four
+  // crossings pairs them by the sign at its centre (both cells alike). Where
+  // that leaves one patch of each cell meeting the other across the face
+  // twice (a tunnel through the face: both cells' single patch holds both
+  // segments), the dual edge between their vertices would border four
+  // triangles; the face then takes the other pairing, which splits both
+  // patches in two (the castle at 160 had two such edges).
+  struct CellCrossings {
+    bool corner[8];
+    int64_t crossing_of[12];
+  };
+  auto crossingsOf = [&](const ivec3& cell) {
+    CellCrossings cc;
+    for (int n = 0; n < 8; ++n) cc.corner[n] = inside(cell + ivec3(n & 1, (n >> 1) & 1, (n >> 2) & 1));
+    for (int e = 0; e < 12; ++e) {
+      const int axis = e / 4;
+      const ivec3 o = localEdgeOffset(e);
+      ivec3 o2 = o;
+      o2[axis] = 1;
+      cc.crossing_of[e] = -1;
+      if (cc.corner[o.x + 2 * o.y + 4 * o.z] != cc.corner[o2.x + 2 * o2.y + 4 * o2.z]) {
+        const ivec3 p = cell + o;
+        cc.crossing_of[e] = findEdge(grid.index(p.x, p.y, p.z) * 3 + uint64_t(axis));
+      }
+    }
+    return cc;
+  };
+  // Joins the cell's crossings into patches; faces in `flip` (bit a * 2 + side)
+  // take the pairing the centre does not. Returns the ambiguous faces whose
+  // two segments ended in one patch.
+  auto joinPatches = [&](const ivec3& cell, const CellCrossings& cc, unsigned flip, UnionFind& uf) {
+    unsigned tunnels = 0;
+    int ambiguous[6][2];  // fe[0], fe[2] of each face with four crossings
+    for (auto& f : ambiguous) f[0] = f[1] = -1;
+    auto cornerAt = [&](const ivec3& o) { return cc.corner[o.x + 2 * o.y + 4 * o.z]; };
+    for (int a = 0; a < 3; ++a) {
+      const int b = (a + 1) % 3, c = (a + 2) % 3;
+      for (int side = 0; side < 2; ++side) {
+        // Face corners q0..q3 counter-clockwise in (b, c); edges e01, e12, e23, e30.
+        ivec3 q[4];
+        for (int n = 0; n < 4; ++n) {
+          q[n] = ivec3(0);
+          q[n][a] = side;
+        }
+        q[1][b] = 1, q[2][b] = 1, q[2][c] = 1, q[3][c] = 1;
+        const int fe[4] = {localEdge(b, q[0]), localEdge(c, q[1]), localEdge(b, q[3]), localEdge(c, q[0])};
+        int present[4], n_present = 0;
+        for (int n = 0; n < 4; ++n)
+          if (cc.crossing_of[fe[n]] >= 0) present[n_present++] = fe[n];
+        if (n_present == 2) {
+          uf.join(present[0], present[1]);
+        } else if (n_present == 4) {
+          // Ambiguous face: q0, q2 share a sign; the centre says whether they connect.
+          ivec3 base = cell;
+          base[a] += side;
+          dvec3 centre = plan.point(base.x, base.y, base.z);
+          centre[b] += 0.5 * plan.voxel;
+          centre[c] += 0.5 * plan.voxel;
+          const bool centre_in = eval.distance(centre) < 0;
+          const bool flipped = (flip >> (a * 2 + side)) & 1;
+          ambiguous[a * 2 + side][0] = fe[0];
+          ambiguous[a * 2 + side][1] = fe[2];
+          if ((centre_in == cornerAt(q[0])) != flipped) {  // q0-q2 joined: cut off q1 and q3
+            uf.join(fe[0], fe[1]);
+            uf.join(fe[2], fe[3]);
+          } else {  // cut off q0 and q2
+            uf.join(fe[3], fe[0]);
+            uf.join(fe[1], fe[2]);
+          }
+        }
+      }
+    }
+    // fe[0] and fe[2] are in different segments under either pairing.
+    for (int f = 0; f < 6; ++f)
+      if (ambiguous[f][0] >= 0 && uf.find(ambiguous[f][0]) == uf.find(ambiguous[f][1])) tunnels |= 1u << f;
+    return tunnels;
+  };
+  std::vector<uint8_t> tunnels(cell_keys.size(), 0);
+  if (options.split_patches) {
+    parallelFor(cell_keys.size(), 256, threads, [&](size_t begin, size_t end, int) {
+      for (size_t ci = begin; ci < end; ++ci) {
+        const ivec3 cell = cellOf(cell_keys[ci]);
+        UnionFind uf;
+        tunnels[ci] = uint8_t(joinPatches(cell, crossingsOf(cell), 0, uf));
+      }
+    });
+  }
+  auto tunnelsOf = [&](const ivec3& cell) -> unsigned {
+    if (glm::any(glm::lessThan(cell, ivec3(0))) || glm::any(glm::greaterThanEqual(cell, cells))) return 0;
+    auto it = std::lower_bound(cell_keys.begin(), cell_keys.end(), cellKey(cell));
+    return it != cell_keys.end() && *it == cellKey(cell) ? tunnels[size_t(it - cell_keys.begin())] : 0;
+  };
+
+  // 5. QEF vertices per patch (up to four patches a cell).
   std::vector<SurfaceCell> surface(cell_keys.size());
   std::vector<std::array<dvec3, 4>> cell_vertices(cell_keys.size());
   std::atomic<size_t> clamped{0};
   std::atomic<size_t> cells_done{0};
+  std::atomic<size_t> flipped_faces{0};
   parallelFor(cell_keys.size(), 256, threads, [&](size_t begin, size_t end, int) {
     if (stopped()) return;
     for (size_t ci = begin; ci < end; ++ci) {
       SurfaceCell& sc = surface[ci];
       sc.key = cell_keys[ci];
       const ivec3 cell = cellOf(sc.key);
-      bool corner[8];
-      for (int n = 0; n < 8; ++n) corner[n] = inside(cell + ivec3(n & 1, (n >> 1) & 1, (n >> 2) & 1));
-      auto cornerAt = [&](const ivec3& o) { return corner[o.x + 2 * o.y + 4 * o.z]; };
-      int64_t crossing_of[12];
-      for (int e = 0; e < 12; ++e) {
-        const int axis = e / 4;
-        const ivec3 o = localEdgeOffset(e);
-        ivec3 o2 = o;
-        o2[axis] = 1;
-        crossing_of[e] = -1;
-        if (cornerAt(o) != cornerAt(o2)) {
-          const ivec3 p = cell + o;
-          crossing_of[e] = findEdge(grid.index(p.x, p.y, p.z) * 3 + uint64_t(axis));
-        }
+      const CellCrossings cc = crossingsOf(cell);
+      const int64_t* crossing_of = cc.crossing_of;
+      unsigned flip = 0;
+      for (int f = 0; f < 6 && tunnels[ci]; ++f) {
+        if (!((tunnels[ci] >> f) & 1)) continue;
+        ivec3 other = cell;
+        other[f / 2] += (f & 1) ? 1 : -1;
+        if ((tunnelsOf(other) >> (f ^ 1)) & 1) flip |= 1u << f;
       }
+      if (flip) ++flipped_faces;
       UnionFind uf;
-      if (options.split_patches) {
-        for (int a = 0; a < 3; ++a) {
-          const int b = (a + 1) % 3, c = (a + 2) % 3;
-          for (int side = 0; side < 2; ++side) {
-            // Face corners q0..q3 counter-clockwise in (b, c); edges e01, e12, e23, e30.
-            ivec3 q[4];
-            for (int n = 0; n < 4; ++n) {
-              q[n] = ivec3(0);
-              q[n][a] = side;
-            }
-            q[1][b] = 1, q[2][b] = 1, q[2][c] = 1, q[3][c] = 1;
-            const int fe[4] = {localEdge(b, q[0]), localEdge(c, q[1]), localEdge(b, q[3]),
-                               localEdge(c, q[0])};
-            int present[4], n_present = 0;
-            for (int n = 0; n < 4; ++n)
-              if (crossing_of[fe[n]] >= 0) present[n_present++] = fe[n];
-            if (n_present == 2) {
-              uf.join(present[0], present[1]);
-            } else if (n_present == 4) {
-              // Ambiguous face: q0, q2 share a sign; the centre says whether they connect.
-              ivec3 base = cell;
-              base[a] += side;
-              dvec3 centre = plan.point(base.x, base.y, base.z);
-              centre[b] += 0.5 * plan.voxel;
-              centre[c] += 0.5 * plan.voxel;
-              const bool centre_in = eval.distance(centre) < 0;
-              if (centre_in == cornerAt(q[0])) {  // q0-q2 joined: cut off q1 and q3
-                uf.join(fe[0], fe[1]);
-                uf.join(fe[2], fe[3]);
-              } else {  // cut off q0 and q2
-                uf.join(fe[3], fe[0]);
-                uf.join(fe[1], fe[2]);
-              }
-            }
-          }
-        }
-      }
+      if (options.split_patches) joinPatches(cell, cc, flip, uf);
       sc.patch.fill(-1);
       int root_patch[12];
       std::fill(std::begin(root_patch), std::end(root_patch), -1);
@@ -294,7 +347,7 @@ TriangleMesh dualContour(const Evaluator& eval, const SignGrid& grid, const Mesh
   }
   cell_vertices.clear();
 
-  // 5. A quad per crossing edge, wound so its normal points from inside to
+  // 6. A quad per crossing edge, wound so its normal points from inside to
   // outside, split along the shorter diagonal.
   auto vertexOf = [&](const ivec3& cell, int local_edge) -> int64_t {
     const uint64_t key = cellKey(cell);
@@ -335,7 +388,7 @@ TriangleMesh dualContour(const Evaluator& eval, const SignGrid& grid, const Mesh
     }
   }
 
-  // 6. Vertex normals and triangle materials from the evaluator.
+  // 7. Vertex normals and triangle materials from the evaluator.
   mesh.normals.resize(mesh.positions.size());
   parallelFor(mesh.positions.size(), 512, threads, [&](size_t begin, size_t end, int) {
     for (size_t i = begin; i < end; ++i) {
@@ -358,6 +411,7 @@ TriangleMesh dualContour(const Evaluator& eval, const SignGrid& grid, const Mesh
     stats->surface_cells = surface.size();
     stats->split_cells = split;
     stats->clamped_vertices = clamped;
+    stats->tunnel_faces = flipped_faces;
     stats->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }
   return mesh;

@@ -4,12 +4,29 @@
 #include <array>
 #include <atomic>
 #include <cmath>
+#include <limits>
 #include <mutex>
 #include <tuple>
 
 #include "parallel.h"
 
 namespace sdfc {
+namespace {
+
+// Zero area as the file holds it: the corners rounded to float32, and the
+// least height no more than float32 resolves at those coordinates or a
+// millionth of the longest edge (a sliver no slicer gives an area).
+bool flatAsWritten(glm::dvec3 a, glm::dvec3 b, glm::dvec3 c) {
+  a = glm::dvec3(glm::vec3(a)), b = glm::dvec3(glm::vec3(b)), c = glm::dvec3(glm::vec3(c));
+  const double longest = std::max({glm::length(b - a), glm::length(c - b), glm::length(a - c)});
+  if (longest == 0) return true;
+  const double height = glm::length(glm::cross(b - a, c - a)) / longest;
+  const glm::dvec3 m = glm::max(glm::abs(a), glm::max(glm::abs(b), glm::abs(c)));
+  return height <= std::max(std::max({m.x, m.y, m.z}) * double(std::numeric_limits<float>::epsilon()),
+                            1e-6 * longest);
+}
+
+}  // namespace
 
 MeshTopology checkTopology(const TriangleMesh& mesh) {
   MeshTopology out;
@@ -31,18 +48,19 @@ MeshTopology checkTopology(const TriangleMesh& mesh) {
       half.push_back({std::min(a, b), std::max(a, b), a < b});
       link.push_back({v[i], v[(i + 1) % 3], v[(i + 2) % 3]});
     }
-    const glm::dvec3 n = glm::cross(mesh.positions[t.y] - mesh.positions[t.x],
-                                    mesh.positions[t.z] - mesh.positions[t.x]);
-    if (glm::length(n) == 0 || t.x == t.y || t.y == t.z || t.x == t.z) ++out.degenerate_triangles;
+    if (t.x == t.y || t.y == t.z || t.x == t.z || flatAsWritten(mesh.positions[t.x], mesh.positions[t.y], mesh.positions[t.z]))
+      ++out.degenerate_triangles;
   }
   std::sort(half.begin(), half.end());
+  std::optional<glm::dvec3> first_boundary;
   for (size_t i = 0; i < half.size();) {
     size_t j = i;
     while (j < half.size() && half[j].lo == half[i].lo && half[j].hi == half[i].hi) ++j;
     const size_t uses = j - i;
     ++out.edges;
-    if (uses == 1) ++out.boundary_edges;
+    if (uses == 1 && ++out.boundary_edges == 1) first_boundary = mesh.positions[half[i].lo];
     if (uses > 2) ++out.non_manifold_edges;
+    if (uses > 2 && !out.problem_at) out.problem_at = 0.5 * (mesh.positions[half[i].lo] + mesh.positions[half[i].hi]);
     if (uses == 2 && half[i].forward == half[i + 1].forward) ++out.inconsistent_edges;
     i = j;
   }
@@ -75,9 +93,13 @@ MeshTopology checkTopology(const TriangleMesh& mesh) {
       const uint32_t ra = find(a), rb = find(b);
       if (ra != rb) parent[ra] = rb, --components;
     }
-    if (!ok || components != 1) ++out.non_manifold_vertices;
+    if (!ok || components != 1) {
+      ++out.non_manifold_vertices;
+      if (!out.problem_at) out.problem_at = mesh.positions[link[i][0]];
+    }
     i = j;
   }
+  if (!out.problem_at) out.problem_at = first_boundary;
   out.euler = long(out.vertices) - long(out.edges) + long(mesh.triangles.size());
   return out;
 }

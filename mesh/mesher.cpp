@@ -1,5 +1,9 @@
 #include "mesher.h"
 
+#include <chrono>
+
+#include "mesh_weld.h"
+
 namespace sdfc {
 
 MeshResult meshScene(const ir::Scene& scene, const MeshOptions& options) {
@@ -20,6 +24,13 @@ MeshResult meshScene(const ir::Scene& scene, const MeshOptions& options) {
   }
   out.mesh = dualContour(eval, grid, options, &out.contour);
   out.interrupted = out.contour.interrupted;
+  if (!out.interrupted && options.weld) {
+    const auto start = std::chrono::steady_clock::now();
+    const double tolerance = weldTolerance(out.mesh, out.plan.voxel);
+    out.weld = weldByPosition(out.mesh, tolerance);
+    out.weld.tolerance = tolerance;
+    out.weld.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
   return out;
 }
 

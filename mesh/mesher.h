@@ -3,13 +3,13 @@
 // contouring (Ju, Losasso, Schaefer, Warren 2002, "Dual Contouring of
 // Hermite Data") so CSG edges and box corners stay sharp.
 //
-// Known limits: features thinner than a voxel can vanish or, where one
-// cell's single patch meets a neighbour across a face twice (a tunnel
-// through the cell, e.g. a level-3 Menger sponge at 17^3), still give
-// non-manifold edges; checkTopology() counts them and `sdfc mesh` prints
-// the counts. Sharp points off the lattice (a cone apex on a cell edge)
-// keep up to ~0.3 voxel of error because vertices stay in their cells.
-// Regions cut by --box are left open there.
+// Known limits: features thinner than a voxel can vanish, and sheets of the
+// surface closer than a voxel or two can share vertices (non-manifold by
+// position); checkTopology() counts them on the welded mesh and `sdfc mesh`
+// says where and which --resolution to try (docs/mesh.md). Sharp points off
+// the lattice (a cone apex on a cell edge) keep up to ~0.3 voxel of error
+// because vertices stay in their cells. Regions cut by --box are left open
+// there.
 #pragma once
 #include <atomic>
 #include <cstdint>
@@ -42,6 +42,9 @@ struct MeshOptions {
   int project_steps = 4;
   // Skip 8^3-sample blocks that the scene's Lipschitz bound proves empty.
   bool sparse = true;
+  // Merge vertices at one point and drop what collapses (mesh_weld.h), so
+  // the mesh is what a reader merging by position sees. false = as contoured.
+  bool weld = true;
   int threads = 0;  // 0 = all cores
   // (stage, fraction done); called from worker threads, serialised.
   std::function<void(const char*, double)> progress;
@@ -97,11 +100,22 @@ struct ContourStats {
   size_t surface_cells = 0;
   size_t split_cells = 0;  // cells holding more than one vertex
   size_t clamped_vertices = 0;  // QEF minimum outside its cell
+  size_t tunnel_faces = 0;  // cells whose ambiguous faces took the other pairing (see dual_contour.cpp)
   bool interrupted = false;
   double seconds = 0;
 };
 TriangleMesh dualContour(const Evaluator& eval, const SignGrid& grid, const MeshOptions& options,
                          ContourStats* stats = nullptr);
+
+// What weldByPosition() changed.
+struct WeldStats {
+  size_t merged_vertices = 0;      // folded into another vertex at the same point
+  size_t collapsed_triangles = 0;  // two corners at one point: dropped
+  size_t fin_triangles = 0;        // pairs on the same three corners, opposite winding: dropped
+  size_t flipped_edges = 0;        // zero-area triangles with three distinct corners, repaired
+  double tolerance = 0;
+  double seconds = 0;
+};
 
 struct MeshResult {
   TriangleMesh mesh;
@@ -111,8 +125,9 @@ struct MeshResult {
   uint64_t points_evaluated = 0;
   double sample_seconds = 0;
   ContourStats contour;
+  WeldStats weld;
 };
-// planGrid + sampleGrid + dualContour.
+// planGrid + sampleGrid + dualContour + weldByPosition.
 MeshResult meshScene(const ir::Scene& scene, const MeshOptions& options);
 
 }  // namespace sdfc
