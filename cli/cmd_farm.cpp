@@ -67,7 +67,7 @@ std::vector<std::string> renderArgs(const CommandLine& cl, const farm::ShardPlan
 
 int submitJob(const CommandLine& cl) {
   RenderOverrides o;
-  if (!renderOverridesFrom(cl, o)) return kExitUsage;
+  if (!checkTimeOption(cl.time) || !renderOverridesFrom(cl, o)) return kExitUsage;
   if (cl.shards <= 0) {
     std::cerr << "sdfc: error: farm submit needs --shards N (shards per image)\n";
     return kExitUsage;
@@ -94,6 +94,13 @@ int submitJob(const CommandLine& cl) {
     std::cerr << "sdfc: error: --video needs --frames A-B\n";
     return kExitUsage;
   }
+  // The merge job runs ffmpeg last: without it every shard would render and the
+  // job fail at its very end.
+  if (!cl.video.empty() && !farm::onPath("ffmpeg")) {
+    std::cerr << "sdfc: error: --video needs ffmpeg on PATH (the merge job runs it); install ffmpeg "
+                 "or submit without --video\n";
+    return kExitUsage;
+  }
 
   const std::string dir = absolute(cl.output);
   fs::create_directories(farm::shardDir(dir));
@@ -113,6 +120,26 @@ int submitJob(const CommandLine& cl) {
   for (uint32_t i = 0; i < job.plan.taskCount(); ++i)
     if (!shardComplete(farm::shardDir(dir) + "/" + farm::shardFileName(i), expectedHeader(job, i), false))
       missing.push_back(i);
+
+  // A finished job: every shard there and every output merged. Submitting it
+  // again would only queue another merge of the same samples.
+  if (missing.empty() && !cl.dry_run) {
+    std::vector<std::string> outputs;
+    const std::string image = farm::imagePath(dir, job.plan);
+    if (job.plan.animation()) {
+      for (int f = job.plan.first_frame; f <= job.plan.last_frame; ++f) outputs.push_back(farm::framePath(image, f));
+    } else {
+      outputs.push_back(image);
+    }
+    if (!scripts.video.empty()) outputs.push_back(scripts.video);
+    if (std::all_of(outputs.begin(), outputs.end(), [](const std::string& p) { return fs::exists(p); })) {
+      std::cerr << "sdfc: farm: the job in " << dir << " is finished (" << job.plan.taskCount()
+                << " shards, merged into " << (job.plan.animation() ? dir + "/frames" : image)
+                << "); nothing submitted. Remove "
+                << (job.plan.animation() ? "a frame" : "the image") << " to merge again\n";
+      return kExitOk;
+    }
+  }
 
   farm::JobRecord record;
   if (fs::exists(dir + "/farm.job")) record = farm::readJobRecord(dir + "/farm.job");

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Farm tests against a real single-node Slurm (start_cluster.sh): run by CTest
 # with the cluster as a fixture.   farm_test.sh SDFC CLUSTER_DIR CASE
-#   still       8 shards through `sdfc farm submit`, merged == one `sdfc render`, byte for byte
+#   still       8 shards through `sdfc farm submit`, merged == one `sdfc render`, byte for byte;
+#               submitting the finished job again queues nothing
 #   animation   6 frames x 2 shards, each frame == its own single render
 #   fault       a shard's process killed mid-way: the in-job retry, and (no retries)
 #               a resubmission that renders only the missing shard, give the same bytes
@@ -41,7 +42,15 @@ still)
   "$sdfc" farm status "$work/job"
   [ "$(ls "$work/job/shards" | grep -c '^shard_.*\.exr$')" = 8 ] || fail "expected 8 shard files"
   cmp "$work/single.exr" "$work/job/image.exr" || fail "merged still differs from the single render"
-  echo "still: 8 shards merged bit-identical to the single render"
+  # Submitting the finished job again says so and queues nothing (it once queued another merge).
+  record_before=$(cat "$work/job/farm.job")
+  jobs_before=$(squeue --noheader --states=all --format=%i | wc -l)
+  "$sdfc" farm submit "$castle" "${still_flags[@]}" --shards 8 -o "$work/job" 2> "$work/again.txt"
+  cat "$work/again.txt"
+  grep -q "is finished" "$work/again.txt" || fail "a finished job's resubmission does not say it is finished"
+  [ "$(cat "$work/job/farm.job")" = "$record_before" ] || fail "a finished job's resubmission changed its record"
+  [ "$(squeue --noheader --states=all --format=%i | wc -l)" = "$jobs_before" ] || fail "a finished job was submitted again"
+  echo "still: 8 shards merged bit-identical to the single render; resubmitting the finished job queues nothing"
   ;;
 animation)
   # fps 4: frame times 0, 0.25, ... are exact, as are the --frames A-B:step times.
