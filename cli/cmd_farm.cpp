@@ -188,6 +188,19 @@ int submitJob(const CommandLine& cl) {
   return kExitOk;
 }
 
+// Why a merged output is missing: " (not yet)" while the last merge job is queued
+// or has not started, else that it ended without writing it, and where its log is.
+std::string missingNote(const farm::JobRecord& record, const std::string& dir) {
+  if (record.job_ids.empty()) return " (not yet)";
+  const std::string merge_id = record.job_ids.back();
+  const std::string log = dir + "/logs/merge_" + merge_id + ".log";
+  if (!fs::exists(log)) return " (not yet)";
+  const std::string queue = farm::queueState({merge_id});
+  for (const char* state : {"PENDING", "RUNNING", "COMPLETING", "CONFIGURING", "REQUEUED"})
+    if (queue.find(state) != std::string::npos) return " (not yet)";
+  return " (not made: merge job " + merge_id + " ended without it; see " + log + ")";
+}
+
 int showStatus(const CommandLine& cl) {
   const std::string dir = absolute(cl.output);
   farm::JobRecord record;
@@ -222,11 +235,11 @@ int showStatus(const CommandLine& cl) {
         if (e.path().extension() == ".exr") ++frames_done;
     std::cout << "merged frames: " << frames_done << " in " << dir << "/frames\n";
   } else {
-    std::cout << "merged image: " << image << (fs::exists(image) ? "" : " (not yet)") << "\n";
+    std::cout << "merged image: " << image << (fs::exists(image) ? "" : missingNote(record, dir)) << "\n";
   }
   if (record.values.count("video"))
-    std::cout << "video: " << record.values["video"] << (fs::exists(record.values["video"]) ? "" : " (not yet)")
-              << "\n";
+    std::cout << "video: " << record.values["video"]
+              << (fs::exists(record.values["video"]) ? "" : missingNote(record, dir)) << "\n";
   // squeue lines "id state reason" -> per job: state counts (array tasks grouped).
   std::map<std::string, std::map<std::string, int>> states;
   std::map<std::string, std::string> reasons;
