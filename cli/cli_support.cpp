@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <limits>
 #include <regex>
+#include <sstream>
 #include <fstream>
 #include <iostream>
 #include <stdexcept>
@@ -75,6 +76,18 @@ std::optional<double> parsePlainNumber(const std::string& text) {
   const double value = std::strtod(text.c_str(), nullptr);
   if (!std::isfinite(value) || std::fabs(value) > std::numeric_limits<float>::max()) return std::nullopt;
   return value;
+}
+
+CLI::Validator numberIn(double lo, double hi, bool open_low) {
+  std::ostringstream range;
+  range << (open_low ? "(" : "[") << lo << ", " << hi << "]";
+  return CLI::Validator(
+      [lo, hi, open_low, range = range.str()](std::string& text) {
+        const std::optional<double> value = parsePlainNumber(text);
+        if (value && (open_low ? *value > lo : *value >= lo) && *value <= hi) return std::string();
+        return "expects a number in " + range + ", got '" + text + "'";
+      },
+      "NUMBER in " + range.str());
 }
 
 bool checkTimeOption(double time, const char* option) {

@@ -30,7 +30,12 @@ LoadedScene loadScene(const CommandLine& cl, Diagnostics& diags, bool emit, bool
 // the value must be finite in float32 (the shader's precision).
 std::optional<double> parsePlainNumber(const std::string& text);
 
-// Usage checks shared by render, eval and mesh: --time must be a float32
+// The check of a floating-point flag: a plain number (as parsePlainNumber)
+// within [lo, hi] (above lo when open_low). CLI::Range alone lets "nan"
+// through, since every comparison with NaN is false.
+CLI::Validator numberIn(double lo, double hi, bool open_low = false);
+
+// Usage checks shared by render, view, eval, mesh and farm submit: --time must be a float32
 // number. Prints the error and returns false when it is not.
 bool checkTimeOption(double time, const char* option = "--time");
 

@@ -67,7 +67,7 @@ std::vector<std::string> renderArgs(const CommandLine& cl, const farm::ShardPlan
 
 int submitJob(const CommandLine& cl) {
   RenderOverrides o;
-  if (!renderOverridesFrom(cl, o)) return kExitUsage;
+  if (!checkTimeOption(cl.time) || !renderOverridesFrom(cl, o)) return kExitUsage;
   if (cl.shards <= 0) {
     std::cerr << "sdfc: error: farm submit needs --shards N (shards per image)\n";
     return kExitUsage;
@@ -94,6 +94,13 @@ int submitJob(const CommandLine& cl) {
     std::cerr << "sdfc: error: --video needs --frames A-B\n";
     return kExitUsage;
   }
+  // The merge job runs ffmpeg last: without it every shard would render and the
+  // job fail at its very end.
+  if (!cl.video.empty() && !farm::onPath("ffmpeg")) {
+    std::cerr << "sdfc: error: --video needs ffmpeg on PATH (the merge job runs it); install ffmpeg "
+                 "or submit without --video\n";
+    return kExitUsage;
+  }
 
   const std::string dir = absolute(cl.output);
   fs::create_directories(farm::shardDir(dir));
@@ -113,6 +120,26 @@ int submitJob(const CommandLine& cl) {
   for (uint32_t i = 0; i < job.plan.taskCount(); ++i)
     if (!shardComplete(farm::shardDir(dir) + "/" + farm::shardFileName(i), expectedHeader(job, i), false))
       missing.push_back(i);
+
+  // A finished job: every shard there and every output merged. Submitting it
+  // again would only queue another merge of the same samples.
+  if (missing.empty() && !cl.dry_run) {
+    std::vector<std::string> outputs;
+    const std::string image = farm::imagePath(dir, job.plan);
+    if (job.plan.animation()) {
+      for (int f = job.plan.first_frame; f <= job.plan.last_frame; ++f) outputs.push_back(farm::framePath(image, f));
+    } else {
+      outputs.push_back(image);
+    }
+    if (!scripts.video.empty()) outputs.push_back(scripts.video);
+    if (std::all_of(outputs.begin(), outputs.end(), [](const std::string& p) { return fs::exists(p); })) {
+      std::cerr << "sdfc: farm: the job in " << dir << " is finished (" << job.plan.taskCount()
+                << " shards, merged into " << (job.plan.animation() ? dir + "/frames" : image)
+                << "); nothing submitted. Remove "
+                << (job.plan.animation() ? "a frame" : "the image") << " to merge again\n";
+      return kExitOk;
+    }
+  }
 
   farm::JobRecord record;
   if (fs::exists(dir + "/farm.job")) record = farm::readJobRecord(dir + "/farm.job");
@@ -161,6 +188,19 @@ int submitJob(const CommandLine& cl) {
   return kExitOk;
 }
 
+// Why a merged output is missing: " (not yet)" while the last merge job is queued
+// or has not started, else that it ended without writing it, and where its log is.
+std::string missingNote(const farm::JobRecord& record, const std::string& dir) {
+  if (record.job_ids.empty()) return " (not yet)";
+  const std::string merge_id = record.job_ids.back();
+  const std::string log = dir + "/logs/merge_" + merge_id + ".log";
+  if (!fs::exists(log)) return " (not yet)";
+  const std::string queue = farm::queueState({merge_id});
+  for (const char* state : {"PENDING", "RUNNING", "COMPLETING", "CONFIGURING", "REQUEUED"})
+    if (queue.find(state) != std::string::npos) return " (not yet)";
+  return " (not made: merge job " + merge_id + " ended without it; see " + log + ")";
+}
+
 int showStatus(const CommandLine& cl) {
   const std::string dir = absolute(cl.output);
   farm::JobRecord record;
@@ -195,11 +235,11 @@ int showStatus(const CommandLine& cl) {
         if (e.path().extension() == ".exr") ++frames_done;
     std::cout << "merged frames: " << frames_done << " in " << dir << "/frames\n";
   } else {
-    std::cout << "merged image: " << image << (fs::exists(image) ? "" : " (not yet)") << "\n";
+    std::cout << "merged image: " << image << (fs::exists(image) ? "" : missingNote(record, dir)) << "\n";
   }
   if (record.values.count("video"))
-    std::cout << "video: " << record.values["video"] << (fs::exists(record.values["video"]) ? "" : " (not yet)")
-              << "\n";
+    std::cout << "video: " << record.values["video"]
+              << (fs::exists(record.values["video"]) ? "" : missingNote(record, dir)) << "\n";
   // squeue lines "id state reason" -> per job: state counts (array tasks grouped).
   std::map<std::string, std::map<std::string, int>> states;
   std::map<std::string, std::string> reasons;

@@ -2,6 +2,8 @@
 // belong together with a message naming the files.
 #include <filesystem>
 #include <iostream>
+#include <string>
+#include <vector>
 
 #include "commands.h"
 #include "image_io.h"
@@ -10,28 +12,62 @@
 
 namespace sdfc {
 
+namespace {
+
+// The files merge would write: each image and, with --png, its PNG.
+std::vector<std::string> outputPaths(const CommandLine& cl, const farm::ShardSet& set) {
+  std::vector<std::string> paths;
+  const bool animation = set.frames.count(farm::kNoFrame) == 0;
+  for (const auto& [frame, shards] : set.frames) {
+    const std::string path = animation ? farm::framePath(cl.output, frame) : cl.output;
+    paths.push_back(path);
+    if (cl.png) paths.push_back(path.substr(0, path.find_last_of('.')) + ".png");
+  }
+  return paths;
+}
+
+// An output that is one of the shards (by file identity: another spelling, a
+// hard link or a symlink is the same file) would be overwritten while merging.
+void refuseOutputOverInput(const CommandLine& cl, const farm::ShardSet& set) {
+  for (const std::string& output : outputPaths(cl, set)) {
+    std::error_code error;
+    if (!std::filesystem::exists(output, error)) continue;
+    for (const auto& [frame, shards] : set.frames)
+      for (const auto& [path, header] : shards)
+        if (std::filesystem::equivalent(output, path, error))
+          throw farm::FarmError("the output " + output + " is one of the shards being merged (" + path +
+                                "); choose another -o");
+  }
+}
+
+}  // namespace
+
 int runMerge(const CommandLine& cl) {
   imageFormatFromPath(cl.output);  // the extension, before any work
   int first = farm::kNoFrame, last = farm::kNoFrame;
   farm::ShardSet set;
+  farm::MergeStats stats;
+  // Every problem of the shards themselves (missing, not shards, not belonging
+  // together, damaged pixels) is bad input: exit 2 with the file named.
   try {
     if (!cl.frames.empty()) std::tie(first, last) = farm::parseFrameRange(cl.frames);
     set = farm::checkShards(farm::findShards(cl.inputs), first, last);
+    refuseOutputOverInput(cl, set);
+    const bool animation = set.frames.count(farm::kNoFrame) == 0;
+    const std::filesystem::path parent = std::filesystem::path(cl.output).parent_path();
+    if (!parent.empty()) std::filesystem::create_directories(parent);
+    stats = farm::mergeShards(set, [&](int frame, const FloatImage& image) {
+      const std::string path = animation ? farm::framePath(cl.output, frame) : cl.output;
+      writeImage(path, image);
+      if (cl.png) {
+        const std::string png = path.substr(0, path.find_last_of('.')) + ".png";
+        if (png != path) writeImage(png, image);
+      }
+    });
   } catch (const farm::FarmError& e) {
     std::cerr << "sdfc: error: merge: " << e.what() << "\n";
     return kExitUsage;
   }
-  const bool animation = set.frames.count(farm::kNoFrame) == 0;
-  const std::filesystem::path parent = std::filesystem::path(cl.output).parent_path();
-  if (!parent.empty()) std::filesystem::create_directories(parent);
-  const farm::MergeStats stats = farm::mergeShards(set, [&](int frame, const FloatImage& image) {
-    const std::string path = animation ? farm::framePath(cl.output, frame) : cl.output;
-    writeImage(path, image);
-    if (cl.png) {
-      const std::string png = path.substr(0, path.find_last_of('.')) + ".png";
-      if (png != path) writeImage(png, image);
-    }
-  });
   if (!cl.quiet)
     std::cerr << "sdfc: merged " << stats.shards << " shards into " << stats.frames
               << (stats.frames == 1 ? " image" : " frames") << " (" << set.reference.width << "x"

@@ -95,7 +95,23 @@ int runRender(const CommandLine& cl) {
                  "whole first phase)\n";
     return kExitUsage;
   }
-  if (cl.shards > 0 || cl.shard_index >= 0) return runRenderShard(cl, o);
+  if (cl.shards > 0 || cl.shard_index >= 0) {
+    // A shard holds raw sample sums and `sdfc merge` writes them undenoised and
+    // untoned: flags that act on the finished image would be dropped unseen.
+    const char* image_flag = cl.denoiser != "none"         ? "--denoise"
+                             : !cl.denoise_select.empty()  ? "--denoise-select"
+                             : cl.denoise_aovs != "auto"   ? "--denoise-aovs"
+                             : cl.exposure != 0            ? "--exposure"
+                             : cl.aces                     ? "--aces"
+                                                           : nullptr;
+    if (image_flag) {
+      std::cerr << "sdfc: error: " << image_flag
+                << " does not apply to --shards: a shard holds sample sums, and `sdfc merge` writes "
+                   "their exact mean, undenoised and untoned (render without --shards to use it)\n";
+      return kExitUsage;
+    }
+    return runRenderShard(cl, o);
+  }
   // Frame sequence: A-B:step over time. The count is decided (and limited)
   // before any list is built or any work starts.
   std::vector<double> times = {cl.time};

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <limits>
 #include <sstream>
 #include <unistd.h>
 
@@ -14,6 +15,10 @@
 #include "vulkan_context.h"
 
 namespace sdfc {
+namespace {
+// 2^64 either way: far past any useful exposure, still finite in float32.
+constexpr double kMaxExposureStops = 64;
+}  // namespace
 
 void registerCommands(CLI::App& app, CommandLine& cl) {
   auto common = [&](CLI::App* sub, bool needs_input = true) {
@@ -88,7 +93,7 @@ void registerCommands(CLI::App& app, CommandLine& cl) {
                      "nlm, nlr: colour strengths of the last pass, e.g. 0.7,1.25,2.5; each pixel "
                      "takes the one of least error estimated against the other half (docs/denoise.md)")
       ->delimiter(',')
-      ->check(CLI::PositiveNumber);
+      ->check(numberIn(0, 1000, /*open_low=*/true));
   render->add_flag("--adaptive", cl.adaptive,
                    "adaptive sampling: --spp is the mean; a first share uniform, the rest where the "
                    "estimated error after denoising is (docs/adaptive.md)");
@@ -97,22 +102,22 @@ void registerCommands(CLI::App& app, CommandLine& cl) {
                      "against the other) | display (halves clamped to [0, 1] in sRGB: what FLIP sees) | uniform")
       ->check(CLI::IsMember({"uniform", "variance", "denoised", "display"}));
   render->add_option("--adaptive-share", cl.adaptive_share, "--adaptive's uniform first phase, of --spp")
-      ->check(CLI::Range(0.01, 1.0));
+      ->check(numberIn(0.01, 1.0));
   render->add_option("--adaptive-cap", cl.adaptive_cap,
                      "--adaptive: a pixel's samples at most this many times the first phase's")
-      ->check(CLI::Range(1.0, 1024.0));
+      ->check(numberIn(1.0, 1024.0));
   render->add_option("--adaptive-block", cl.adaptive_block, "--adaptive: counts per NxN block")
       ->check(CLI::Range(1, 256));
   render->add_option("--adaptive-power", cl.adaptive_power,
                      "--adaptive: extra samples proportional to the estimate to this power")
-      ->check(CLI::Range(0.0, 4.0));
+      ->check(numberIn(0.0, 4.0));
   render->add_option("--adaptive-budget", cl.adaptive_budget,
                      "--adaptive: samples (--spp is the mean) | time (the uniform --spp render's "
                      "predicted time, from each block's cost per sample)")
       ->check(CLI::IsMember({"samples", "time"}));
   render->add_option("--adaptive-cost-offset", cl.adaptive_cost_offset,
                      "--adaptive-budget time: cost per sample = primary steps + this x their mean")
-      ->check(CLI::Range(0.0, 100.0));
+      ->check(numberIn(0.0, 100.0));
   render->add_option("--adaptive-cost", cl.adaptive_cost,
                      "--adaptive-budget time: each pixel's cost per sample from iterations (a "
                      "half-size one-sample --view iterations pass) | steps (its primary march steps)")
@@ -132,10 +137,11 @@ void registerCommands(CLI::App& app, CommandLine& cl) {
                      "JOB_COMPLETION_INDEX)")
       ->check(CLI::Range(0, 1 << 30));
   render->add_option("--fps", cl.fps, "frames per second for --frames A-B with --shards (default 24)")
-      ->check(CLI::Range(0.001, 1e6));
+      ->check(numberIn(0.001, 1e6));
   render->add_option("--seed", cl.seed, "random seed");
   render->add_option("--device", cl.device, "Vulkan device index (see `sdfc devices`)");
-  render->add_option("--exposure", cl.exposure, "exposure in stops for PNG output");
+  render->add_option("--exposure", cl.exposure, "exposure in stops for PNG output")
+      ->check(numberIn(-kMaxExposureStops, kMaxExposureStops));
   render->add_flag("--aces", cl.aces, "ACES filmic tone curve for PNG (default: clamp)");
   render->add_flag("-q,--quiet", cl.quiet, "no progress output");
   render->add_flag("--bounds", cl.force_bounds,
@@ -159,7 +165,8 @@ void registerCommands(CLI::App& app, CommandLine& cl) {
   view->add_option("--time", cl.time, "start time in seconds");
   view->add_option("--seed", cl.seed, "random seed");
   view->add_option("--device", cl.device, "Vulkan device index (see `sdfc devices`)");
-  view->add_option("--exposure", cl.exposure, "exposure in stops");
+  view->add_option("--exposure", cl.exposure, "exposure in stops")
+      ->check(numberIn(-kMaxExposureStops, kMaxExposureStops));
   view->add_flag("--aces", cl.aces, "ACES filmic tone curve (default: clamp)");
   view->add_flag("--no-dynamic-resolution", cl.no_dynamic_resolution,
                  "draw every frame at full resolution, also while the camera moves");
@@ -181,7 +188,8 @@ void registerCommands(CLI::App& app, CommandLine& cl) {
   mesh->add_option("-o,--output", cl.output, "mesh file")->required();
   mesh->add_option("--resolution", cl.resolution, "cells along the longest side")
       ->check(CLI::Range(4, 1024));
-  mesh->add_option("--voxel-size", cl.voxel_size, "cell size (overrides --resolution)");
+  mesh->add_option("--voxel-size", cl.voxel_size, "cell size (overrides --resolution)")
+      ->check(numberIn(0, std::numeric_limits<float>::max(), /*open_low=*/true));
   mesh->add_option("--box", cl.box, "x0,y0,z0,x1,y1,z1: region for infinite scenes");
   mesh->add_option("--time", cl.time, "scene time in seconds");
   mesh->add_flag("-q,--quiet", cl.quiet, "no progress output");
@@ -205,7 +213,7 @@ void registerCommands(CLI::App& app, CommandLine& cl) {
   submit->add_option("--spp", cl.spp, "samples per pixel")->check(CLI::Range(1, 1 << 20));
   submit->add_option("--shards", cl.shards, "shards per image (sample ranges)")->check(CLI::Range(1, 1 << 16));
   submit->add_option("--frames", cl.frames, "A-B: render frames A..B (time = frame / fps)");
-  submit->add_option("--fps", cl.fps, "frames per second (default 24)")->check(CLI::Range(0.001, 1e6));
+  submit->add_option("--fps", cl.fps, "frames per second (default 24)")->check(numberIn(0.001, 1e6));
   submit->add_option("--size", cl.size, "WxH");
   submit->add_option("--bounces", cl.bounces, "maximum path length")->check(CLI::Range(0, 64));
   submit->add_option("--light-samples", cl.light_samples, "light samples per vertex")->check(CLI::Range(0, 16));

@@ -2,7 +2,13 @@
 
 #include <tinyexr.h>
 
+#include <charconv>
+#include <climits>
+#include <cmath>
+#include <cctype>
+#include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <map>
@@ -13,6 +19,7 @@ namespace {
 
 constexpr const char* kPrefix = "sdfc.";
 constexpr int kWords = 4;  // 32-bit words per SampleSum
+constexpr long long kMaxShardSide = 16384;  // `render --size`'s largest side
 
 // Channel names in the file's (sorted) order.
 std::vector<std::string> channelNames() {
@@ -50,14 +57,18 @@ ShardHeader fromAttributes(const std::map<std::string, std::string>& a, const st
       throw FarmError(path + ": not an sdfc shard (no '" + kPrefix + key + "' attribute)");
     return it->second;
   };
-  auto number = [&](const char* key) -> uint64_t {
+  // Whole decimal numbers only, range-checked: a header is read from a file that
+  // may be damaged, and a wrapped or half-parsed value would merge wrong images.
+  auto integer = [&](const char* key, long long lo, long long hi) -> long long {
     const std::string& s = get(key);
-    try {
-      return std::stoull(s);
-    } catch (const std::exception&) {
-      throw FarmError(path + ": attribute '" + kPrefix + key + "' is not a number: '" + s + "'");
-    }
+    long long value = 0;
+    const auto [end, error] = std::from_chars(s.data(), s.data() + s.size(), value);
+    if (error != std::errc() || end != s.data() + s.size() || s.empty() || value < lo || value > hi)
+      throw FarmError(path + ": attribute '" + kPrefix + key + "' is not a whole number from " +
+                      std::to_string(lo) + " to " + std::to_string(hi) + ": '" + s + "'");
+    return value;
   };
+  auto count = [&](const char* key, long long lo = 0) { return uint32_t(integer(key, lo, UINT32_MAX)); };
   ShardHeader h;
   h.scene_hash = get("scene_hash");
   h.kernel_hash = get("kernel_hash");
@@ -65,17 +76,24 @@ ShardHeader fromAttributes(const std::map<std::string, std::string>& a, const st
   h.device = get("device");
   h.driver = get("driver");
   h.settings = get("settings");
-  h.width = uint32_t(number("width"));
-  h.height = uint32_t(number("height"));
-  h.seed = uint32_t(number("seed"));
-  h.spp = uint32_t(number("spp"));
-  h.samples_per_pass = uint32_t(number("samples_per_pass"));
-  h.slices = uint32_t(number("slices"));
-  h.slice = uint32_t(number("slice"));
-  h.frame = std::stoi(get("frame"));
-  h.time = std::stod(get("time"));
-  h.samples.begin = uint32_t(number("sample_begin"));
-  h.samples.end = uint32_t(number("sample_end"));
+  h.width = uint32_t(integer("width", 1, kMaxShardSide));
+  h.height = uint32_t(integer("height", 1, kMaxShardSide));
+  h.seed = count("seed");
+  h.spp = count("spp", 1);
+  h.samples_per_pass = count("samples_per_pass", 1);
+  h.slices = count("slices", 1);
+  h.slice = count("slice");
+  h.frame = int(integer("frame", kNoFrame, INT_MAX));
+  {
+    const std::string& s = get("time");
+    char* end = nullptr;
+    h.time = s.empty() ? 0 : std::strtod(s.c_str(), &end);
+    if (s.empty() || end != s.c_str() + s.size() || !std::isfinite(h.time) ||
+        std::isspace(static_cast<unsigned char>(s[0])))
+      throw FarmError(path + ": attribute '" + kPrefix + "time' is not a finite number: '" + s + "'");
+  }
+  h.samples.begin = count("sample_begin");
+  h.samples.end = count("sample_end");
   if (h.samples.end < h.samples.begin || h.samples.end > h.spp)
     throw FarmError(path + ": bad sample range [" + std::to_string(h.samples.begin) + ", " +
                     std::to_string(h.samples.end) + ") of " + std::to_string(h.spp) + " spp");
@@ -229,9 +247,9 @@ ShardHeader forEachSumWord(const std::string& path, Fn&& fn) {
   InitEXRImage(&image);
   const char* err = nullptr;
   if (LoadEXRImageFromFile(&image, &g.header, path.c_str(), &err) != TINYEXR_SUCCESS) {
-    const std::string message = err ? err : "unreadable pixels";
+    const std::string message = err ? err : "no detail";
     FreeEXRErrorMessage(err);
-    throw FarmError(path + ": " + message);
+    throw FarmError(path + ": the pixel data is damaged or cut short (tinyexr: " + message + ")");
   }
   struct ImageGuard {
     EXRImage& i;

@@ -5,6 +5,7 @@
 
 #include "syntax/lexer.h"
 #include "syntax/parser.h"
+#include "lsp/uri.h"
 
 namespace sdfc::lsp {
 namespace {
@@ -33,7 +34,10 @@ std::shared_ptr<const Analysis> analyzeDocument(const Document& doc, bool utf8) 
   CompileOptions options;
   options.fuse_transforms = false;  // keep one IR node per call, for hover
   options.produce_spirv = false;
-  a->compiled = checkSource(doc.uri, doc.text, options, a->diagnostics);
+  // The file's own path, so file("points.csv") is read beside it; a URI that
+  // names no local file (untitled:) stands as the name, read relative to here.
+  const std::string path = pathFromUri(doc.uri).value_or(doc.uri);
+  a->compiled = checkSource(path, doc.text, options, a->diagnostics);
   Diagnostics again;  // the same syntax errors a second time: not reported twice
   a->tree = parse(*a->compiled.source, again, &a->comments);
   a->tokens = lex(*a->compiled.source, again);

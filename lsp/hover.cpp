@@ -33,7 +33,11 @@ std::string whyBound(const ir::Node& n) {
   }
 }
 
-std::string nodeText(const ir::Node& n) {
+std::string nodeText(const Analysis& a, const ir::Node& n) {
+  // After a checker error the analysis passes do not run, and every node keeps
+  // its defaults (exact, factor 1): say nothing rather than something false.
+  if (a.diagnostics.hasErrors())
+    return "\n**This node:** exactness is not known until the scene's errors are fixed.\n";
   char buf[64];
   std::snprintf(buf, sizeof buf, "%g", n.lipschitz);
   if (n.exact) return "\n**This node:** exact Euclidean distance (Lipschitz factor " + std::string(buf) + ").\n";
@@ -76,7 +80,7 @@ json hover(const Analysis& a, size_t offset) {
     std::string value = a.text().substr(s->range.begin, s->range.end - s->range.begin);
     if (value.size() > 400) value = value.substr(0, 400) + " ...";
     std::string md = "```sdf\n" + value + "\n```\n";
-    if (const ir::Node* n = a.definitionNode(use->name)) md += nodeText(*n);
+    if (const ir::Node* n = a.definitionNode(use->name)) md += nodeText(a, *n);
     return result(a, use->range, md);
   }
   Found f;
@@ -100,7 +104,7 @@ json hover(const Analysis& a, size_t offset) {
     if (!c) return nullptr;
     std::string md = c->markdown();
     auto it = a.nodes.find(f.call->range.begin);
-    if (it != a.nodes.end()) md += nodeText(*it->second);
+    if (it != a.nodes.end()) md += nodeText(a, *it->second);
     return result(a, f.call->name_range, md);
   }
   if (f.name) {

@@ -30,6 +30,11 @@ class Server {
         sendError(nullptr, kParseError, "a message needs a Content-Length header");
         continue;
       }
+      if (frame->too_large) {
+        sendError(nullptr, kParseError,
+                  "a message over the " + std::to_string(kMaxBodyBytes >> 20) + " MiB limit was skipped");
+        continue;
+      }
       handle(frame->body);
     }
     {

@@ -6,9 +6,6 @@
 
 namespace sdfc::lsp {
 
-// A body larger than this is refused (and skipped) rather than allocated.
-constexpr size_t kMaxBodyBytes = size_t(64) << 20;
-
 std::optional<Frame> readFrame(std::istream& in) {
   Frame frame;
   long long length = -1;
@@ -38,8 +35,15 @@ std::optional<Frame> readFrame(std::istream& in) {
       }
     }
   }
-  if (length < 0 || static_cast<unsigned long long>(length) > kMaxBodyBytes) {
+  if (length < 0) {
     frame.malformed = true;
+    return frame;
+  }
+  if (static_cast<unsigned long long>(length) > kMaxBodyBytes) {
+    // Read past the body unallocated, so the next frame starts where it should.
+    in.ignore(static_cast<std::streamsize>(length));
+    if (in.gcount() != length) return std::nullopt;
+    frame.too_large = true;
     return frame;
   }
   frame.body.resize(static_cast<size_t>(length));

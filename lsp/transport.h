@@ -9,9 +9,13 @@
 
 namespace sdfc::lsp {
 
+// A body larger than this is refused (and skipped) rather than allocated.
+inline constexpr size_t kMaxBodyBytes = size_t(64) << 20;
+
 struct Frame {
   std::string body;
   bool malformed = false;  // headers without a usable Content-Length (body is empty)
+  bool too_large = false;  // a body over the limit, skipped (body is empty)
 };
 
 // The next frame, or nullopt at end of input.

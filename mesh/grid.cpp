@@ -91,13 +91,15 @@ GridPlanResult planGrid(const ir::Scene& scene, const MeshOptions& options) {
     out.error = "the scene's bounds have no extent; give --box or --voxel-size";
     return out;
   }
-  dvec3 cells_wanted = glm::ceil(size / voxel - 1e-9) + 2.0 * pad;
-  cells_wanted = glm::max(cells_wanted, dvec3(1));
-  const double total = cells_wanted.x * cells_wanted.y * cells_wanted.z;
+  // The limit counts the region's cells, not the padding around it, so every
+  // --resolution up to 1024 is accepted as advertised.
+  const dvec3 region_cells = glm::max(glm::ceil(size / voxel - 1e-9), dvec3(1));
+  const dvec3 cells_wanted = region_cells + 2.0 * pad;
+  const double total = region_cells.x * region_cells.y * region_cells.z;
   if (total > static_cast<double>(kMaxMeshCells)) {
     std::ostringstream msg;
-    msg << "the grid would have " << cells_wanted.x << " x " << cells_wanted.y << " x "
-        << cells_wanted.z << " cells, more than the limit of 1024^3; raise --voxel-size or "
+    msg << "the grid would have " << region_cells.x << " x " << region_cells.y << " x "
+        << region_cells.z << " cells, more than the limit of 1024^3; raise --voxel-size or "
         << "lower --resolution";
     out.error = msg.str();
     return out;

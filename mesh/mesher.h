@@ -25,7 +25,8 @@
 
 namespace sdfc {
 
-// Largest grid accepted: 1024^3 cells (a byte per sample, ~1.1 GB).
+// Largest grid accepted: 1024^3 cells in the region, plus its padding (a byte
+// per sample, ~1.1 GB).
 inline constexpr uint64_t kMaxMeshCells = uint64_t{1} << 30;
 
 struct MeshOptions {

@@ -193,6 +193,60 @@ c.request("shutdown")
 c.notify("exit")
 check("fuzz session exits cleanly", c.close() == 0)
 
+# file("towers.csv") is read beside the document, whatever its URI spells:
+# percent-encoded spaces and non-ASCII, file://localhost/, file:/ (issue 28: it
+# was resolved against the URI string, a false error and false "never used").
+import tempfile  # noqa: E402
+import urllib.parse  # noqa: E402
+with tempfile.TemporaryDirectory(prefix="lsp uri #1 \u00e9 ") as d:
+    open(os.path.join(d, "towers.csv"), "w").write("0,0,0\n2,0,0\n")
+    scene_text = 'let r = 0.4\nscene { instances(positions: file("towers.csv")) { sphere(radius: r) } }\n'
+    scene_path = os.path.join(d, "scene.sdf")
+    open(scene_path, "w").write(scene_text)
+    cli = subprocess.run([sdfc, "check", scene_path], capture_output=True, text=True)
+    check("uri: sdfc check is clean", cli.returncode == 0 and cli.stderr == "", cli.stderr)
+    quoted = urllib.parse.quote(scene_path)
+    c = LspClient([sdfc, "lsp"])
+    c.initialize()
+    for u in ("file://" + quoted, "file://localhost" + quoted, "file:" + quoted,
+              "file://" + quoted.replace("%C3%A9", "%c3%a9")):
+        c.notify("textDocument/didOpen", {"textDocument": {"uri": u, "languageId": "sdf", "version": 1, "text": scene_text}})
+        _, m = c.wait_notification("textDocument/publishDiagnostics", lambda m: m["params"]["uri"] == u)
+        check("uri: no false diagnostics for " + u, m["params"]["diagnostics"] == [], m["params"]["diagnostics"])
+    # A file that is really missing is still an error, with its decoded path.
+    u = "file://" + urllib.parse.quote(os.path.join(d, "other.sdf"))
+    c.notify("textDocument/didOpen", {"textDocument": {"uri": u, "languageId": "sdf", "version": 1,
+                                                       "text": scene_text.replace("towers", "missing")}})
+    _, m = c.wait_notification("textDocument/publishDiagnostics", lambda m: m["params"]["uri"] == u)
+    messages = [x["message"] for x in m["params"]["diagnostics"]]
+    check("uri: a missing file names its decoded path",
+          any(os.path.join(d, "missing.csv") in x for x in messages), messages)
+
+    # With an error elsewhere the passes do not run: hover must not call a
+    # smooth union exact (the warning-free file says it is a bound).
+    smooth = "scene {\n  union(smooth: 0.3) { sphere(radius: 1) box(size: [1, 1, 1]) }\n  BROKEN\n}\n"
+    for name, body in (("clean", smooth.replace("BROKEN", "")), ("broken", smooth.replace("BROKEN", "sphere(radus: 1)"))):
+        u = f"file:///tmp/lsp_test/smooth_{name}.sdf"
+        c.notify("textDocument/didOpen", {"textDocument": {"uri": u, "languageId": "sdf", "version": 1, "text": body}})
+        c.wait_notification("textDocument/publishDiagnostics", lambda m: m["params"]["uri"] == u)
+        h = c.request("textDocument/hover", {"textDocument": {"uri": u}, "position": pos(body, "union(", delta=2)})["result"]
+        value = h["contents"]["value"] if h else ""
+        if name == "clean":
+            check("hover smooth union: a bound", "bound" in value and "exact Euclidean" not in value, value)
+        else:
+            check("hover smooth union with an error: not called exact", "exact Euclidean" not in value, value)
+
+    # A message over the 64 MiB limit is skipped whole: the next request is answered.
+    c.send_raw(b" " * ((64 << 20) + 1))
+    try:
+        r = c.request("textDocument/documentSymbol", {"textDocument": {"uri": "file:///tmp/lsp_test/smooth_clean.sdf"}})
+    except TimeoutError as e:
+        r = {"error": str(e)}
+    check("after an oversized message the next request is answered", "result" in r, r)
+    c.request("shutdown")
+    c.notify("exit")
+    check("uri session exits cleanly", c.close() == 0)
+
 print(f"lsp_protocol: {passed + failed} checks")
 print(f"{passed} passed, {failed} failed")
 sys.exit(1 if failed else 0)

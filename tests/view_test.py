@@ -214,6 +214,29 @@ quit
                         waits.append(int(f[1]) - n)
                         break
         check(bool(waits) and max(waits) <= 2, f"input reaches the screen within 2 frames ({waits})")
+    # Space plays time at the wall clock's rate, rendering included (the clock
+    # once added only the idle gap between frames: about 1/30 of real time).
+    with tempfile.TemporaryDirectory() as d:
+        scene = os.path.join(d, "play.sdf")
+        open(scene, "w").write(RECOVERED)
+        open(os.path.join(d, "play.txt"), "w").write("wait-spp 1\nkey space\nwait 40\nkey space\nwait 5\nquit\n")
+        log = os.path.join(d, "play.log")
+        r = subprocess.run([SDFC, "view", scene, "--script", os.path.join(d, "play.txt"), "--frame-log", log],
+                           env=env, capture_output=True, text=True, timeout=300)
+        check(r.returncode == 0, f"play session exits 0 (got {r.returncode})")
+        frames = [l.split() for l in open(log).read().splitlines() if l.startswith("frame ")]
+        field = lambda f, name: float(f[f.index(name) + 1])
+        played = [f for f in frames if field(f, "time") > 0]
+        if len(played) >= 10:
+            scene_s = field(played[-1], "time") - field(played[0], "time")
+            wall_s = (field(played[-1], "t_ms") - field(played[0], "t_ms")) / 1000
+            check(0.8 * wall_s <= scene_s <= 1.2 * wall_s,
+                  f"play advances scene time with the wall clock ({scene_s:.3f} s in {wall_s:.3f} s, "
+                  f"{len(played)} frames)")
+            check(field(frames[-1], "time") == field(played[-1], "time"), "a second Space pauses time")
+        else:
+            check(False, f"frames presented while playing ({len(played)})")
+
     if failures:
         print(f"{len(failures)} check(s) failed")
         return 1

@@ -161,7 +161,8 @@ class Viewer : public InputHandler {
   std::vector<uint8_t> rgb_, upscaled_;
   RateMeter rate_;
   Status status_;
-  Clock::time_point last_title_{}, last_frame_end_{};
+  Clock::time_point last_title_{};
+  std::optional<Clock::time_point> played_until_;  // when time_ last advanced while playing
   double last_frame_ms_ = 0;
 
   Clock::time_point start_ = Clock::now();
@@ -318,7 +319,6 @@ bool Viewer::drawFrame() {
   if (kernel == renderers_.end()) {
     // This view's kernel is not built yet: ask once, keep the last image meanwhile.
     if (variants_requested_.insert(view_).second) compiler_->requestVariant(active_->compiled, view_);
-    last_frame_end_ = Clock::now();
     return false;
   }
   Renderer& renderer = *kernel->second;
@@ -329,8 +329,14 @@ bool Viewer::drawFrame() {
   }
   const bool moving = dynamic_resolution_ && frames_still_ < kSettleFrames;
   const auto frame_start = Clock::now();
-  if (playing_ && compiled.scene.uses_time && last_frame_end_ != Clock::time_point{})
-    time_ += std::chrono::duration<double>(frame_start - last_frame_end_).count();
+  // Play advances time by the wall clock since the last advance (rendering
+  // included); a pause, or a scene without time, restarts the clock.
+  if (playing_ && compiled.scene.uses_time) {
+    if (played_until_) time_ += std::chrono::duration<double>(frame_start - *played_until_).count();
+    played_until_ = frame_start;
+  } else {
+    played_until_.reset();
+  }
 
   AccumulationKey key{scene_generation_, camera_generation, view_, moving ? preview_scale_ : 1,
                       width_, height_, compiled.scene.uses_time ? time_ : 0.0};
@@ -357,7 +363,6 @@ bool Viewer::drawFrame() {
   status_.target_spp = target;
   ++frames_still_;
   if (acc_->samples_done >= target && !reload_unpresented_ && !redisplay_) {
-    last_frame_end_ = Clock::now();
     return false;  // converged: nothing new to show
   }
   if (acc_->samples_done < target) renderer.addPass(*acc_, 1);
@@ -378,21 +383,20 @@ bool Viewer::drawFrame() {
   const auto frame_end = Clock::now();
   last_frame_ms_ = msBetween(frame_start, frame_end);
   rate_.add(last_frame_ms_ / 1000, 1);
-  last_frame_end_ = frame_end;
   if (moving) {  // adapt the preview resolution to keep the view interactive
     if (last_frame_ms_ > kPreviewSlowMs && preview_scale_ < kMaxPreviewScale) ++preview_scale_;
     if (last_frame_ms_ < kPreviewFastMs && preview_scale_ > kMinPreviewScale) --preview_scale_;
   }
   if (frame_log_.is_open()) {
-    char line[256];
+    char line[320];
     std::snprintf(line, sizeof line,
                   "frame %" PRIu64 " t_ms %.1f scene %" PRIu64 " camera %" PRIu64
                   " res %ux%u spp %u view %s moving %d ms %.1f render_ms %.1f display_ms %.1f"
-                  " present_ms %.1f hash %016" PRIx64 "\n",
+                  " present_ms %.1f hash %016" PRIx64 " time %.4f\n",
                   frames_, msBetween(start_, frame_end), scene_generation_, camera_generation,
                   acc_->width, acc_->height, acc_->samples_done, kViewNames[view_], moving ? 1 : 0,
                   last_frame_ms_, msBetween(frame_start, rendered), msBetween(rendered, shaded),
-                  msBetween(shaded, frame_end), fnv1a(*shown));
+                  msBetween(shaded, frame_end), fnv1a(*shown), key.time);
     frame_log_ << line << std::flush;
   }
   if (reload_unpresented_) {
@@ -654,6 +658,7 @@ int Viewer::run() {
 }  // namespace
 
 int runView(const CommandLine& command_line) {
+  if (!checkTimeOption(command_line.time)) return kExitUsage;
   try {
     Viewer viewer(command_line);
     return viewer.run();

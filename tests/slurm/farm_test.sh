@@ -1,11 +1,13 @@
 #!/usr/bin/env bash
 # Farm tests against a real single-node Slurm (start_cluster.sh): run by CTest
 # with the cluster as a fixture.   farm_test.sh SDFC CLUSTER_DIR CASE
-#   still       8 shards through `sdfc farm submit`, merged == one `sdfc render`, byte for byte
+#   still       8 shards through `sdfc farm submit`, merged == one `sdfc render`, byte for byte;
+#               submitting the finished job again queues nothing
 #   animation   6 frames x 2 shards, each frame == its own single render
 #   fault       a shard's process killed mid-way: the in-job retry, and (no retries)
 #               a resubmission that renders only the missing shard, give the same bytes
 #   broken      a scene with errors is refused before anything is submitted
+#   video       ffmpeg fails in the merge job: status says the video was not made
 set -euo pipefail
 sdfc=${1:?sdfc binary}
 cluster=${2:?cluster dir}
@@ -41,7 +43,15 @@ still)
   "$sdfc" farm status "$work/job"
   [ "$(ls "$work/job/shards" | grep -c '^shard_.*\.exr$')" = 8 ] || fail "expected 8 shard files"
   cmp "$work/single.exr" "$work/job/image.exr" || fail "merged still differs from the single render"
-  echo "still: 8 shards merged bit-identical to the single render"
+  # Submitting the finished job again says so and queues nothing (it once queued another merge).
+  record_before=$(cat "$work/job/farm.job")
+  jobs_before=$(squeue --noheader --states=all --format=%i | wc -l)
+  "$sdfc" farm submit "$castle" "${still_flags[@]}" --shards 8 -o "$work/job" 2> "$work/again.txt"
+  cat "$work/again.txt"
+  grep -q "is finished" "$work/again.txt" || fail "a finished job's resubmission does not say it is finished"
+  [ "$(cat "$work/job/farm.job")" = "$record_before" ] || fail "a finished job's resubmission changed its record"
+  [ "$(squeue --noheader --states=all --format=%i | wc -l)" = "$jobs_before" ] || fail "a finished job was submitted again"
+  echo "still: 8 shards merged bit-identical to the single render; resubmitting the finished job queues nothing"
   ;;
 animation)
   # fps 4: frame times 0, 0.25, ... are exact, as are the --frames A-B:step times.
@@ -82,6 +92,21 @@ fault)
   [ "$(stat -c %Y "$work/resume/shards/shard_00000.exr")" = "$before" ] || fail "a complete shard was rendered again"
   cmp "$work/single.exr" "$work/resume/image.exr" || fail "resumed job differs from the single render"
   echo "fault: retry and resume both bit-identical to the single render"
+  ;;
+video)
+  # An ffmpeg that fails: the frames merge, the video is not made, and status
+  # says so with the merge log (it said "(not yet)" forever).
+  mkdir "$work/bin"
+  printf '#!/bin/sh\necho "ffmpeg: stand-in that fails" >&2\nexit 1\n' > "$work/bin/ffmpeg"
+  chmod +x "$work/bin/ffmpeg"
+  PATH="$work/bin:$PATH" "$sdfc" farm submit "$morph" --size 32x18 --spp 64 --frames 0-1 --shards 1 \
+    --video "$work/job/anim.mp4" -o "$work/job"
+  wait_for_job "$work/job"
+  "$sdfc" farm status "$work/job" | tee "$work/status.txt"
+  [ -s "$work/job/frames/frame_0001.exr" ] || fail "the frames were not merged"
+  grep -q "^video: .*anim.mp4 (not made: merge job [0-9]* ended without it; see .*/logs/merge_[0-9]*.log)" \
+    "$work/status.txt" || fail "status does not say the video was not made"
+  echo "video: a failed ffmpeg is reported by status with the merge log"
   ;;
 broken)
   printf 'scene {\n  sphere(radus: 1)\n}\n' > "$work/broken.sdf"
