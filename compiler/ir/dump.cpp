@@ -166,6 +166,7 @@ std::string dump(const Scene& s) {
     out << "\n";
   }
   if (s.uses_time) out << "uses time\n";
+  if (s.origin != glm::dvec3(0)) out << "origin " << vec(s.origin) << " (the camera's frame: world minus origin)\n";
   if (s.root) out << "scene\n" << dumpNode(*s.root, 1);
   return out.str();
 }
