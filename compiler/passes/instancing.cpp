@@ -144,35 +144,51 @@ ir::NodeRef expandInstances(const ir::Node& n) {
 // Groups of copies far apart from each other, as index lists. A set's grid
 // spans its bounds with about one cell per copy, so one copy 1e6 away from 45
 // made cells of 950 that each held all 45 (a crowded cell: every step through
-// the hierarchy). While the widest empty gap between the copies' boxes along
-// an axis is wider than both sides' extents, the set is cut there; each side
-// is then sized by its own density.
+// the hierarchy). A set is cut at the empty gap between its copies' boxes
+// along an axis where the two sides' boxes hold least volume, if that is
+// under an eighth of the set's box (the cells of each side at least halve
+// along every axis), and again within each side; a row or a uniform cloud has
+// no such gap. Extents count at least one typical copy, as the grid's do.
 std::vector<std::vector<std::uint32_t>> farGroups(const std::vector<Aabb>& boxes) {
+  std::vector<double> sizes(boxes.size());
+  for (size_t i = 0; i < boxes.size(); ++i) {
+    const dvec3 e = boxes[i].hi - boxes[i].lo;
+    sizes[i] = std::max({e.x, e.y, e.z});
+  }
+  std::nth_element(sizes.begin(), sizes.begin() + sizes.size() / 2, sizes.end());
+  const double typical = std::max(sizes[sizes.size() / 2], 1e-9);
+  auto volume = [&](const Aabb& b) {
+    const dvec3 e = glm::max(b.hi - b.lo, dvec3(typical));
+    return e.x * e.y * e.z;
+  };
   std::vector<std::vector<std::uint32_t>> done, todo(1);
   todo[0].resize(boxes.size());
   std::iota(todo[0].begin(), todo[0].end(), 0u);
-  auto extent = [](const Aabb& b) {
-    const dvec3 e = b.hi - b.lo;
-    return std::max({e.x, e.y, e.z});
-  };
+  std::vector<Aabb> prefix, suffix;
   while (!todo.empty()) {
     std::vector<std::uint32_t> group = std::move(todo.back());
     todo.pop_back();
     const size_t n = group.size();
-    double best_gap = 0;
+    prefix.resize(n);
+    suffix.resize(n);
+    double best = 0.125;
     int best_axis = -1;
     size_t best_cut = 0;
-    std::vector<Aabb> prefix(n), suffix(n);
-    for (int axis = 0; axis < 3 && n > 1; ++axis) {
+    auto byLow = [&](int axis) {
       std::sort(group.begin(), group.end(), [&](std::uint32_t a, std::uint32_t b) {
         return boxes[a].lo[axis] < boxes[b].lo[axis] || (boxes[a].lo[axis] == boxes[b].lo[axis] && a < b);
       });
+    };
+    for (int axis = 0; axis < 3 && n > 1; ++axis) {
+      byLow(axis);
       for (size_t k = 0; k < n; ++k) prefix[k] = (k ? prefix[k - 1] : Aabb{}).unite(boxes[group[k]]);
       for (size_t k = n; k-- > 0;) suffix[k] = (k + 1 < n ? suffix[k + 1] : Aabb{}).unite(boxes[group[k]]);
+      const double all = volume(prefix[n - 1]);
       for (size_t k = 1; k < n; ++k) {
-        const double gap = boxes[group[k]].lo[axis] - prefix[k - 1].hi[axis];
-        if (gap > best_gap && gap > extent(prefix[k - 1]) && gap > extent(suffix[k])) {
-          best_gap = gap;
+        if (!(boxes[group[k]].lo[axis] > prefix[k - 1].hi[axis])) continue;  // no empty gap
+        const double ratio = (volume(prefix[k - 1]) + volume(suffix[k])) / all;
+        if (ratio < best) {
+          best = ratio;
           best_axis = axis;
           best_cut = k;
         }
@@ -182,10 +198,7 @@ std::vector<std::vector<std::uint32_t>> farGroups(const std::vector<Aabb>& boxes
       done.push_back(std::move(group));
       continue;
     }
-    std::sort(group.begin(), group.end(), [&](std::uint32_t a, std::uint32_t b) {
-      return boxes[a].lo[best_axis] < boxes[b].lo[best_axis] ||
-             (boxes[a].lo[best_axis] == boxes[b].lo[best_axis] && a < b);
-    });
+    byLow(best_axis);
     todo.emplace_back(group.begin(), group.begin() + best_cut);
     todo.emplace_back(group.begin() + best_cut, group.end());
   }
