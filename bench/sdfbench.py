@@ -121,7 +121,13 @@ def parse_camera(ir_text):
                                  re.search(name + r"=\[([^\]]*)\]", line).group(1).split(",")])
     fov = float(re.search(r"fov=([0-9.eE+-]+)", line).group(1))
     aperture = float(re.search(r"aperture=([0-9.eE+-]+)", line).group(1))
-    return {"position": vec("position"), "target": vec("target"), "up": vec("up"),
+    # A far scene is compiled in its camera's frame ("origin [x, y, z]", world
+    # minus origin): back to world coordinates, which `sdfc eval` uses.
+    origin = np.zeros(3)
+    m = re.search(r"^origin \[([^\]]*)\]", ir_text, re.M)
+    if m:
+        origin = np.array([float(x) for x in m.group(1).split(",")])
+    return {"position": vec("position") + origin, "target": vec("target") + origin, "up": vec("up"),
             "fov": fov, "aperture": aperture}
 
 

@@ -229,12 +229,12 @@ vec3 sampleUniformCone(vec2 u, float one_minus_cos_max) {
 // ---- scene constants (derived per scene by the compiler) ----
 const float kSceneMaxDist = 270.658456;
 const int kSceneMaxSteps = 512;
-const float kSceneHitEps = 1.35329228e-05;
+const float kSceneHitEps = 1.19982369e-05;
 const float kScenePixelCone = 0.000767062153;
 const float kSceneStepScale = 1.0;
 // The marched part of the scene lies in this box.
-const vec3 kSceneBoxLo = vec3(-6.25006114, -6.11366547e-05, -2.00006114);
-const vec3 kSceneBoxHi = vec3(6.25006114, 3.30006114, 2.00006114);
+const vec3 kSceneBoxLo = vec3(-6.250055, -5.49979111e-05, -2.000055);
+const vec3 kSceneBoxHi = vec3(6.250055, 3.300055, 2.000055);
 const int kNumSphereLights = 1;
 const vec4 kSphereLights[kNumSphereLights] = vec4[](vec4(0.0, 2.2, 0.0, 0.35));
 const vec3 kSphereLightRadiance[kNumSphereLights] = vec3[](vec3(40.0, 34.0, 24.0));

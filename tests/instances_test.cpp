@@ -900,6 +900,99 @@ TEST_F(InstancesGpu, PointCloudPixelsDoNotDependOnTheirLaneNeighbours) {
   EXPECT_EQ(differing, 0u);
 }
 
+// Where a ray from p along dir (unit) first meets the axis-aligned box of
+// half size `half` about `centre` (p outside it).
+double rayHitBox(const dvec3& p, const dvec3& dir, const dvec3& centre, const dvec3& half) {
+  double t0 = 0, t1 = 1e300;
+  for (int a = 0; a < 3; ++a) {
+    if (dir[a] == 0) {
+      if (std::fabs(p[a] - centre[a]) > half[a]) return 1e300;
+      continue;
+    }
+    const double ta = (centre[a] - half[a] - p[a]) / dir[a], tb = (centre[a] + half[a] - p[a]) / dir[a];
+    t0 = std::max(t0, std::min(ta, tb));
+    t1 = std::min(t1, std::max(ta, tb));
+  }
+  return t0 <= t1 ? t0 : 1e300;
+}
+
+// Issue 28: 45 copies on a 1.5 grid and one more far away. The set's grid
+// spanned the far copy (cells of 950 at 1e6, each holding all 45: every step
+// through the hierarchy) and the hit tolerance's floor was a millionth of the
+// set's extent (1.0 at 1e6): the grid drew a slab, and from 1e10 nothing.
+// Now the far copy is a group of its own and the floor a millionth of one
+// copy. Spheres, boxes and a file() point set, the far copy at 1e3 to 1e30:
+// every pixel's primary hit and depth against the exact first hit in float64.
+TEST_F(InstancesGpu, OneFarCopyLeavesTheGroupExact) {
+  const std::filesystem::path dir = std::filesystem::path(testing::TempDir()) / "sdfc far copy";
+  std::filesystem::create_directories(dir);
+  std::vector<dvec3> centres;
+  for (int i = 0; i < 45; ++i) centres.push_back({(i % 9) * 1.5, (i / 9 % 3) * 1.5, (i / 27) * 1.5 - 1.5});
+  const uint32_t w = 64, h = 36;
+  for (const char* shape : {"sphere", "box", "file"}) {
+    for (double far : {1e3, 3e3, 1e6, 1e10, 1e30}) {
+      std::ostringstream s;
+      s << "camera(position: [6, 6, 12], target: [6, 1, 0], fov: 45)\nsun(direction: [-0.4, 0.8, 0.5])\nscene {\n";
+      centres.push_back({far, 0, 0});
+      if (std::string(shape) == "file") {
+        std::ofstream csv(dir / "points.csv");
+        for (const dvec3& c : centres) csv << c.x << "," << c.y << "," << c.z << "\n";
+        s << "  instances(positions: file(\"points.csv\")) { sphere(radius: 0.5) }\n";
+      } else {
+        for (const dvec3& c : centres)
+          s << "  translate([" << c.x << ", " << c.y << ", " << c.z << "]) { "
+            << (std::string(shape) == "box" ? "box(size: [0.8, 0.8, 0.8])" : "sphere(radius: 0.5)") << " }\n";
+      }
+      s << "}\n";
+      CompileOptions options;
+      options.emit.bounding_volumes = false;
+      options.emit.march.image_height = h;
+      Diagnostics diags;
+      const CompiledScene c = compileSource((dir / "scene.sdf").string(), s.str(), options, diags);
+      ASSERT_TRUE(c.ok) << diags.format();
+      ASSERT_EQ(c.scene.origin, dvec3(0));  // the camera is near the origin
+      EXPECT_EQ(c.emitted.stats.instance_sets, 1) << shape << " " << far;
+      RenderOverrides o;
+      o.width = w;
+      o.height = h;
+      o.spp = 1;
+      o.view = gpu::kViewDepth;
+      Renderer r(*context_, c);
+      const CameraDesc camera = cameraFor(c.scene);
+      const RenderOutput out = r.render(camera, renderSettingsFor(c, o));
+      const gpu::FrameParams f = makeFrameParams(camera, w, h, 0);
+      const dvec3 ro(f.cam_origin), right(f.cam_right), up(f.cam_up), forward(f.cam_forward);
+      const double tan_half = f.cam_origin.w, aspect = double(w) / h;
+      int hits = 0, disagree = 0, off = 0;
+      double worst = 0;
+      for (uint32_t y = 0; y < h; ++y)
+        for (uint32_t x = 0; x < w; ++x) {
+          const double nx = 2.0 * (x + 0.5) / w - 1, ny = 1 - 2.0 * (y + 0.5) / h;
+          const dvec3 rd = glm::normalize(forward + (nx * aspect * tan_half) * right + (ny * tan_half) * up);
+          double exact = 1e300;
+          for (const dvec3& centre : centres)
+            exact = std::min(exact, std::string(shape) == "box" ? rayHitBox(ro, rd, centre, dvec3(0.4))
+                                                                : rayHitSphere(ro, rd, centre, 0.5));
+          const float depth = out.normal_depth.at(x, y)[3];
+          const bool hit = depth >= 0, exact_hit = exact < 1e300;
+          hits += exact_hit;
+          disagree += hit != exact_hit;
+          if (hit && exact_hit) {
+            const double rel = std::fabs(depth - exact) / exact;
+            worst = std::max(worst, rel);
+            off += rel > 1e-4;
+          }
+        }
+      std::printf("%s, far copy at %g: %d exact hits, %d pixels hit where none is or miss one, %d off by "
+                  "more than 1e-4 relative (worst %.3g)\n", shape, far, hits, disagree, off, worst);
+      EXPECT_GT(hits, int(w * h) / 10);
+      EXPECT_EQ(disagree, 0) << shape << " " << far;
+      EXPECT_EQ(off, 0) << shape << " " << far;
+      centres.pop_back();
+    }
+  }
+}
+
 // --count-event: the kernel's per-pixel event counts (docs/design/large_scenes.md,
 // decomposition) in the iterations view's green channel. One path per pixel
 // at 1 spp: exactly one primary segment, and it always hits (the ground

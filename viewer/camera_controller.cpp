@@ -112,13 +112,19 @@ void CameraController::cursor(double x, double y, uint32_t height) {
 
 void CameraController::scroll(double dy) { zoom(std::pow(kZoomPerWheelStep, float(dy))); }
 
-std::string CameraController::cameraLine() const {
+void CameraController::translate(const glm::dvec3& by) {
+  camera_.position = glm::vec3(glm::dvec3(camera_.position) + by);
+  camera_.target = glm::vec3(glm::dvec3(camera_.target) + by);
+  changed();
+}
+
+std::string CameraController::cameraLine(const glm::dvec3& origin) const {
   char line[512];
   const CameraDesc& c = camera_;
+  const glm::dvec3 eye = glm::dvec3(c.position) + origin, target = glm::dvec3(c.target) + origin;
   int n = std::snprintf(line, sizeof line,
                         "camera(position: [%.4g, %.4g, %.4g], target: [%.4g, %.4g, %.4g], fov: %.4g",
-                        c.position.x, c.position.y, c.position.z, c.target.x, c.target.y,
-                        c.target.z, c.fov_degrees);
+                        eye.x, eye.y, eye.z, target.x, target.y, target.z, c.fov_degrees);
   std::string text(line, size_t(std::max(n, 0)));
   if (c.up != glm::vec3(0, 1, 0)) {
     std::snprintf(line, sizeof line, ", up: [%.4g, %.4g, %.4g]", c.up.x, c.up.y, c.up.z);

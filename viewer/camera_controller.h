@@ -36,8 +36,11 @@ class CameraController {
   void scroll(double dy);
   bool dragging() const { return buttons_ != 0; }
 
-  // `camera(position: [...], target: [...], fov: ...)`, ready to paste into a .sdf.
-  std::string cameraLine() const;
+  // `camera(position: [...], target: [...], fov: ...)`, ready to paste into a .sdf:
+  // in world coordinates, the camera being in the scene's frame at `origin`.
+  std::string cameraLine(const glm::dvec3& origin = glm::dvec3(0)) const;
+  // Eye and target by `by`: the same view in a scene frame moved by -by.
+  void translate(const glm::dvec3& by);
 
  private:
   void changed() { ++generation_; }

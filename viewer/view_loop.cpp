@@ -142,6 +142,7 @@ class Viewer : public InputHandler {
   uint64_t scene_generation_ = 0;
   CameraController controller_;
   CameraDesc file_camera_;
+  glm::dvec3 origin_{0.0};  // the active scene's frame in the world (ir::Scene::origin)
   std::string error_;
 
   uint32_t view_ = gpu::kViewBeauty;
@@ -293,6 +294,11 @@ void Viewer::swapIn(std::unique_ptr<BuiltScene> built) {
   ++scene_generation_;
   error_.clear();
   file_camera_ = cameraFor(active_->compiled->scene);
+  // The scene's frame is at its file camera when that is far from the origin
+  // (passes/rebase.cpp): a moved camera keeps its world place across reloads.
+  const glm::dvec3 origin = active_->compiled->scene.origin;
+  if (!first && origin != origin_) controller_.translate(origin_ - origin);
+  origin_ = origin;
   if (first) {
     controller_.reset(file_camera_);
     last_camera_generation_ = controller_.generation();  // the first view is not a motion
@@ -478,7 +484,7 @@ void Viewer::onKey(int key, int mods) {
       break;
     case GLFW_KEY_R: controller_.reset(file_camera_); break;
     case GLFW_KEY_C:
-      std::printf("%s\n", controller_.cameraLine().c_str());
+      std::printf("%s\n", controller_.cameraLine(origin_).c_str());
       std::fflush(stdout);
       break;
     case GLFW_KEY_SPACE: playing_ = !playing_; break;

@@ -81,6 +81,12 @@ CompiledScene compileSource(const std::string& path, std::string text, const Com
   CompiledScene out = frontEnd(path, std::move(text), options, diags);
   if (diags.hasErrors() || !out.scene.root) return out;
   auto t0 = std::chrono::steady_clock::now();
+  // The shader works in the camera's frame when that gains precision; eval,
+  // mesh and check (checkSource) stay in world coordinates.
+  if (options.camera_frame) {
+    Diagnostics quiet;
+    rebaseToCamera(out.scene, quiet);
+  }
   out.emitted = emitGlsl(out.scene, options.emit);
   out.times.emit = secondsSince(t0);
   if (options.produce_spirv) {

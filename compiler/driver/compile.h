@@ -17,6 +17,8 @@ struct CompileOptions {
   CheckOptions check;
   EmitOptions emit;
   bool fuse_transforms = true;
+  // compileSource moves a far scene to the camera's frame (scene.origin).
+  bool camera_frame = true;
   InstancingOptions instancing;
   bool produce_spirv = true;
   bool optimize_spirv = false;

@@ -170,6 +170,12 @@ std::string dump(const Scene& s) {
     out << "\n";
   }
   if (s.uses_time) out << "uses time\n";
+  if (s.origin != glm::dvec3(0)) {
+    // Every digit: a tool adding it back to the camera line gets the world's.
+    char buf[96];
+    std::snprintf(buf, sizeof buf, "origin [%.17g, %.17g, %.17g]", s.origin.x, s.origin.y, s.origin.z);
+    out << buf << " (the camera's frame: world minus origin)\n";
+  }
   if (s.root) out << "scene\n" << dumpNode(*s.root, 1);
   return out.str();
 }

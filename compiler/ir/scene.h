@@ -145,6 +145,9 @@ struct Scene {
   std::vector<SphereLight> lights;
   RenderSettings render;
   bool uses_time = false;
+  // Where the scene's frame has its origin in the world: coordinates here are
+  // world minus origin (passes/rebase.cpp moves a far scene to its camera).
+  glm::dvec3 origin{0.0};
 };
 
 // Stable text dump for --emit ir and for pass tests (text in, text out).

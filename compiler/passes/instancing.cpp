@@ -141,6 +141,92 @@ ir::NodeRef expandInstances(const ir::Node& n) {
   return u;
 }
 
+// Groups of copies far apart from each other, as index lists. A set's grid
+// spans its bounds with about one cell per copy, so one copy 1e6 away from 45
+// made cells of 950 that each held all 45 (a crowded cell: every step through
+// the hierarchy). A set is cut at the empty gap between its copies' boxes
+// along an axis where the two sides' boxes hold least volume, if that is
+// under an eighth of the set's box (the cells of each side at least halve
+// along every axis), and again within each side; a row or a uniform cloud has
+// no such gap. Extents count at least one typical copy, as the grid's do.
+std::vector<std::vector<std::uint32_t>> farGroups(const std::vector<Aabb>& boxes) {
+  std::vector<double> sizes(boxes.size());
+  for (size_t i = 0; i < boxes.size(); ++i) {
+    const dvec3 e = boxes[i].hi - boxes[i].lo;
+    sizes[i] = std::max({e.x, e.y, e.z});
+  }
+  std::nth_element(sizes.begin(), sizes.begin() + sizes.size() / 2, sizes.end());
+  const double typical = std::max(sizes[sizes.size() / 2], 1e-9);
+  auto volume = [&](const Aabb& b) {
+    const dvec3 e = glm::max(b.hi - b.lo, dvec3(typical));
+    return e.x * e.y * e.z;
+  };
+  std::vector<std::vector<std::uint32_t>> done, todo(1);
+  todo[0].resize(boxes.size());
+  std::iota(todo[0].begin(), todo[0].end(), 0u);
+  std::vector<Aabb> prefix, suffix;
+  while (!todo.empty()) {
+    std::vector<std::uint32_t> group = std::move(todo.back());
+    todo.pop_back();
+    const size_t n = group.size();
+    prefix.resize(n);
+    suffix.resize(n);
+    double best = 0.125;
+    int best_axis = -1;
+    size_t best_cut = 0;
+    auto byLow = [&](int axis) {
+      std::sort(group.begin(), group.end(), [&](std::uint32_t a, std::uint32_t b) {
+        return boxes[a].lo[axis] < boxes[b].lo[axis] || (boxes[a].lo[axis] == boxes[b].lo[axis] && a < b);
+      });
+    };
+    for (int axis = 0; axis < 3 && n > 1; ++axis) {
+      byLow(axis);
+      for (size_t k = 0; k < n; ++k) prefix[k] = (k ? prefix[k - 1] : Aabb{}).unite(boxes[group[k]]);
+      for (size_t k = n; k-- > 0;) suffix[k] = (k + 1 < n ? suffix[k + 1] : Aabb{}).unite(boxes[group[k]]);
+      const double all = volume(prefix[n - 1]);
+      for (size_t k = 1; k < n; ++k) {
+        if (!(boxes[group[k]].lo[axis] > prefix[k - 1].hi[axis])) continue;  // no empty gap
+        const double ratio = (volume(prefix[k - 1]) + volume(suffix[k])) / all;
+        if (ratio < best) {
+          best = ratio;
+          best_axis = axis;
+          best_cut = k;
+        }
+      }
+    }
+    if (best_axis < 0) {
+      done.push_back(std::move(group));
+      continue;
+    }
+    byLow(best_axis);
+    todo.emplace_back(group.begin(), group.begin() + best_cut);
+    todo.emplace_back(group.begin() + best_cut, group.end());
+  }
+  return done;
+}
+
+// The copies `members` of set n (an Instances node) as a set of their own,
+// with n's template, material and range.
+ir::NodeRef subset(const ir::Node& n, const std::vector<std::uint32_t>& members, const std::string& origin) {
+  const ir::InstanceSet& set = *n.instances;
+  auto part = std::make_shared<ir::InstanceSet>();
+  part->origin = origin;
+  part->param_count = set.param_count;
+  for (std::uint32_t i : members) {
+    ir::Instance inst = set.instances[i];
+    if (inst.transform >= 0) {
+      part->transforms.push_back(set.transforms[inst.transform]);
+      inst.transform = static_cast<int>(part->transforms.size()) - 1;
+    }
+    part->instances.push_back(inst);
+    part->params.insert(part->params.end(), set.paramsOf(i), set.paramsOf(i) + set.param_count);
+  }
+  auto node = std::make_shared<ir::Node>(n);
+  node->definition.clear();
+  node->instances = part;
+  return node;
+}
+
 class Former {
  public:
   explicit Former(const InstancingOptions& options) : options_(options) {}
@@ -153,17 +239,81 @@ class Former {
         ir::NodeRef expanded = expandInstances(*ref);
         done_.insert(expanded.get());
         ref = expanded;
+        return;
+      }
+      std::vector<ir::NodeRef> parts = splitFar(ref);
+      if (parts.size() > 1) {
+        // A union of the groups, taken into a sharp parent union (below).
+        auto u = std::make_shared<ir::Node>();
+        u->kind = ir::NodeKind::Union;
+        u->range = ref->range;
+        u->material = ref->material;
+        u->definition = ref->definition;
+        u->children = std::move(parts);
+        done_.insert(u.get());
+        if (u->definition.empty()) split_.insert(u.get());
+        ref = u;
       }
       return;
     }
-    if (ref->kind == ir::NodeKind::Union && options_.threshold > 0 &&
-        ref->children.size() >= static_cast<size_t>(options_.threshold))
-      group(*ref);
+    if (ref->kind != ir::NodeKind::Union) return;
+    if (sharp(*ref)) {
+      std::vector<ir::NodeRef> flat;
+      for (const ir::NodeRef& c : ref->children) {
+        if (split_.count(c.get())) flat.insert(flat.end(), c->children.begin(), c->children.end());
+        else flat.push_back(c);
+      }
+      ref->children = std::move(flat);
+    }
+    if (options_.threshold > 0 && ref->children.size() >= static_cast<size_t>(options_.threshold)) group(*ref);
   }
 
  private:
   const InstancingOptions& options_;
   std::unordered_set<const ir::Node*> done_;
+
+  // Unions of a split set's groups, which a sharp parent union takes in.
+  std::unordered_set<const ir::Node*> split_;
+
+  static bool sharp(const ir::Node& n) { return n.smooth.isConst() && n.smooth.value == 0; }
+
+  // Set n (data form) as one set per group of copies far from the others
+  // (farGroups); groups too small for the data form are code, and when there
+  // are enough of them they form one set (they are apart: short lists). A
+  // smooth set has no grid, and its hierarchy is exact whatever the spread.
+  std::vector<ir::NodeRef> splitFar(const ir::NodeRef& n) {
+    const ir::InstanceSet& set = *n->instances;
+    if (!sharp(*n) || set.size() < 2) return {n};
+    std::vector<Aabb> boxes(set.size());
+    for (size_t i = 0; i < set.size(); ++i) {
+      boxes[i] = instanceBounds(set, i, *n->children[0]);
+      if (!boxes[i].finite()) return {n};
+    }
+    const std::vector<std::vector<std::uint32_t>> groups = farGroups(boxes);
+    if (groups.size() == 1) return {n};
+    std::vector<ir::NodeRef> parts;
+    std::vector<std::uint32_t> apart;
+    for (const std::vector<std::uint32_t>& g : groups) {
+      if (dataForm(g.size())) {
+        parts.push_back(subset(*n, g, set.origin + ": " + std::to_string(g.size()) + " near each other"));
+      } else {
+        apart.insert(apart.end(), g.begin(), g.end());
+      }
+    }
+    std::sort(apart.begin(), apart.end());
+    if (dataForm(apart.size())) {
+      parts.push_back(subset(*n, apart, set.origin + ": " + std::to_string(apart.size()) + " far apart"));
+    } else if (!apart.empty()) {
+      const ir::NodeRef few = expandInstances(*subset(*n, apart, set.origin));
+      for (const ir::NodeRef& placed : few->children) {
+        // Taken out of their union: the set's material is theirs.
+        if (placed->material < 0) placed->material = n->material;
+        parts.push_back(placed);
+      }
+    }
+    for (const ir::NodeRef& p : parts) done_.insert(p.get());
+    return parts;
+  }
 
   bool dataForm(size_t count) const {
     return options_.threshold > 0 && count >= static_cast<size_t>(options_.threshold);
@@ -194,7 +344,8 @@ class Former {
                                      "union of " + std::to_string(members.size()) + " " + label));
     }
     if (formed.empty()) return;
-    // Each group takes the place of its first member.
+    // Each group takes the place of its first member, as its far groups when
+    // the union is sharp.
     std::vector<ir::NodeRef> kept;
     std::vector<bool> placed(formed.size(), false);
     for (size_t i = 0; i < u.children.size(); ++i) {
@@ -202,7 +353,7 @@ class Former {
         kept.push_back(u.children[i]);
       } else if (!placed[group_of[i]]) {
         placed[group_of[i]] = true;
-        kept.push_back(formed[group_of[i]]);
+        for (const ir::NodeRef& part : splitFar(formed[group_of[i]])) kept.push_back(part);
       }
     }
     u.children = std::move(kept);

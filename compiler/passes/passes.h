@@ -4,6 +4,7 @@
 //  analyze:        per node, conservative bounds, exactness, Lipschitz
 //                  constant and evaluation cost (what the emitter's bounding
 //                  volumes and step scaling need).
+//  rebaseToCamera: (compile only) a far scene moves to the camera's frame.
 //  deriveMarchLimits: max distance, step budget and hit epsilon per scene.
 #pragma once
 #include <functional>
@@ -40,6 +41,10 @@ Aabb transformBox(const Aabb& b, const glm::dmat3& m, const glm::dvec3& t);
 Aabb instanceLocalBounds(const ir::InstanceSet& set, size_t i, const ir::Node& templ);
 Aabb instanceBounds(const ir::InstanceSet& set, size_t i, const ir::Node& templ);
 void analyze(ir::Scene& scene, Diagnostics& diags);
+// A scene far from the world origin, seen from near by, is moved to the
+// camera's frame (passes/rebase.cpp): scene.origin says where that frame is.
+bool wantsCameraFrame(const ir::Scene& scene);
+void rebaseToCamera(ir::Scene& scene, Diagnostics& diags);
 
 struct MarchLimits {
   double max_distance = 100;
