@@ -36,7 +36,8 @@ void registerCommands(CLI::App& app, CommandLine& cl) {
     sub->add_flag("-O,--optimize", cl.optimize, "run spirv-opt's performance passes");
     sub->add_flag("--no-cache", cl.no_cache,
                   "compile the kernel even when the SPIR-V cache ($XDG_CACHE_HOME/sdfc) holds it, "
-                  "and store nothing there");
+                  "and store nothing there")
+        ->envname("SDFC_NO_CACHE");
     sub->add_flag("--paper-baseline", cl.paper_baseline,
                   "march like the paper: fixed epsilon 1e-3, 256 steps, max distance 100, no scene box");
     sub->add_flag("--white-noise", cl.white_noise, "PCG hash sampler instead of Owen-scrambled Sobol");

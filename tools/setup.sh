@@ -25,7 +25,8 @@ packages=(
   # the render farm's tests: a single-node Slurm cluster
   slurmctld slurmd slurm-client munge
   # sdfc view: the window (GLFW), and its tests under Xvfb with an X screenshot (xwd)
-  libglfw3-dev xvfb xauth x11-apps
+  # and a real key press (XTEST, tests/view_quit_test.py)
+  libglfw3-dev xvfb xauth x11-apps libxtst6
 )
 
 say() { echo "setup: $*"; }

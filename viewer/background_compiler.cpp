@@ -73,9 +73,15 @@ std::vector<std::unique_ptr<BuiltScene>> BackgroundCompiler::take() {
   return out;
 }
 
-bool BackgroundCompiler::working() const {
-  std::lock_guard<std::mutex> lock(mutex_);
-  return working_;
+bool BackgroundCompiler::stop() {
+  bool working = false;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    stopping_ = true;
+    working = working_;
+  }
+  wake_.notify_all();
+  return working;
 }
 
 bool BackgroundCompiler::busy() const {

@@ -72,8 +72,9 @@ class BackgroundCompiler {
   // from the thread that uses the queue.
   std::vector<std::unique_ptr<BuiltScene>> take();
   bool busy() const;
-  // A build is under way on the worker (not merely queued or finished).
-  bool working() const;
+  // Starts no further build; true when one is under way on the worker (not
+  // merely queued or finished), which the destructor would then wait for.
+  bool stop();
 
  private:
   void run();

@@ -716,7 +716,7 @@ int Viewer::run() {
   const int messages = validationMessageCount();
   const int code = context_.validation_enabled && messages > 0 ? kExitDevice : kExitOk;
   if (code != kExitOk) std::fprintf(stderr, "sdfc: %d Vulkan validation messages\n", messages);
-  if (compiler_->working()) {
+  if (compiler_->stop()) {
     // A build is under way (glslang, or the driver's compile, which cannot be
     // cancelled and may take seconds): quit now instead of joining it. Nothing
     // on disk depends on it (cache entries are written by rename).
