@@ -226,8 +226,11 @@ int runRender(const CommandLine& cl) {
     }
   }
 
+  const auto renderer_start = std::chrono::steady_clock::now();
   Renderer renderer(context, compiled);
-  timings.add("pipeline creation", renderer.pipelineSeconds());
+  timings.add("pipeline creation", secondsSince(renderer_start),
+              "(vkCreateGraphicsPipelines " + std::to_string(std::lround(renderer.pipelineSeconds() * 1000)) +
+                  " ms; the vertex shader, scene buffer)");
   const std::atomic<bool>* interrupt = installInterruptHandler();
   ToneMap tone;
   tone.exposure_stops = static_cast<float>(cl.exposure);

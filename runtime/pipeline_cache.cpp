@@ -74,6 +74,11 @@ void setPipelineCacheDirectory(const std::string& directory) {
   g_directory = directory;
 }
 
+bool pipelineCacheEnabled() {
+  std::lock_guard<std::mutex> lock(g_mutex);
+  return !g_directory.empty();
+}
+
 PipelineCacheFile openPipelineCache(const VulkanContext& context, const std::vector<uint32_t>& spirv) {
   PipelineCacheFile file;
   std::string directory;

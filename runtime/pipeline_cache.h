@@ -18,6 +18,9 @@ namespace sdfc {
 
 // The cache's directory (e.g. $XDG_CACHE_HOME/sdfc); "" turns it off.
 void setPipelineCacheDirectory(const std::string& directory);
+// A directory is set: the front end asked for caches (the vertex shader's SPIR-V
+// is then cached too).
+bool pipelineCacheEnabled();
 
 struct PipelineCacheFile {
   VkPipelineCache cache = VK_NULL_HANDLE;  // null when off or not creatable

@@ -10,6 +10,7 @@
 #include "pipeline_cache.h"
 #include "shader_interface.h"
 #include "spirv/glsl_to_spirv.h"
+#include "spirv/spirv_cache.h"
 #include "vk_check.h"
 
 namespace sdfc {
@@ -25,7 +26,14 @@ void main() {
 
 const std::vector<uint32_t>& fullscreenVertexSpirv() {
   static const std::vector<uint32_t> words = [] {
-    SpirvResult result = glslToSpirv(kFullscreenVertexGlsl, ShaderStage::Vertex, "fullscreen.vert");
+    // Through the SPIR-V cache when caches are on: a run whose kernel is cached
+    // then never starts glslang, whose first compile of a stage builds that
+    // stage's built-in tables (more than the shader itself costs).
+    SpirvResult result =
+        pipelineCacheEnabled()
+            ? cachedGlslToSpirv(kFullscreenVertexGlsl, ShaderStage::Vertex, "fullscreen.vert", false,
+                                true, "runtime")
+            : glslToSpirv(kFullscreenVertexGlsl, ShaderStage::Vertex, "fullscreen.vert");
     if (!result.ok()) throw RuntimeError("full-screen vertex shader: " + result.log);
     return result.words;
   }();
