@@ -47,6 +47,11 @@ def entries(cache):
     return sorted(glob.glob(os.path.join(cache, "sdfc", "spirv", "*.spv")))
 
 
+def kernel_entry(cache):
+    """The scene's kernel: the largest entry (the other is the full-screen vertex shader's)."""
+    return max(entries(cache), key=os.path.getsize)
+
+
 def leftovers(cache):
     return [p for p in glob.glob(os.path.join(cache, "sdfc", "spirv", "*")) if not p.endswith(".spv")]
 
@@ -62,7 +67,7 @@ def main():
         r = run(["render", scene, "-o", j("miss.png")], cache)
         check(r.returncode == 0, f"first render exits 0 ({r.returncode}) {r.stderr[-300:]}")
         check("from the cache" not in r.stderr, "first render compiles (an empty cache)")
-        check(len(entries(cache)) == 1, f"first render stores one entry ({entries(cache)})")
+        check(len(entries(cache)) == 2, f"first render stores the kernel and the vertex shader ({entries(cache)})")
         r = run(["render", scene, "-o", j("hit.png")], cache)
         check(r.returncode == 0 and "from the cache" in r.stderr, "second render is a cache hit")
         check(filecmp.cmp(j("miss.png"), j("hit.png"), shallow=False), "a hit gives the same image")
@@ -73,7 +78,7 @@ def main():
               "a hit gives the same SPIR-V as a fresh compile")
 
         # A corrupt entry is ignored and replaced.
-        entry = entries(cache)[0]
+        entry = kernel_entry(cache)
         good = open(entry, "rb").read()
         for name, bad in (("garbage", b"not an entry at all"), ("truncated", good[: len(good) // 2]),
                           ("flipped word", good[:-8] + bytes([good[-8] ^ 0xFF]) + good[-7:]),
@@ -103,8 +108,8 @@ def main():
         check(codes == [0, 0, 0, 0], f"four concurrent renders succeed ({codes})")
         check(all(filecmp.cmp(j("miss.png"), j(f"c{i}.png"), shallow=False) for i in range(4)),
               "four concurrent renders: the same image")
-        check(len(entries(shared)) == 1 and open(entries(shared)[0], "rb").read() == good,
-              "four concurrent renders leave one valid entry")
+        check(len(entries(shared)) == 2 and open(kernel_entry(shared), "rb").read() == good,
+              "four concurrent renders leave the two entries, valid")
         check(not leftovers(shared), f"no temporaries left ({leftovers(shared)})")
 
         # Without XDG_CACHE_HOME: $HOME/.cache/sdfc.
@@ -114,7 +119,7 @@ def main():
         env.update(HOME=home, LP_NUM_THREADS="1")
         r = subprocess.run([SDFC, "render", scene, "-q", "-o", j("home.png")], env=env,
                            capture_output=True, text=True, timeout=120)
-        check(r.returncode == 0 and len(glob.glob(os.path.join(home, ".cache/sdfc/spirv/*.spv"))) == 1,
+        check(r.returncode == 0 and len(glob.glob(os.path.join(home, ".cache/sdfc/spirv/*.spv"))) == 2,
               "HOME/.cache/sdfc without XDG_CACHE_HOME")
 
         # --timings names every fixed stage.
