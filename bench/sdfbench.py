@@ -47,6 +47,8 @@ def render(sdfc, scene, output, flags, env=None):
     (wall_s) and CPU seconds, user + sys of all its threads (cpu_s: steadier
     than wall time on a machine other people load)."""
     cmd = [sdfc, "render", scene, "-o", output] + list(flags)
+    # Compile figures are glslang's, not a SPIR-V cache hit (docs/caches.md).
+    env = dict(os.environ if env is None else env, SDFC_NO_CACHE="1")
     with tempfile.TemporaryFile("w+") as err:
         start = time.perf_counter()
         proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=err, env=env)

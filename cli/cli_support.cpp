@@ -29,6 +29,9 @@ CompileOptions compileOptionsFrom(const CommandLine& cl) {
   o.fuse_transforms = !cl.no_fuse;
   o.instancing.threshold = cl.instance_threshold;
   o.optimize_spirv = cl.optimize;
+  // `compile --timings N` measures glslang itself: no cache there.
+  o.spirv_cache = !cl.no_cache && cl.timings == 0;
+  o.cache_version = kSdfcVersion;
   // The kernel holds only the code of the view it draws (docs/kernel_contract.md).
   o.emit.view = kernelViewFromName(cl.view).value_or(KernelView::Beauty);
   return o;

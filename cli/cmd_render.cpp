@@ -1,6 +1,7 @@
 // `sdfc render`: compile, render progressively on the Vulkan device, denoise,
 // write the image (or a frame sequence over time).
 #include <chrono>
+#include <future>
 #include <ctime>
 #include <cmath>
 #include <cstdio>
@@ -14,6 +15,9 @@
 #include "image_io.h"
 #include "progress.h"
 #include "scene_render.h"
+#include "pipeline_cache.h"
+#include "spirv/spirv_cache.h"
+#include "stage_timings.h"
 #include "shard_plan.h"
 #include "driver_select.h"
 #include "farm_support.h"
@@ -45,6 +49,36 @@ LoadedScene compileForDevice(const CommandLine& cl, const VulkanContext& context
     options.emit.bounding_volumes = false;
   Diagnostics diags;
   return loadScene(cl, diags, true, true, options, true);
+}
+
+LoadedScene compileForCpuDevice(const CommandLine& cl, const RenderOverrides& o) {
+  CompileOptions options = compileOptionsFrom(cl);
+  if (o.height) options.emit.march.image_height = *o.height;
+  if (!cl.force_bounds) options.emit.bounding_volumes = false;  // as compileForDevice on a CPU
+  Diagnostics diags;
+  return loadScene(cl, diags, true, true, options, true);
+}
+
+void adaptToDevice(LoadedScene& loaded, const CommandLine& cl, const VulkanContext& context,
+                   const RenderOverrides& o) {
+  if (loaded.exit_code != kExitOk || cl.force_bounds || cl.no_bounds ||
+      context.properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU)
+    return;
+  // A GPU jumps over a bounding volume's subtree: the kernel with bounds.
+  const auto start = std::chrono::steady_clock::now();
+  CompileOptions options = compileOptionsFrom(cl);
+  if (o.height) options.emit.march.image_height = *o.height;
+  CompiledScene& c = loaded.compiled;
+  c.emitted = emitGlsl(c.scene, options.emit);
+  SpirvResult spv = options.spirv_cache
+                        ? cachedGlslToSpirv(c.emitted.glsl, ShaderStage::Fragment, c.source->path + ".glsl",
+                                            options.optimize_spirv, true, options.cache_version)
+                        : glslToSpirv(c.emitted.glsl, ShaderStage::Fragment, c.source->path + ".glsl",
+                                      options.optimize_spirv, true);
+  if (!spv.ok())
+    throw std::runtime_error("internal error: the generated shader does not compile:\n" + spv.log);
+  c.spirv = std::move(spv.words);
+  c.times.device_emit = secondsSince(start);
 }
 
 namespace {
@@ -143,16 +177,76 @@ int runRender(const CommandLine& cl) {
   imageFormatFromPath(cl.output);
   checkWritablePath(times.size() > 1 ? farm::framePath(cl.output, 0) : cl.output);
 
+  // The driver's pipeline cache beside the SPIR-V cache (runtime/pipeline_cache.h).
+  if (!cl.no_cache) setPipelineCacheDirectory(sdfcCacheDirectory());
+  // --timings: printed after the device is destroyed (declared before it).
+  StageTimings timings;
+  struct PrintTimings {
+    const StageTimings& timings;
+    bool on;
+    ~PrintTimings() {
+      if (on) timings.print();
+    }
+  } print_timings{timings, cl.stage_timings};
+  timings.add("process start to main", processStartToMainSeconds(), "(one clock tick: 10 ms)");
+  timings.add("command line and checks", secondsSinceMain());
+
   ContextOptions context_options;
   context_options.device_index = cl.device;
-  ScopedContext scoped_context(context_options);
-  VulkanContext& context = scoped_context.get();
-
-  LoadedScene loaded = compileForDevice(cl, context, o);
+  std::optional<ScopedContext> scoped_context;
+  // Destroyed before print_timings: its time is the last stage.
+  struct DestroyContext {
+    std::optional<ScopedContext>& context;
+    StageTimings& timings;
+    ~DestroyContext() {
+      const auto start = std::chrono::steady_clock::now();
+      context.reset();
+      timings.add("device destruction", secondsSince(start));
+    }
+  } destroy_context{scoped_context, timings};
+  // The device does not depend on the scene: it is created beside the front
+  // end and glslang. The kernel is compiled for a CPU device (lavapipe, the
+  // usual one) meanwhile, and emitted again if the device turns out not to be one.
+  double device_seconds = 0;
+  selectedDriver();  // sets the loader's variables here: setenv beside getenv is unsafe
+  std::future<void> device = std::async(std::launch::async, [&] {
+    const auto start = std::chrono::steady_clock::now();
+    scoped_context.emplace(context_options);
+    device_seconds = secondsSince(start);
+  });
+  const auto compile_start = std::chrono::steady_clock::now();
+  LoadedScene loaded = compileForCpuDevice(cl, o);
+  const double compile_seconds = secondsSince(compile_start);
+  const auto device_wait_start = std::chrono::steady_clock::now();
+  device.get();  // rethrows a device error (exit 3)
+  const double device_wait = secondsSince(device_wait_start);
+  timings.add("device creation", device_seconds, "(beside the compile)", true);
+  timings.add("waited for the device", device_wait, "(after the compile's " +
+              std::to_string(std::lround(compile_seconds * 1000)) + " ms)");
   if (loaded.exit_code != kExitOk) return loaded.exit_code;
+  VulkanContext& context = scoped_context->get();
+  adaptToDevice(loaded, cl, context, o);
   const CompiledScene& compiled = loaded.compiled;
+  {
+    const StageTimes& t = compiled.times;
+    timings.add("front end (parse, check, passes)", t.parse + t.check + t.passes);
+    timings.add("emit GLSL", t.emit);
+    if (t.spirv_cached) {
+      timings.add("SPIR-V from the cache", t.spirv, "(glslang and validation skipped)");
+    } else {
+      timings.add("glslang", t.spirv - t.validate, cl.no_cache ? "(--no-cache)" : "(cache miss; stored)");
+      timings.add("SPIR-V validation", t.validate);
+    }
+    if (t.device_emit > 0) {
+      timings.add("kernel again for a GPU (with bounds)", t.device_emit);
+    }
+  }
 
+  const auto renderer_start = std::chrono::steady_clock::now();
   Renderer renderer(context, compiled);
+  timings.add("pipeline creation", secondsSince(renderer_start),
+              "(vkCreateGraphicsPipelines " + std::to_string(std::lround(renderer.pipelineSeconds() * 1000)) +
+                  " ms; the vertex shader, scene buffer)");
   const std::atomic<bool>* interrupt = installInterruptHandler();
   ToneMap tone;
   tone.exposure_stops = static_cast<float>(cl.exposure);
@@ -165,8 +259,15 @@ int runRender(const CommandLine& cl) {
     std::cerr << "sdfc: compiled in " << std::lround(compiled.times.total() * 1000) << " ms (parse+check "
               << std::lround((compiled.times.parse + compiled.times.check + compiled.times.passes) * 1000)
               << ", emit " << std::lround(compiled.times.emit * 1000) << ", SPIR-V "
-              << std::lround(compiled.times.spirv * 1000) << "), pipeline in "
+              << std::lround(compiled.times.spirv * 1000)
+              << (compiled.times.spirv_cached ? " from the cache" : "") << "), pipeline in "
               << std::lround(renderer.pipelineSeconds() * 1000) << " ms\n";
+  // The driver compiles the kernel at its first draw (lavapipe: LLVM, seconds
+  // for scenes of instances): a stage of its own, before the passes and their ETA.
+  if (!quiet) std::cerr << "sdfc: compiling the kernel (first draw)... " << std::flush;
+  const double kernel_seconds = renderer.compileKernel(o.view);
+  if (!quiet) std::cerr << "done in " << formatSeconds(kernel_seconds) << "\n";
+  timings.add("first draw (driver's kernel compile)", kernel_seconds);
   for (size_t f = 0; f < times.size(); ++f) {
     o.time = times[f];
     RenderSettings settings = renderSettingsFor(compiled, o);
@@ -233,6 +334,7 @@ int runRender(const CommandLine& cl) {
     // Write out.color in place unless denoised: a copy is a full-size image (memory).
     // Without two halves (1 spp, or interrupted early) svgf and nlm leave the image as it is.
     FloatImage denoised;
+    const auto denoise_start = std::chrono::steady_clock::now();
     if (o.view == gpu::kViewBeauty && denoiser && *denoiser != Denoiser::None &&
         (!with_halves || halves.samples_b > 0)) {
       const auto start = std::chrono::steady_clock::now();
@@ -250,9 +352,16 @@ int runRender(const CommandLine& cl) {
                   << " ms (" << std::lround(1000.0 * double(std::clock() - cpu_start) / CLOCKS_PER_SEC)
                   << " CPU ms)\n";
     }
+    const std::string frame = times.size() > 1 ? " (frame " + std::to_string(f) + ")" : "";
+    timings.add("passes" + frame, out.seconds - out.readback_seconds,
+                std::to_string(out.samples_done) + " spp in " + std::to_string(out.passes) + " passes");
+    timings.add("readback" + frame, out.readback_seconds, "(staging buffer to the sums and images)");
+    if (!denoised.empty()) timings.add("denoise" + frame, secondsSince(denoise_start));
     const FloatImage& image = denoised.empty() ? out.color : denoised;
     const std::string path = times.size() > 1 ? farm::framePath(cl.output, static_cast<int>(f)) : cl.output;
+    const auto encode_start = std::chrono::steady_clock::now();
     writeImage(path, image, tone);
+    timings.add("encoding and writing" + frame, secondsSince(encode_start));
     {
       // A primary ray that used its whole step budget ran out of steps: it is
       // drawn as a hit when it was still closing in, else as a miss; either way

@@ -39,6 +39,10 @@ void registerCommands(CLI::App& app, CommandLine& cl) {
     sub->add_flag("--no-analytic-spheres", cl.no_analytic_spheres,
                   "march top-level spheres instead of intersecting them in closed form");
     sub->add_flag("-O,--optimize", cl.optimize, "run spirv-opt's performance passes");
+    sub->add_flag("--no-cache", cl.no_cache,
+                  "compile the kernel even when the SPIR-V cache ($XDG_CACHE_HOME/sdfc) holds it, "
+                  "and store nothing there")
+        ->envname("SDFC_NO_CACHE");
     sub->add_flag("--paper-baseline", cl.paper_baseline,
                   "march like the paper: fixed epsilon 1e-3, 256 steps, max distance 100, no scene box");
     sub->add_flag("--white-noise", cl.white_noise, "PCG hash sampler instead of Owen-scrambled Sobol");
@@ -144,6 +148,9 @@ void registerCommands(CLI::App& app, CommandLine& cl) {
       ->check(numberIn(-kMaxExposureStops, kMaxExposureStops));
   render->add_flag("--aces", cl.aces, "ACES filmic tone curve for PNG (default: clamp)");
   render->add_flag("-q,--quiet", cl.quiet, "no progress output");
+  render->add_flag("--timings", cl.stage_timings,
+                   "print every fixed stage's time: process start, device, front end, glslang, "
+                   "validation, pipeline, the first draw's kernel compile, passes, readback, encoding");
   render->add_flag("--bounds", cl.force_bounds,
                    "keep bounding-volume checks on a CPU device (off there by default: lavapipe "
                    "runs both sides of every branch, so skipping saves nothing)");
@@ -172,6 +179,9 @@ void registerCommands(CLI::App& app, CommandLine& cl) {
                  "draw every frame at full resolution, also while the camera moves");
   view->add_option("--script", cl.script, "drive the view from a file of commands (docs/view.md)");
   view->add_option("--frame-log", cl.frame_log, "write a line per presented frame (with its hash)");
+  view->add_flag("--timings", cl.stage_timings,
+                 "print the start-up stages and, once a second, each frame's split (pass, tone map, "
+                 "copy, acquire, present, wait)");
   view->add_flag("--bounds", cl.force_bounds, "keep bounding-volume checks on a CPU device");
   emit_flags(view);
 

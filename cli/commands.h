@@ -34,6 +34,8 @@ struct CommandLine {
   bool no_fuse = false;
   bool no_analytic_spheres = false;
   bool optimize = false;
+  bool no_cache = false;       // --no-cache: bypass the on-disk SPIR-V and pipeline caches
+  bool stage_timings = false;  // render, view: --timings, every fixed stage's time
   bool paper_baseline = false;
   bool white_noise = false;
   bool count_evaluations = false;

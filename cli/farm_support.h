@@ -46,5 +46,10 @@ RenderOutput renderShard(Renderer& renderer, const CompiledScene& compiled, cons
 // `sdfc render --shards K --shard-index I -o DIR`.
 int runRenderShard(const CommandLine& cl, const RenderOverrides& o);
 LoadedScene compileForDevice(const CommandLine& cl, const VulkanContext& context, const RenderOverrides& o);
+// The same before the device is known: compiled for a CPU device (lavapipe);
+// adaptToDevice emits it again, with bounding volumes, when the device is a GPU.
+LoadedScene compileForCpuDevice(const CommandLine& cl, const RenderOverrides& o);
+void adaptToDevice(LoadedScene& loaded, const CommandLine& cl, const VulkanContext& context,
+                   const RenderOverrides& o);
 
 }  // namespace sdfc

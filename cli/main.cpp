@@ -12,11 +12,13 @@
 
 #include "commands.h"
 #include "driver_select.h"
+#include "stage_timings.h"
 #include "view_loop.h"
 #include "vk_check.h"
 
 int main(int argc, char** argv) {
   using namespace sdfc;
+  markMainEntered();  // --timings' process start to main
   CLI::App app{"sdfc: a compiler and path tracer for signed-distance scenes"};
   // The version line also names the Vulkan driver a render would use by default
   // (SDFC_DRIVER or auto; --driver on the same command line is not seen here).

@@ -7,8 +7,10 @@
 #include <cmath>
 #include <string>
 
+#include "pipeline_cache.h"
 #include "shader_interface.h"
 #include "spirv/glsl_to_spirv.h"
+#include "spirv/spirv_cache.h"
 #include "vk_check.h"
 
 namespace sdfc {
@@ -24,7 +26,14 @@ void main() {
 
 const std::vector<uint32_t>& fullscreenVertexSpirv() {
   static const std::vector<uint32_t> words = [] {
-    SpirvResult result = glslToSpirv(kFullscreenVertexGlsl, ShaderStage::Vertex, "fullscreen.vert");
+    // Through the SPIR-V cache when caches are on: a run whose kernel is cached
+    // then never starts glslang, whose first compile of a stage builds that
+    // stage's built-in tables (more than the shader itself costs).
+    SpirvResult result =
+        pipelineCacheEnabled()
+            ? cachedGlslToSpirv(kFullscreenVertexGlsl, ShaderStage::Vertex, "fullscreen.vert", false,
+                                true, "runtime")
+            : glslToSpirv(kFullscreenVertexGlsl, ShaderStage::Vertex, "fullscreen.vert");
     if (!result.ok()) throw RuntimeError("full-screen vertex shader: " + result.log);
     return result.words;
   }();
@@ -228,8 +237,12 @@ void createRenderPipeline(RenderPipeline& pipeline, const VulkanContext& context
     info.layout = pipeline.layout;
     info.renderPass = pipeline.render_pass;
     const auto start = std::chrono::steady_clock::now();
-    VK_CHECK(vkCreateGraphicsPipelines(device, VK_NULL_HANDLE, 1, &info, nullptr,
-                                       &pipeline.pipeline));
+    PipelineCacheFile cache = openPipelineCache(context, frag_spirv);
+    const VkResult created =
+        vkCreateGraphicsPipelines(device, cache.cache, 1, &info, nullptr, &pipeline.pipeline);
+    if (created == VK_SUCCESS) closePipelineCache(context, cache);
+    else if (cache.cache) vkDestroyPipelineCache(device, cache.cache, nullptr);
+    if (created != VK_SUCCESS) throwVkError(created, "vkCreateGraphicsPipelines", __FILE__, __LINE__);
     pipeline.create_seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   } catch (...) {
@@ -243,6 +256,7 @@ void createRenderPipeline(RenderPipeline& pipeline, const VulkanContext& context
 }
 
 void destroyRenderPipeline(RenderPipeline& pipeline, const VulkanContext& context) {
+  const auto lock = lockQueue(context);
   if (context.device) vkDeviceWaitIdle(context.device);
   if (pipeline.pipeline) vkDestroyPipeline(context.device, pipeline.pipeline, nullptr);
   if (pipeline.layout) vkDestroyPipelineLayout(context.device, pipeline.layout, nullptr);
@@ -255,7 +269,8 @@ void destroyRenderPipeline(RenderPipeline& pipeline, const VulkanContext& contex
 }
 
 void createRenderTarget(RenderTarget& target, const VulkanContext& context,
-                        const RenderPipeline& pipeline, uint32_t width, uint32_t height) {
+                        const RenderPipeline& pipeline, uint32_t width, uint32_t height,
+                        VkCommandPool pool) {
   target = {};
   if (width == 0 || height == 0) throw RuntimeError("render size must be at least 1x1");
   const uint32_t max_dim = context.properties.limits.maxFramebufferWidth;
@@ -326,8 +341,9 @@ void createRenderTarget(RenderTarget& target, const VulkanContext& context,
     VK_CHECK(vkMapMemory(device, target.staging_memory, 0, VK_WHOLE_SIZE, 0, &mapped));
     target.mapped = static_cast<const float*>(mapped);
 
+    target.command_pool = pool ? pool : context.command_pool;
     VkCommandBufferAllocateInfo cb{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
-    cb.commandPool = context.command_pool;
+    cb.commandPool = target.command_pool;
     cb.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
     cb.commandBufferCount = 1;
     VK_CHECK(vkAllocateCommandBuffers(device, &cb, &target.command_buffer));
@@ -342,10 +358,12 @@ void createRenderTarget(RenderTarget& target, const VulkanContext& context,
 void destroyRenderTarget(RenderTarget& target, const VulkanContext& context) {
   VkDevice device = context.device;
   if (!device) return;
+  const auto lock = lockQueue(context);
   vkDeviceWaitIdle(device);  // a timed-out pass may still be running
   if (target.fence) vkDestroyFence(device, target.fence, nullptr);
   if (target.command_buffer)
-    vkFreeCommandBuffers(device, context.command_pool, 1, &target.command_buffer);
+    vkFreeCommandBuffers(device, target.command_pool ? target.command_pool : context.command_pool, 1,
+                         &target.command_buffer);
   if (target.staging) vkDestroyBuffer(device, target.staging, nullptr);
   if (target.staging_memory) vkFreeMemory(device, target.staging_memory, nullptr);  // unmaps
   if (target.framebuffer) vkDestroyFramebuffer(device, target.framebuffer, nullptr);
@@ -370,6 +388,7 @@ void runPass(const VulkanContext& context, const RenderPipeline& pipeline, Rende
 void runPass(const VulkanContext& context, const RenderPipeline& pipeline, RenderTarget& target,
              const PassDraw* draws, size_t draw_count, double timeout_seconds, uint32_t rows,
              uint32_t readback_count) {
+  const auto lock = lockQueue(context);
   if (rows == 0 || rows > target.height) rows = target.height;
   readback_count = std::min(readback_count, kAttachmentCount);
   const double clamped = std::fmax(0.0, std::fmin(timeout_seconds, 1.0e9));

@@ -48,6 +48,7 @@ struct RenderTarget {
   VkDeviceMemory staging_memory = VK_NULL_HANDLE;
   bool staging_coherent = false;
   const float* mapped = nullptr;  // kAttachmentCount images of width*height*4 floats, in order
+  VkCommandPool command_pool = VK_NULL_HANDLE;  // where command_buffer came from
   VkCommandBuffer command_buffer = VK_NULL_HANDLE;
   VkFence fence = VK_NULL_HANDLE;
   bool pending = false;  // submitted, fence not yet seen signalled (after a timeout)
@@ -55,8 +56,11 @@ struct RenderTarget {
   size_t floatsPerImage() const { return size_t(width) * height * 4; }
 };
 
+// `pool`: the command pool of the thread that will draw into the target (a pool
+// is externally synchronised); null: the context's.
 void createRenderTarget(RenderTarget& target, const VulkanContext& context,
-                        const RenderPipeline& pipeline, uint32_t width, uint32_t height);
+                        const RenderPipeline& pipeline, uint32_t width, uint32_t height,
+                        VkCommandPool pool = VK_NULL_HANDLE);
 void destroyRenderTarget(RenderTarget& target, const VulkanContext& context);
 
 // Records, submits and waits for one draw with `push_constants` (sizeof(gpu::FrameParams)

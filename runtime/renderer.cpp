@@ -60,6 +60,7 @@ RenderOutput mergeRenders(const RenderOutput& a, const RenderOutput& b) {
   out.samples_done = a.samples_done + b.samples_done;
   out.passes = a.passes + b.passes;
   out.seconds = a.seconds + b.seconds;
+  out.readback_seconds = a.readback_seconds + b.readback_seconds;
   out.interrupted = a.interrupted || b.interrupted;
   if (out.samples_done == 0) return out;
   if (!a.color_sums.empty() && a.color_sums.size() == b.color_sums.size()) {
@@ -95,6 +96,26 @@ Renderer::Renderer(const VulkanContext& context, const CompiledScene& compiled)
   const std::set<std::string>& f = compiled.emitted.stats.features;
   specular_kernel_ = f.count("SDFC_TRACE") &&
                      (f.count("SDFC_HAS_MIRROR") || f.count("SDFC_HAS_GLASS") || f.count("SDFC_HAS_METAL"));
+}
+
+double Renderer::compileKernel(uint32_t view, VkCommandPool pool) {
+  const auto start = Clock::now();
+  RenderTarget pixel;
+  createRenderTarget(pixel, context_, pipeline_, 1, 1, pool);
+  try {
+    CameraDesc camera;
+    gpu::FrameParams params = makeFrameParams(camera, 1, 1, 0.0f);
+    params.view = view;
+    params.sample_count = 1;
+    params.traversal_visits = kMinTraversalVisits;
+    runPass(context_, pipeline_, pixel, &params, 600.0, 1, 1);
+  } catch (...) {
+    destroyRenderTarget(pixel, context_);
+    throw;
+  }
+  destroyRenderTarget(pixel, context_);
+  kernel_compile_seconds_ = secondsSince(start);
+  return kernel_compile_seconds_;
 }
 
 Renderer::~Renderer() {
@@ -210,6 +231,12 @@ void Renderer::drawBand(Accumulation& acc, uint32_t b, uint32_t count, RenderOut
   params.skip_aov_ray = jittered ? jitteredAovMode(acc.settings) : !read_aovs && count > 0 && beauty;
   runPass(context_, pipeline_, target_, &params, acc.settings.pass_timeout_seconds, rows,
           read_aovs ? kAttachmentCount : 1);
+  // Everything below reads the staging buffer: --timings' readback.
+  struct ReadbackClock {
+    double& total;
+    Clock::time_point start = Clock::now();
+    ~ReadbackClock() { total += secondsSince(start); }
+  } readback_clock{acc.readback_seconds};
   const size_t band_floats = size_t(width) * rows * 4;
   const size_t band_base = size_t(y0) * width * 4;  // the band's first float in a whole image
   const float* pass = target_.mapped;
@@ -378,6 +405,7 @@ RenderOutput Renderer::render(const CameraDesc& camera, const RenderSettings& se
   out.samples_done = acc.samples_done;
   out.passes = acc.passes;
   out.seconds = secondsSince(start);
+  out.readback_seconds = acc.readback_seconds;
   reportFinished(progress, out.samples_done, total, out.passes, out.seconds);
   return out;
 }

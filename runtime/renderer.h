@@ -113,6 +113,9 @@ struct RenderOutput {
   uint32_t samples_per_pass = 0;
   double seconds = 0;           // wall time of render()
   double pipeline_seconds = 0;  // pipeline creation of this renderer
+  // Of `seconds`: the CPU's share after each pass, reading the staging buffer
+  // into the sums and the output images (--timings' readback).
+  double readback_seconds = 0;
   bool interrupted = false;
 };
 
@@ -139,6 +142,7 @@ struct Accumulation {
   // keep_aovs the first pass reads them back; render() reads them in its final pass.
   bool keep_aovs = false;
   FloatImage normal_depth, albedo_steps;
+  double readback_seconds = 0;  // RenderOutput::readback_seconds so far
 
   // Mean colour of the samples so far (zeros before the first pass). Exactly what
   // render() returns for the same samples and pass split.
@@ -169,6 +173,15 @@ class Renderer {
   Renderer& operator=(const Renderer&) = delete;
 
   double pipelineSeconds() const { return pipeline_.create_seconds; }
+
+  // Draws one pixel of `view` once, so that the driver compiles the kernel now:
+  // lavapipe compiles a pipeline's fragment shader with LLVM at its first draw,
+  // which on a scene of instances takes seconds. `render` shows it as a stage of
+  // its own, outside the ETA; `sdfc view` runs it on its worker thread, off the
+  // frame loop. `pool`: the calling thread's command pool (null: the context's).
+  // Returns its wall seconds (also kernelCompileSeconds()).
+  double compileKernel(uint32_t view, VkCommandPool pool = VK_NULL_HANDLE);
+  double kernelCompileSeconds() const { return kernel_compile_seconds_; }
 
   // FrameParams::skip_aov_ray of a pass that records jittered AOVs under
   // `settings`: kAovSpecular when asked for and the kernel has it, else kAovJittered.
@@ -221,6 +234,7 @@ class Renderer {
   RenderTarget target_;
   CameraInsideTest inside_test_;
   bool specular_kernel_ = false;  // the kernel holds kAovSpecular (jitteredAovMode)
+  double kernel_compile_seconds_ = 0;
 };
 
 // A render with RenderSettings::jittered_aovs -> the denoisers' features:

@@ -258,6 +258,7 @@ void createContext(VulkanContext& context, const ContextOptions& options) {
     pool_info.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
     pool_info.queueFamilyIndex = context.queue_family;
     VK_CHECK(vkCreateCommandPool(context.device, &pool_info, nullptr, &context.command_pool));
+    context.queue_lock = std::make_shared<std::recursive_mutex>();
   } catch (...) {
     destroyContext(context);
     throw;

@@ -4,6 +4,8 @@
 #include <vulkan/vulkan.h>
 
 #include <cstdint>
+#include <memory>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -51,9 +53,21 @@ struct VulkanContext {
   VkQueue queue = VK_NULL_HANDLE;
   VkCommandPool command_pool = VK_NULL_HANDLE;
   bool validation_enabled = false;  // the layer was found and enabled
+  // Held by whoever submits to or waits on `queue` (vkQueueSubmit, present,
+  // vkDeviceWaitIdle need the queue externally synchronised). `sdfc view`'s
+  // worker thread draws a new kernel once to have the driver compile it; the frame
+  // loop try-locks this and, while the worker has it, skips its frame instead of
+  // waiting behind the compile. Recursive: a frame holds it around its passes.
+  std::shared_ptr<std::recursive_mutex> queue_lock;
 
   std::string deviceName() const { return properties.deviceName; }
 };
+
+// The context's queue lock held for a scope (nothing when the context has none).
+inline std::unique_lock<std::recursive_mutex> lockQueue(const VulkanContext& context) {
+  return context.queue_lock ? std::unique_lock<std::recursive_mutex>(*context.queue_lock)
+                            : std::unique_lock<std::recursive_mutex>();
+}
 
 // Throws RuntimeError when no usable device exists or the index is invalid.
 void createContext(VulkanContext& context, const ContextOptions& options = {});

@@ -27,7 +27,8 @@ packages=(
   # the language server's test in a real client
   neovim
   # sdfc view: the window (GLFW), and its tests under Xvfb with an X screenshot (xwd)
-  libglfw3-dev xvfb xauth x11-apps
+  # and a real key press (XTEST, tests/view_quit_test.py)
+  libglfw3-dev xvfb xauth x11-apps libxtst6
 )
 
 say() { echo "setup: $*"; }

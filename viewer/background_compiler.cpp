@@ -5,6 +5,7 @@
 #include <future>
 
 #include "spirv/glsl_to_spirv.h"
+#include "spirv/spirv_cache.h"
 
 #include "cli_support.h"
 #include "vk_check.h"
@@ -72,6 +73,17 @@ std::vector<std::unique_ptr<BuiltScene>> BackgroundCompiler::take() {
   return out;
 }
 
+bool BackgroundCompiler::stop() {
+  bool working = false;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    stopping_ = true;
+    working = working_;
+  }
+  wake_.notify_all();
+  return working;
+}
+
 bool BackgroundCompiler::busy() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return pending_ || working_ || !variants_.empty() || !ready_.empty();
@@ -94,6 +106,10 @@ std::unique_ptr<BuiltScene> BackgroundCompiler::buildReload(uint32_t view) {
   auto compiled = std::make_shared<CompiledScene>(std::move(loaded.compiled));
   built->compiled = compiled;
   createRenderer(*built, compiled->spirv, compiled->emitted.scene_data, compiled->emitted.limits);
+  if (built->ok && !compiled->spirv_cache_key.empty() && !options_.validate_spirv &&
+      !compiled->times.spirv_cached)
+    storeCachedSpirv(compiled->spirv_cache_key, compiled->spirv);  // validated beside the pipeline
+  compileKernel(*built);
   return built;
 }
 
@@ -130,6 +146,22 @@ void BackgroundCompiler::createRenderer(BuiltScene& built, const std::vector<uin
   }
 }
 
+void BackgroundCompiler::compileKernel(BuiltScene& built) {
+  if (!built.ok || !built.renderer || !pool_) return;
+  // The driver's compile at the first draw (lavapipe: LLVM, seconds for scenes
+  // of instances) happens here, while the frame loop keeps showing the last
+  // image and reading input; it skips its frames while this holds the queue.
+  std::fprintf(stderr, "sdfc: compiling the kernel (first draw)...\n");
+  try {
+    built.kernel_compile_seconds = built.renderer->compileKernel(built.view, pool_);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "sdfc: error: the kernel's first draw: %s\n", e.what());
+    built.renderer.reset();
+    built.ok = false;
+    built.error = "kernel compile failed";
+  }
+}
+
 std::unique_ptr<BuiltScene> BackgroundCompiler::buildVariant(std::shared_ptr<const CompiledScene> scene,
                                                             uint32_t view) {
   auto built = std::make_unique<BuiltScene>();
@@ -141,8 +173,12 @@ std::unique_ptr<BuiltScene> BackgroundCompiler::buildVariant(std::shared_ptr<con
   emit.view = static_cast<KernelView>(view);
   if (image_height_ > 0) emit.march.image_height = int(image_height_);
   const EmitResult emitted = emitGlsl(scene->scene, emit);
-  SpirvResult spv = glslToSpirv(emitted.glsl, ShaderStage::Fragment, scene->source->path + ".glsl",
-                                options_.optimize_spirv, options_.validate_spirv);
+  SpirvResult spv =
+      options_.spirv_cache
+          ? cachedGlslToSpirv(emitted.glsl, ShaderStage::Fragment, scene->source->path + ".glsl",
+                              options_.optimize_spirv, options_.validate_spirv, options_.cache_version)
+          : glslToSpirv(emitted.glsl, ShaderStage::Fragment, scene->source->path + ".glsl",
+                        options_.optimize_spirv, options_.validate_spirv);
   built->compile_seconds = std::chrono::duration<double>(Clock::now() - start).count();
   if (!spv.ok()) {
     std::fprintf(stderr, "sdfc: error: internal error: the %s kernel does not compile:\n%s\n",
@@ -151,10 +187,25 @@ std::unique_ptr<BuiltScene> BackgroundCompiler::buildVariant(std::shared_ptr<con
     return built;
   }
   createRenderer(*built, spv.words, emitted.scene_data, emitted.limits);
+  if (built->ok && options_.spirv_cache && !options_.validate_spirv && !spv.from_cache)
+    storeCachedSpirv(spv.cache_key, spv.words);
+  compileKernel(*built);
   return built;
 }
 
 void BackgroundCompiler::run() {
+  VkCommandPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
+  pool_info.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
+  pool_info.queueFamilyIndex = context_.queue_family;
+  if (vkCreateCommandPool(context_.device, &pool_info, nullptr, &pool_) != VK_SUCCESS) pool_ = VK_NULL_HANDLE;
+  struct DestroyPool {
+    const VulkanContext& context;
+    VkCommandPool& pool;
+    ~DestroyPool() {
+      if (pool) vkDestroyCommandPool(context.device, pool, nullptr);
+      pool = VK_NULL_HANDLE;
+    }
+  } destroy_pool{context_, pool_};
   for (;;) {
     Clock::time_point requested;
     bool reload = false;

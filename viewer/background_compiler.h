@@ -39,6 +39,9 @@ struct BuiltScene {
   // How long the build waited, after pipeline creation, for the SPIR-V
   // validation running beside it (CompileOptions::validate_spirv off).
   double validation_wait_seconds = 0;
+  // The first draw, on the worker (Renderer::compileKernel): the driver's
+  // compile of the kernel, done before the build is handed to the frame loop.
+  double kernel_compile_seconds = 0;
 };
 
 class BackgroundCompiler {
@@ -69,6 +72,9 @@ class BackgroundCompiler {
   // from the thread that uses the queue.
   std::vector<std::unique_ptr<BuiltScene>> take();
   bool busy() const;
+  // Starts no further build; true when one is under way on the worker (not
+  // merely queued or finished), which the destructor would then wait for.
+  bool stop();
 
  private:
   void run();
@@ -78,8 +84,11 @@ class BackgroundCompiler {
   // `limits`: the kernel's, for the camera-inside test (built.compiled's scene).
   void createRenderer(BuiltScene& built, const std::vector<uint32_t>& spirv,
                       const std::vector<float>& scene_data, const MarchLimits& limits);
+  // Draws the new kernel once (Renderer::compileKernel) with the worker's pool.
+  void compileKernel(BuiltScene& built);
 
   const VulkanContext& context_;
+  VkCommandPool pool_ = VK_NULL_HANDLE;  // the worker's own (a pool is externally synchronised)
   const CommandLine command_line_;
   const CompileOptions options_;
   mutable std::mutex mutex_;

@@ -1,5 +1,7 @@
 #include "swapchain.h"
 
+#include <chrono>
+
 #include <algorithm>
 #include <cstring>
 
@@ -158,6 +160,7 @@ void Swapchain::resize(uint32_t width, uint32_t height) {
 
 void Swapchain::destroy() {
   VkDevice device = context_.device;
+  const auto lock = lockQueue(context_);
   vkDeviceWaitIdle(device);
   if (staging_) vkDestroyBuffer(device, staging_, nullptr);
   if (staging_memory_) vkFreeMemory(device, staging_memory_, nullptr);
@@ -171,11 +174,18 @@ void Swapchain::destroy() {
 
 void Swapchain::present(const uint8_t* rgb, uint32_t width, uint32_t height) {
   VkDevice device = context_.device;
+  const auto lock = lockQueue(context_);
+  using Clock = std::chrono::steady_clock;
+  const auto ms = [](Clock::time_point a, Clock::time_point b) {
+    return std::chrono::duration<double, std::milli>(b - a).count();
+  };
+  times_ = {};
   if (stale_ || !swapchain_) {
     destroy();
     create();
     if (!swapchain_) return;
   }
+  const auto acquire_start = Clock::now();
   uint32_t index = 0;
   VkResult r = vkAcquireNextImageKHR(device, swapchain_, kWaitNs, VK_NULL_HANDLE, acquire_fence_,
                                      &index);
@@ -188,6 +198,8 @@ void Swapchain::present(const uint8_t* rgb, uint32_t width, uint32_t height) {
     throwVkError(r, "vkAcquireNextImageKHR", __FILE__, __LINE__);
   if (r == VK_SUBOPTIMAL_KHR) stale_ = true;
   waitFence(device, acquire_fence_);
+  const auto copy_start = Clock::now();
+  times_.acquire = ms(acquire_start, copy_start);
 
   // Rows into the staging buffer in the image's byte order; black where uncovered.
   const uint32_t w = extent_.width, h = extent_.height;
@@ -244,12 +256,15 @@ void Swapchain::present(const uint8_t* rgb, uint32_t width, uint32_t height) {
   submit.pCommandBuffers = &cmd;
   VK_CHECK(vkQueueSubmit(context_.queue, 1, &submit, copy_fence_));
   waitFence(device, copy_fence_);  // the copy is done: no semaphore needed for present
+  const auto present_start = Clock::now();
+  times_.copy = ms(copy_start, present_start);
 
   VkPresentInfoKHR present{VK_STRUCTURE_TYPE_PRESENT_INFO_KHR};
   present.swapchainCount = 1;
   present.pSwapchains = &swapchain_;
   present.pImageIndices = &index;
   r = vkQueuePresentKHR(context_.queue, &present);
+  times_.present = ms(present_start, Clock::now());
   if (r == VK_ERROR_OUT_OF_DATE_KHR || r == VK_SUBOPTIMAL_KHR)
     stale_ = true;
   else if (r != VK_SUCCESS)

@@ -28,6 +28,13 @@ class Swapchain {
   // The window's new size: the swapchain is made again, at it, before the next
   // present (as it is after VK_ERROR_OUT_OF_DATE_KHR or VK_SUBOPTIMAL_KHR).
   void resize(uint32_t width, uint32_t height);
+  // The last present()'s parts, in milliseconds (--timings, the frame log).
+  struct Times {
+    double acquire = 0;  // vkAcquireNextImageKHR and the wait for its image
+    double copy = 0;     // the bytes into staging, the copy's submission and its wait
+    double present = 0;  // vkQueuePresentKHR
+  };
+  const Times& lastTimes() const { return times_; }
   // Swapchains made so far (the first included): tests see a resize recreate it.
   uint32_t generation() const { return generation_; }
 
@@ -56,6 +63,7 @@ class Swapchain {
   VkFence acquire_fence_ = VK_NULL_HANDLE, copy_fence_ = VK_NULL_HANDLE;
   bool stale_ = false;  // out of date or suboptimal: recreate before the next frame
   uint32_t generation_ = 0;
+  Times times_;
 };
 
 }  // namespace sdfc::view

@@ -24,6 +24,9 @@
 #include "image_io.h"
 #include "scene_render.h"
 #include "script.h"
+#include "pipeline_cache.h"
+#include "spirv/spirv_cache.h"
+#include "stage_timings.h"
 #include "status.h"
 #include "swapchain.h"
 #include "vk_check.h"
@@ -103,6 +106,32 @@ struct AccumulationKey {
   }
 };
 
+// --timings: a second's frames, their parts summed, printed as means.
+struct FrameSplit {
+  Clock::time_point since = Clock::now();
+  int frames = 0;
+  double pass = 0, tone = 0, acquire = 0, copy = 0, present = 0, wait = 0;
+  void add(double pass_ms, double tone_ms, const Swapchain::Times& swap, double wait_ms) {
+    ++frames;
+    pass += pass_ms;
+    tone += tone_ms;
+    acquire += swap.acquire;
+    copy += swap.copy;
+    present += swap.present;
+    wait += wait_ms;
+  }
+  std::string line() const {
+    const double n = std::max(frames, 1);
+    char text[256];
+    std::snprintf(text, sizeof text,
+                  "sdfc: frames (mean of %d, ms): interval %.2f = pass %.2f + tone map %.2f + copy "
+                  "%.2f + acquire %.2f + present %.2f + wait %.2f",
+                  frames, (pass + tone + acquire + copy + present + wait) / n, pass / n, tone / n,
+                  copy / n, acquire / n, present / n, wait / n);
+    return text;
+  }
+};
+
 class Viewer : public InputHandler {
  public:
   explicit Viewer(const CommandLine& cl) : cl_(cl) {}
@@ -161,6 +190,7 @@ class Viewer : public InputHandler {
   FloatImage displayed_;
   std::vector<uint8_t> rgb_, upscaled_;
   RateMeter rate_;
+  FrameSplit split_;
   Status status_;
   Clock::time_point last_title_{};
   std::optional<Clock::time_point> played_until_;  // when time_ last advanced while playing
@@ -222,24 +252,39 @@ void Viewer::open() {
   width_ = std::clamp<uint32_t>(width_, 16, 4096);
   height_ = std::clamp<uint32_t>(height_, 16, 4096);
 
+  const auto window_start = Clock::now();
   window_ = std::make_unique<Window>(int(width_), int(height_),
                                      "sdfc view: " + cl_.input + " | compiling", this);
+  const auto device_start = Clock::now();
   ContextOptions options;
   options.device_index = cl_.device;
   options.instance_extensions = Window::requiredInstanceExtensions();
   options.device_extensions = {VK_KHR_SWAPCHAIN_EXTENSION_NAME};
   createContext(context_, options);
   context_created_ = true;
+  const auto swapchain_start = Clock::now();
   surface_ = window_->createSurface(context_.instance);
   swapchain_ = std::make_unique<Swapchain>(context_, surface_, width_, height_);
+  if (cl_.stage_timings)
+    std::fprintf(stderr,
+                 "sdfc: timings (ms): process start to main %.0f, to the window %.1f, window %.1f, "
+                 "device creation %.1f, swapchain %.1f\n",
+                 processStartToMainSeconds() * 1000,
+                 secondsSinceMain() * 1000 - msBetween(window_start, Clock::now()),
+                 msBetween(window_start, device_start), msBetween(device_start, swapchain_start),
+                 msBetween(swapchain_start, Clock::now()));
 
   CompileOptions compile = compileOptionsFrom(cl_);
+  if (!cl_.no_cache) setPipelineCacheDirectory(sdfcCacheDirectory());
   compile.emit.march.image_height = int(height_);
   // As `render`: lavapipe runs both sides of a branch, so bound checks only cost.
   if (context_.properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU && !cl_.force_bounds)
     compile.emit.bounding_volumes = false;
   // SPIR-V is validated beside pipeline creation, off the save's critical path.
   compile.validate_spirv = false;
+  // Before the worker exists: a present waits for the queue, which the worker
+  // holds while the driver compiles a kernel.
+  presentBlack();
   compiler_ = std::make_unique<BackgroundCompiler>(context_, cl_, compile);
   view_ = viewFromName(cl_.view);
   compiler_->setView(view_);
@@ -343,6 +388,7 @@ bool Viewer::drawFrame() {
   } else {
     played_until_.reset();
   }
+  const Clock::time_point previous_frame_end = last_frame_end_;
 
   AccumulationKey key{scene_generation_, camera_generation, view_, moving ? preview_scale_ : 1,
                       width_, height_, compiled.scene.uses_time ? time_ : 0.0};
@@ -393,16 +439,32 @@ bool Viewer::drawFrame() {
     if (last_frame_ms_ > kPreviewSlowMs && preview_scale_ < kMaxPreviewScale) ++preview_scale_;
     if (last_frame_ms_ < kPreviewFastMs && preview_scale_ > kMinPreviewScale) --preview_scale_;
   }
+  // The frame's split (--timings, the frame log): the pass, the mean and tone
+  // map, the swapchain's acquire, copy and present, and the wait since the last
+  // frame (input, the title, idle sleeps).
+  const Swapchain::Times& swap = swapchain_->lastTimes();
+  const double wait_ms =
+      last_frame_end_ != Clock::time_point{} && frames_ > 1 ? msBetween(previous_frame_end, frame_start) : 0;
+  if (cl_.stage_timings) {
+    split_.add(msBetween(frame_start, rendered), msBetween(rendered, shaded), swap, wait_ms);
+    if (msBetween(split_.since, frame_end) >= 1000) {
+      std::fprintf(stderr, "%s\n", split_.line().c_str());
+      split_ = FrameSplit{};
+      split_.since = frame_end;
+    }
+  }
   if (frame_log_.is_open()) {
-    char line[320];
+    char line[384];
     std::snprintf(line, sizeof line,
                   "frame %" PRIu64 " t_ms %.1f scene %" PRIu64 " camera %" PRIu64
                   " res %ux%u spp %u view %s moving %d ms %.1f render_ms %.1f display_ms %.1f"
-                  " present_ms %.1f hash %016" PRIx64 " time %.4f\n",
+                  " present_ms %.1f acquire_ms %.2f copy_ms %.2f queue_present_ms %.2f wait_ms %.2f"
+                  " hash %016" PRIx64 " time %.4f\n",
                   frames_, msBetween(start_, frame_end), scene_generation_, camera_generation,
                   acc_->width, acc_->height, acc_->samples_done, kViewNames[view_], moving ? 1 : 0,
                   last_frame_ms_, msBetween(frame_start, rendered), msBetween(rendered, shaded),
-                  msBetween(shaded, frame_end), fnv1a(*shown), key.time);
+                  msBetween(shaded, frame_end), swap.acquire, swap.copy, swap.present, wait_ms,
+                  fnv1a(*shown), key.time);
     frame_log_ << line << std::flush;
   }
   if (reload_unpresented_) {
@@ -412,11 +474,12 @@ bool Viewer::drawFrame() {
     script_write_.reset();
     char line[256];
     std::snprintf(line, sizeof line,
-                  "save-to-image %.0f ms (compile %.0f ms, pipeline %.0f ms, first frame %.0f ms at "
-                  "%ux%u; waited %.0f ms for SPIR-V validation)",
+                  "save-to-image %.0f ms (compile %.0f ms, pipeline %.0f ms, kernel compile at the "
+                  "first draw %.0f ms, first frame %.0f ms at %ux%u; waited %.0f ms for SPIR-V "
+                  "validation)",
                   msBetween(since, frame_end), active_->compile_seconds * 1000,
-                  active_->pipeline_seconds * 1000, last_frame_ms_, acc_->width, acc_->height,
-                  active_->validation_wait_seconds * 1000);
+                  active_->pipeline_seconds * 1000, active_->kernel_compile_seconds * 1000,
+                  last_frame_ms_, acc_->width, acc_->height, active_->validation_wait_seconds * 1000);
     std::fprintf(stderr, "sdfc: %s %s\n", scene_generation_ == 1 ? "loaded:" : "reloaded:", line);
     logEvent(std::string("reload ok ") + line);
   }
@@ -635,7 +698,6 @@ int Viewer::run() {
     if (!frame_log_) throw std::runtime_error("cannot write '" + cl_.frame_log + "'");
   }
   open();
-  presentBlack();
   wait_since_ = Clock::now();
   while (!quit_ && !window_->shouldClose()) {
     window_->pollEvents();
@@ -644,21 +706,37 @@ int Viewer::run() {
     }
     if (quit_) break;
     compiler_->setView(view_);  // what the next reload builds
-    for (std::unique_ptr<BuiltScene>& built : compiler_->take()) swapIn(std::move(built));
-    const bool sized = followWindowSize();
-    const bool drew = active_ && sized ? drawFrame() : false;
+    bool drew = false;
+    // While the worker has the queue (the driver compiling a new kernel at its
+    // first draw), this frame is skipped: the window keeps the last image and
+    // input, Q included, is still read.
+    std::unique_lock<std::recursive_mutex> queue(*context_.queue_lock, std::try_to_lock);
+    if (queue.owns_lock()) {
+      for (std::unique_ptr<BuiltScene>& built : compiler_->take()) swapIn(std::move(built));
+      const bool sized = followWindowSize();
+      drew = active_ && sized ? drawFrame() : false;
+      queue.unlock();
+    }
     ++iterations_;
     updateTitle(false);
-    // Idle (converged, or waiting for the first build): sleep on input, not spin.
+    // Idle (converged, waiting for a build, or the queue busy): sleep on input, not spin.
     if (!drew) window_->waitEvents(0.01);
   }
   logEvent("quit");
   const int messages = validationMessageCount();
-  if (context_.validation_enabled && messages > 0) {
-    std::fprintf(stderr, "sdfc: %d Vulkan validation messages\n", messages);
-    return kExitDevice;
+  const int code = context_.validation_enabled && messages > 0 ? kExitDevice : kExitOk;
+  if (code != kExitOk) std::fprintf(stderr, "sdfc: %d Vulkan validation messages\n", messages);
+  if (compiler_->stop()) {
+    // A build is under way (glslang, or the driver's compile, which cannot be
+    // cancelled and may take seconds): quit now instead of joining it. Nothing
+    // on disk depends on it (cache entries are written by rename).
+    std::fprintf(stderr, "sdfc: quit during a build; not waiting for it\n");
+    if (frame_log_.is_open()) frame_log_.flush();
+    std::fflush(stdout);
+    std::fflush(stderr);
+    std::_Exit(code);
   }
-  return kExitOk;
+  return code;
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 
 #include "passes/passes.h"
 #include "spirv/glsl_to_spirv.h"
+#include "spirv/spirv_cache.h"
 #include "syntax/parser.h"
 
 namespace sdfc {
@@ -91,9 +92,16 @@ CompiledScene compileSource(const std::string& path, std::string text, const Com
   out.times.emit = secondsSince(t0);
   if (options.produce_spirv) {
     t0 = std::chrono::steady_clock::now();
-    SpirvResult spv = glslToSpirv(out.emitted.glsl, ShaderStage::Fragment, path + ".glsl",
-                                  options.optimize_spirv, options.validate_spirv);
+    SpirvResult spv =
+        options.spirv_cache
+            ? cachedGlslToSpirv(out.emitted.glsl, ShaderStage::Fragment, path + ".glsl",
+                                options.optimize_spirv, options.validate_spirv, options.cache_version)
+            : glslToSpirv(out.emitted.glsl, ShaderStage::Fragment, path + ".glsl",
+                          options.optimize_spirv, options.validate_spirv);
     out.times.spirv = secondsSince(t0);
+    out.times.validate = spv.validate_seconds;
+    out.times.spirv_cached = spv.from_cache;
+    out.spirv_cache_key = spv.cache_key;
     if (!spv.ok()) {
       // A shader the compiler wrote that glslang rejects is a compiler bug;
       // say so, with glslang's words.

@@ -25,10 +25,19 @@ struct CompileOptions {
   // false: SPIR-V comes out unvalidated and the caller runs validateSpirv
   // before it reaches a driver (sdfc view, alongside pipeline creation).
   bool validate_spirv = true;
+  // The on-disk SPIR-V cache (spirv/spirv_cache.h); off unless a front end asks
+  // (the command line does, unless --no-cache), so a library user or a test
+  // never touches a user's cache. `cache_version` (sdfc's) is part of the key.
+  bool spirv_cache = false;
+  std::string cache_version;
 };
 
 struct StageTimes {
-  double parse = 0, check = 0, passes = 0, emit = 0, spirv = 0;
+  // spirv: glslang with validation (or the cache lookup); validate: the part of
+  // it the validator took.
+  double parse = 0, check = 0, passes = 0, emit = 0, spirv = 0, validate = 0;
+  bool spirv_cached = false;  // the SPIR-V came from the on-disk cache
+  double device_emit = 0;     // `render`: emitted again for a GPU once the device was known
   double total() const { return parse + check + passes + emit + spirv; }
 };
 
@@ -37,6 +46,7 @@ struct CompiledScene {
   ir::Scene scene;
   EmitResult emitted;
   std::vector<std::uint32_t> spirv;
+  std::string spirv_cache_key;  // with CompileOptions::spirv_cache: the entry's key
   StageTimes times;
   bool ok = false;  // no errors and (if asked) SPIR-V produced
 };

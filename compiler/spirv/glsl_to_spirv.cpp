@@ -6,6 +6,7 @@
 #include <spirv-tools/libspirv.hpp>
 #include <spirv-tools/optimizer.hpp>
 
+#include <chrono>
 #include <mutex>
 
 namespace sdfc {
@@ -27,6 +28,7 @@ EShLanguage toGlslang(ShaderStage stage) {
 SpirvResult glslToSpirv(const std::string& source, ShaderStage stage, const std::string& name,
                         bool optimize, bool validate) {
   ensureGlslangInitialized();
+  const auto start = std::chrono::steady_clock::now();
   SpirvResult result;
   const EShLanguage lang = toGlslang(stage);
   glslang::TShader shader(lang);
@@ -61,8 +63,12 @@ SpirvResult glslToSpirv(const std::string& source, ShaderStage stage, const std:
     std::vector<std::uint32_t> optimized;
     if (opt.Run(words.data(), words.size(), &optimized)) words.swap(optimized);
   }
+  const auto compiled = std::chrono::steady_clock::now();
+  result.compile_seconds = std::chrono::duration<double>(compiled - start).count();
   if (validate) {
     const std::string errors = validateSpirv(words);
+    result.validate_seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - compiled).count();
     if (!errors.empty()) {
       result.log += errors;
       return result;

@@ -12,6 +12,10 @@ enum class ShaderStage { Vertex, Fragment };
 struct SpirvResult {
   std::vector<std::uint32_t> words;  // empty on failure
   std::string log;                   // glslang / validator messages
+  double compile_seconds = 0;        // glslang (and spirv-opt)
+  double validate_seconds = 0;       // SPIRV-Tools' validator (0 when not run)
+  bool from_cache = false;           // cachedGlslToSpirv: the words came from disk
+  std::string cache_key;             // cachedGlslToSpirv: the entry's key
   bool ok() const { return !words.empty(); }
 };
 
