@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "format/same_tokens.h"
 #include "syntax/parser.h"
 
 // Layout rules (docs/editors.md lists them for users):
@@ -234,6 +235,7 @@ class Printer {
   void bare(const ast::Expr& e) {
     switch (e.kind) {
       case ast::ExprKind::Number:
+      case ast::ExprKind::String:  // both as written: a number's spelling, a string's quotes and bytes
         write(src_.substr(e.range.begin, e.range.end - e.range.begin), e.range.begin, e.range.end);
         break;
       case ast::ExprKind::Name:
@@ -256,7 +258,12 @@ class Printer {
         break;
       }
       case ast::ExprKind::Member: {
-        expr(*e.operands[0]);
+        const ast::Expr& operand = *e.operands[0];
+        expr(operand);
+        // "1 .x" stays apart: "1.x" would lex as one malformed number.
+        if (!operand.paren_range.file && operand.kind == ast::ExprKind::Number &&
+            src_.find_first_not_of("0123456789", operand.range.begin) >= operand.range.end)
+          raw(" ");
         const size_t dot = nextToken(fullEnd(*e.operands[0]));
         write(".", dot, dot + 1);
         write(e.name, e.name_range.begin, e.name_range.end);
@@ -372,7 +379,16 @@ std::optional<std::string> formatSource(const SourceFile& file, Diagnostics& dia
   const int errors_before = diags.errorCount();
   ast::File tree = parse(file, diags, &comments);
   if (diags.errorCount() > errors_before) return std::nullopt;
-  return Printer(file, std::move(comments)).run(tree);
+  std::string out = Printer(file, std::move(comments)).run(tree);
+  // The contract checked on every run: a layout bug must never cost a user
+  // their text (fmt -w and the editor write the result over the file).
+  const std::string difference = tokenDifference(file, SourceFile(file.path, out));
+  if (!difference.empty()) {
+    diags.error({}, "internal error: formatting " + file.path + " would change its text (" + difference +
+                        "); the file is left as it is");
+    return std::nullopt;
+  }
+  return out;
 }
 
 }  // namespace sdfc
