@@ -13,6 +13,13 @@
 
 namespace sdfc {
 
+// The instances' data (records, grid, hierarchy: EmitResult::scene_data) is
+// one storage buffer, and 2^27 bytes is the maxStorageBufferRange Vulkan
+// guarantees on every device (lavapipe reports exactly that). `check`,
+// `compile` and everything else refuse more, so a scene that checks renders
+// on any device; docs/language.md gives what fits (about a million spheres).
+constexpr size_t kMaxSceneDataBytes = size_t(1) << 27;
+
 struct CompileOptions {
   CheckOptions check;
   EmitOptions emit;
@@ -23,6 +30,8 @@ struct CompileOptions {
   // false: SPIR-V comes out unvalidated and the caller runs validateSpirv
   // before it reaches a driver (sdfc view, alongside pipeline creation).
   bool validate_spirv = true;
+  // kMaxSceneDataBytes; lower only in tests (a small scene then meets it).
+  size_t max_scene_data_bytes = kMaxSceneDataBytes;
 };
 
 struct StageTimes {
