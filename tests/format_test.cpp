@@ -13,7 +13,6 @@
 #include <sstream>
 
 #include "format/formatter.h"
-#include "format/same_tokens.h"
 #include "syntax/lexer.h"
 #include "syntax/parser.h"
 
