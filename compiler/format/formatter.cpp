@@ -13,7 +13,7 @@
 //  - a block stays on one line when it was written on one line and holds no
 //    comment; otherwise one child a line;
 //  - an argument list or vector holding a comment is broken one item a line
-//    with a trailing comma; parentheses are kept as written (one level);
+//    with a trailing comma; parentheses are kept as written, every level;
 //  - `;` only where the next item would otherwise continue this one (it
 //    starts with '(' or '-'); numbers keep their spelling;
 //  - comments keep their place: at the end of a line or on their own line.
@@ -34,7 +34,11 @@ class Printer {
         write("let", s.range.begin, s.range.begin + 3);
         raw(" ");
         write(s.name, s.name_range.begin, s.name_range.end);
-        raw(" = ");
+        // '=' and ':' at their source places, so a comment before them stays there.
+        const size_t equals = nextToken(s.name_range.end);
+        raw(" ");
+        write("=", equals, equals + 1);
+        raw(" ");
       }
       expr(*s.value);
       if (i + 1 < file.statements.size() && !file.statements[i + 1].is_let &&
@@ -226,10 +230,30 @@ class Printer {
     }
   }
 
+  // Where `e` begins and ends inside its own parentheses.
+  static size_t bareBegin(const ast::Expr& e) {
+    if ((e.kind == ast::ExprKind::Binary || e.kind == ast::ExprKind::Member) && !e.operands.empty())
+      return fullBegin(*e.operands[0]);
+    return e.range.begin;
+  }
+  static size_t bareEnd(const ast::Expr& e) {
+    if ((e.kind == ast::ExprKind::Binary || e.kind == ast::ExprKind::Unary) && !e.operands.empty())
+      return fullEnd(*e.operands.back());
+    return e.range.end;
+  }
+
   void expr(const ast::Expr& e) {
-    if (e.paren_range.file) write("(", e.paren_range.begin, e.paren_range.begin + 1);
+    if (!e.paren_range.file) {
+      bare(e);
+      return;
+    }
+    // Every level as written: "((a))" stays, formatting changes only spaces.
+    int levels = 0;
+    for (size_t p = e.paren_range.begin; p < bareBegin(e) && src_[p] == '('; p = nextToken(p + 1), ++levels)
+      write("(", p, p + 1);
     bare(e);
-    if (e.paren_range.file) write(")", e.paren_range.end - 1, e.paren_range.end);
+    for (size_t p = nextToken(bareEnd(e)); levels > 0 && p < e.paren_range.end; p = nextToken(p + 1), --levels)
+      write(")", p, p + 1);
   }
 
   void bare(const ast::Expr& e) {
@@ -312,8 +336,8 @@ class Printer {
 
   void call(const ast::Expr& e) {
     write(e.name, e.name_range.begin, e.name_range.end);
-    if (!e.arguments.empty() || !e.has_block) {
-      const size_t open = nextToken(e.name_range.end);
+    const size_t open = nextToken(e.name_range.end);
+    if (open < src_.size() && src_[open] == '(') {  // "union() { ... }" keeps its "()"
       size_t close = open + 1;
       if (!e.arguments.empty()) close = nextToken(fullEnd(*e.arguments.back().value));
       if (close < src_.size() && src_[close] == ',') close = nextToken(close + 1);
@@ -328,7 +352,9 @@ class Printer {
              const ast::Argument& a = e.arguments[i];
              if (!a.name.empty()) {
                write(a.name, a.name_range.begin, a.name_range.end);
-               raw(": ");
+               const size_t colon = nextToken(a.name_range.end);
+               write(":", colon, colon + 1);
+               raw(" ");
              }
              expr(*a.value);
            });

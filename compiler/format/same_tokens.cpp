@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "syntax/lexer.h"
+#include "syntax/parser.h"
 
 namespace sdfc {
 namespace {
@@ -26,7 +27,7 @@ std::vector<Item> items(const SourceFile& file) {
   for (size_t i = 0; i < tokens.size(); ++i) {
     const TokenKind kind = tokens[i].kind;
     const TokenKind next = i + 1 < tokens.size() ? tokens[i + 1].kind : TokenKind::EndOfFile;
-    if (kind == TokenKind::Semicolon && next != TokenKind::LeftParen && next != TokenKind::Minus) continue;
+    if (kind == TokenKind::Semicolon) continue;
     if (kind == TokenKind::Comma && (next == TokenKind::RightParen || next == TokenKind::RightBracket)) continue;
     all.push_back({tokens[i].text, tokens[i].range.begin, kind == TokenKind::Comma || kind == TokenKind::Semicolon});
   }
@@ -46,6 +47,20 @@ std::vector<Item> items(const SourceFile& file) {
   return out;
 }
 
+void shapeOf(const ast::Expr& e, std::string& out) {
+  out += std::to_string(static_cast<int>(e.kind));
+  if (e.op) out += e.op;
+  out += e.name + (e.has_block ? "{" : "(");
+  for (const ast::ExprPtr& o : e.operands) shapeOf(*o, out);
+  for (const ast::Argument& a : e.arguments) {
+    out += a.name + ":";
+    shapeOf(*a.value, out);
+  }
+  out += "|";
+  for (const ast::ExprPtr& c : e.children) shapeOf(*c, out);
+  out += ")";
+}
+
 std::string shown(const SourceFile& file, const std::vector<Item>& list, size_t i) {
   if (i >= list.size()) return "the end of the file";
   std::string text(list[i].text.substr(0, 40));
@@ -55,12 +70,26 @@ std::string shown(const SourceFile& file, const std::vector<Item>& list, size_t 
 
 }  // namespace
 
+std::string syntaxShape(const SourceFile& file) {
+  Diagnostics diags;
+  const ast::File tree = parse(file, diags);
+  if (diags.hasErrors()) return "";
+  std::string out;
+  for (const ast::Statement& s : tree.statements) {
+    out += s.is_let ? "let " + s.name + "=" : "";
+    shapeOf(*s.value, out);
+    out += "\n";
+  }
+  return out;
+}
+
 std::string tokenDifference(const SourceFile& before, const SourceFile& after) {
   const std::vector<Item> a = items(before), b = items(after);
   size_t i = 0;
   while (i < a.size() && i < b.size() && a[i].text == b[i].text) ++i;
-  if (i == a.size() && i == b.size()) return "";
-  return shown(before, a, i) + " became " + shown(after, b, i);
+  if (i < a.size() || i < b.size()) return shown(before, a, i) + " became " + shown(after, b, i);
+  if (syntaxShape(before) != syntaxShape(after)) return "the same tokens, grouped differently";
+  return "";
 }
 
 }  // namespace sdfc
