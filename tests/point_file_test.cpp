@@ -23,7 +23,9 @@ namespace {
 namespace fs = std::filesystem;
 
 fs::path testDir() {
-  const fs::path dir = fs::path(testing::TempDir()) / "sdfc point files";  // a space, as users have
+  // One per test (CTest runs them in parallel); a space, as users have.
+  const fs::path dir = fs::path(testing::TempDir()) /
+                       ("sdfc point files " + std::string(testing::UnitTest::GetInstance()->current_test_info()->name()));
   fs::create_directories(dir);
   return dir;
 }
