@@ -9,6 +9,7 @@
 #include "cli_support.h"
 #include "commands.h"
 #include "format/formatter.h"
+#include "rewrite_file.h"
 
 namespace sdfc {
 
@@ -44,7 +45,14 @@ int runFmt(const CommandLine& cl) {
         exit_code = std::max(exit_code, kExitScene);
       }
     } else if (cl.write_in_place && path != "-") {
-      if (changed) writeFileAtomically(path, *formatted);
+      // Not writeFileAtomically: a rename over `path` would turn a symlink
+      // into a plain file, split hard links and reset the mode.
+      try {
+        if (changed) rewriteFileKeepingIdentity(path, *formatted);
+      } catch (const FileWriteError& e) {  // the other files are still formatted
+        std::cerr << "sdfc: error: " << e.what() << "\n";
+        exit_code = std::max(exit_code, kExitIo);
+      }
     } else {
       std::cout << *formatted;
     }

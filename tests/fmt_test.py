@@ -7,6 +7,9 @@ For each file that parses:
   - formatting never changes meaning: `sdfc compile --emit ir` prints the same
     dump before and after (line numbers aside), or the same error messages;
 and the examples and docs snippets are already formatted (`fmt --check`).
+Then the command line itself: strings survive `fmt` and `fmt -w`, and `fmt -w`
+writes through a symlink to its target, keeps hard links and the file's mode.
+(tests/format_test.cpp checks the token contract on every token kind.)
 Usage: fmt_test.py SDFC SOURCE_DIR
 """
 import glob
@@ -33,8 +36,9 @@ def fmt(data):
 
 def comments(data):
     # Comment texts in order, by the lexer's rules: a line comment ends at LF or
-    # at a lone CR (strings do not exist in .sdf).
-    return re.findall(rb"//[^\n\r]*?(?=[ \t]*(?:\r|\n|$))|/\*.*?\*/", data, re.S)
+    # at a lone CR; strings (on one line, no escapes) may hold "//" or "/*".
+    return [m.group(1) for m in re.finditer(
+        rb'"[^"\n]*"|(//[^\n\r]*?(?=[ \t]*(?:\r|\n|$))|/\*.*?\*/)', data, re.S) if m.group(1)]
 
 
 def meaning(data, tmp):
@@ -82,6 +86,43 @@ with tempfile.TemporaryDirectory() as tmp:
     for path in sorted(glob.glob(os.path.join(root, "fuzz", "corpus", "*")) +
                        glob.glob(os.path.join(root, "fuzz", "regressions", "*.sdf"))):
         check(os.path.relpath(path, root), open(path, "rb").read(), False, tmp)
+
+def expect(name, condition):
+    if not condition:
+        failures.append(name)
+
+
+# The command line: strings kept, and `fmt -w` keeps the file what it was.
+messy = b'scene{instances(positions:file("my points.csv")){sphere(radius:0.1)}}\n'
+tidy = b'scene { instances(positions: file("my points.csv")) { sphere(radius: 0.1) } }\n'
+expect("fmt keeps a string", fmt(messy) == tidy)
+with tempfile.TemporaryDirectory() as tmp:
+    real = os.path.join(tmp, "real dir", "scene.sdf")
+    os.makedirs(os.path.dirname(real))
+    with open(real, "wb") as f:
+        f.write(messy)
+    os.chmod(real, 0o640)
+    link = os.path.join(tmp, "link.sdf")
+    os.symlink(os.path.join("real dir", "scene.sdf"), link)
+    hard = os.path.join(tmp, "hard.sdf")
+    os.link(real, hard)
+    inode = os.stat(real).st_ino
+    rc, _, err = run(["fmt", "-w", link])
+    expect(f"fmt -w through a symlink exits 0 ({rc}, {err!r})", rc == 0)
+    expect("fmt -w keeps the symlink a symlink", os.path.islink(link))
+    expect("fmt -w writes the symlink's target", open(real, "rb").read() == tidy)
+    expect("fmt -w keeps hard links (the other name sees the new text)", open(hard, "rb").read() == tidy)
+    expect("fmt -w keeps the inode", os.stat(real).st_ino == inode and os.stat(real).st_nlink == 2)
+    expect(f"fmt -w keeps the mode ({oct(os.stat(real).st_mode)})", os.stat(real).st_mode & 0o7777 == 0o640)
+    # One link: through a temporary and a rename, with the mode kept.
+    os.unlink(hard)
+    with open(real, "wb") as f:
+        f.write(messy)
+    os.chmod(real, 0o600)
+    rc, _, err = run(["fmt", "-w", real])
+    expect(f"fmt -w exits 0 ({rc}, {err!r})", rc == 0 and open(real, "rb").read() == tidy)
+    expect(f"fmt -w keeps mode 0600 ({oct(os.stat(real).st_mode)})", os.stat(real).st_mode & 0o7777 == 0o600)
+    expect("fmt -w leaves no temporary", sorted(os.listdir(os.path.dirname(real))) == ["scene.sdf"])
 
 for f in failures:
     print("FAIL", f)

@@ -116,6 +116,11 @@ c.notify("textDocument/didChange", {"textDocument": {"uri": uri, "version": 4}, 
 r = c.request("textDocument/formatting", {**doc, "options": {"tabSize": 2, "insertSpaces": True}})["result"]
 want = subprocess.run([sdfc, "fmt"], input=messy, capture_output=True, text=True).stdout
 check("formatting equals sdfc fmt", r and r[0]["newText"] == want, r)
+# Strings survive formatting (they were deleted: file("p.csv") became file()).
+messy = 'scene{instances(positions:file("my points.csv")){sphere(radius:0.1)}}\n'
+c.notify("textDocument/didChange", {"textDocument": {"uri": uri, "version": 5}, "contentChanges": [{"text": messy}]})
+r = c.request("textDocument/formatting", {**doc, "options": {"tabSize": 2, "insertSpaces": True}})["result"]
+check("formatting keeps strings", r and 'file("my points.csv")' in r[0]["newText"], r)
 
 # Malformed and out-of-order messages: protocol errors, never a crash.
 c.send_raw(b"{not json")

@@ -901,15 +901,21 @@ class Checker {
       const std::string path = resolveBesides(source_.path, name.name);
       PointFile file = readPointFile(path);
       if (!file.readable) {
-        diags_.error(name.range, "cannot read '" + path + "'");
+        diags_.error(name.range, "cannot read '" + path + "': " + file.unreadable_reason);
         return false;
       }
       if (file.bad_rows > 0) {
-        std::string message = "'" + name.name + "' has " + std::to_string(file.bad_rows) + " bad row" +
-                              (file.bad_rows == 1 ? "" : "s") + ": " + file.errors[0];
-        Diagnostic& d = diags_.error(name.range, message);
-        for (size_t i = 1; i < file.errors.size(); ++i)
-          d.notes.push_back({Severity::Note, name.range, file.errors[i], {}});
+        // Each bad field at its place in the CSV (file:line:col, its line and a
+        // caret), with a note at the file(...) that read it.
+        const SourceFile& csv = diags_.keep(std::make_unique<SourceFile>(path, std::move(file.text)));
+        for (const PointFileError& bad : file.errors) {
+          Diagnostic& d = diags_.error({&csv, bad.begin, bad.end}, bad.message);
+          d.notes.push_back({Severity::Note, name.range, "in the positions read from '" + name.name + "' here", {}});
+        }
+        if (file.bad_rows > file.errors.size())
+          diags_.error(name.range, "'" + name.name + "' has " + std::to_string(file.bad_rows) +
+                                       " bad rows; the first " + std::to_string(file.errors.size()) +
+                                       " are shown");
         return false;
       }
       if (file.rows.empty()) {

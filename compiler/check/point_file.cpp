@@ -1,10 +1,15 @@
 #include "check/point_file.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
-#include <fstream>
+#include <cstring>
+#include <fcntl.h>
+#include <limits>
 #include <sstream>
+#include <sys/stat.h>
+#include <unistd.h>
 
 namespace sdfc {
 
@@ -17,83 +22,198 @@ std::string resolveBesides(const std::string& sdf_path, const std::string& relat
 
 namespace {
 
-bool isSeparator(char c) { return c == ',' || c == ';' || c == ' ' || c == '\t' || c == '\r'; }
+bool isBlank(char c) { return c == ' ' || c == '\t' || c == '\r'; }
+bool isDelimiter(char c) { return c == ',' || c == ';'; }
+bool isDigit(char c) { return c >= '0' && c <= '9'; }
+
+// A decimal number as the language writes it (syntax/lexer.cpp), with an
+// optional sign: digits with an optional fraction, or a fraction alone, then
+// an optional exponent. Not hex (0x10), inf, nan or a dangling "1.5e".
+bool isDecimalNumber(const std::string& s, size_t b, size_t e) {
+  size_t i = b;
+  if (i < e && (s[i] == '+' || s[i] == '-')) ++i;
+  size_t digits = 0;
+  while (i < e && isDigit(s[i])) ++i, ++digits;
+  if (i < e && s[i] == '.') {
+    ++i;
+    while (i < e && isDigit(s[i])) ++i, ++digits;
+  }
+  if (digits == 0) return false;
+  if (i < e && (s[i] == 'e' || s[i] == 'E')) {
+    ++i;
+    if (i < e && (s[i] == '+' || s[i] == '-')) ++i;
+    size_t exponent = 0;
+    while (i < e && isDigit(s[i])) ++i, ++exponent;
+    if (exponent == 0) return false;
+  }
+  return i == e;
+}
+
+// Whether a field looks meant as a number ("1.5e", "0x10", "-.5q"): such a
+// field in a first row makes it data, not a header.
+bool startsLikeNumber(const std::string& s, size_t b, size_t e) {
+  size_t i = b;
+  if (i < e && (s[i] == '+' || s[i] == '-')) ++i;
+  if (i < e && s[i] == '.') ++i;
+  return i < e && isDigit(s[i]);
+}
+
+std::string formatNumber(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
+struct Field {
+  size_t begin, end;
+};
+
+// Reads the whole regular file at `path` (at most kMaxPointFileBytes) into
+// `out.text`, or says why not in `out.unreadable_reason`.
+bool readRegularFile(const std::string& path, PointFile& out) {
+  // O_NONBLOCK: opening a FIFO for reading would wait for a writer.
+  const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0) {
+    out.unreadable_reason = std::strerror(errno);
+    return false;
+  }
+  struct stat st;
+  std::string why;
+  if (::fstat(fd, &st) != 0) why = std::strerror(errno);
+  else if (S_ISDIR(st.st_mode)) why = "it is a directory";
+  else if (!S_ISREG(st.st_mode)) why = "it is not a regular file (a FIFO, device or socket)";
+  else if (static_cast<unsigned long long>(st.st_size) > kMaxPointFileBytes)
+    why = std::to_string(st.st_size) + " bytes, at most " + std::to_string(kMaxPointFileBytes >> 20) + " MiB";
+  std::string text;
+  char buffer[1 << 16];
+  while (why.empty()) {
+    const ssize_t n = ::read(fd, buffer, sizeof buffer);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) why = std::strerror(errno);
+    if (n <= 0) break;
+    text.append(buffer, static_cast<size_t>(n));
+    if (text.size() > kMaxPointFileBytes)  // grew while read
+      why = "more than " + std::to_string(kMaxPointFileBytes >> 20) + " MiB";
+  }
+  ::close(fd);
+  if (!why.empty()) {
+    out.unreadable_reason = why;
+    return false;
+  }
+  out.text = std::move(text);
+  return true;
+}
 
 }  // namespace
 
 PointFile readPointFile(const std::string& path) {
   PointFile out;
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return out;
+  if (!readRegularFile(path, out)) return out;
   out.readable = true;
-  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  size_t line_start = 0;
-  int line = 0;
+  const std::string& text = out.text;
+  constexpr double kFloatMax = std::numeric_limits<float>::max();
   bool seen_data = false;
-  auto bad = [&](const std::string& message) {
-    if (out.errors.size() < kMaxPointFileErrors)
-      out.errors.push_back("line " + std::to_string(line) + ": " + message);
+  auto bad = [&](size_t begin, size_t end, std::string message) {
+    if (out.errors.size() < kMaxPointFileErrors) out.errors.push_back({begin, end, std::move(message)});
     ++out.bad_rows;
   };
+  size_t line_start = 0;
+  std::vector<Field> fields;
   while (line_start < text.size()) {
-    size_t end = text.find('\n', line_start);
-    if (end == std::string::npos) end = text.size();
-    ++line;
+    size_t stop = text.find('\n', line_start);
+    if (stop == std::string::npos) stop = text.size();
     size_t i = line_start;
-    const size_t stop = end;
-    line_start = end + 1;
-    while (i < stop && isSeparator(text[i])) ++i;
+    line_start = stop + 1;
+    while (stop > i && text[stop - 1] == '\r') --stop;
+    while (i < stop && isBlank(text[i])) ++i;
     if (i == stop || text[i] == '#') continue;
-    double values[5];
-    int count = 0;
-    bool numeric = true;
-    std::string junk;
-    while (i < stop) {
-      const char* begin = text.c_str() + i;
-      char* after = nullptr;
-      errno = 0;
-      const double v = std::strtod(begin, &after);
-      const size_t used = static_cast<size_t>(after - begin);
-      if (used == 0 || (i + used < stop && !isSeparator(text[i + used]))) {
-        size_t j = i;
-        while (j < stop && !isSeparator(text[j])) ++j;
-        junk = text.substr(i, j - i);
-        numeric = false;
-        break;
+    const size_t row_begin = i;
+    size_t row_end = stop;
+    while (row_end > row_begin && isBlank(text[row_end - 1])) --row_end;
+    // Fields: between ',' or ';' (blanks around them trimmed), or, on a line
+    // with neither, between runs of blanks.
+    fields.clear();
+    bool delimited = false;
+    for (size_t k = row_begin; k < row_end; ++k) delimited = delimited || isDelimiter(text[k]);
+    if (delimited) {
+      size_t b = row_begin;
+      for (;;) {
+        size_t e = b;
+        while (e < row_end && !isDelimiter(text[e])) ++e;
+        size_t fb = b, fe = e;
+        while (fb < fe && isBlank(text[fb])) ++fb;
+        while (fe > fb && isBlank(text[fe - 1])) --fe;
+        fields.push_back({fb, fe});
+        if (e == row_end) break;
+        b = e + 1;
       }
-      if (count < 5) values[count] = v;
-      ++count;
-      i += used;
-      while (i < stop && isSeparator(text[i])) ++i;
+    } else {
+      for (size_t b = row_begin; b < row_end;) {
+        size_t e = b;
+        while (e < row_end && !isBlank(text[e])) ++e;
+        fields.push_back({b, e});
+        b = e;
+        while (b < row_end && isBlank(text[b])) ++b;
+      }
     }
-    if (!numeric) {
-      if (!seen_data && count == 0) {  // a header such as "x,y,z"
-        seen_data = true;
-        continue;
+    const Field* wrong = nullptr;
+    bool number_like = false;
+    for (const Field& f : fields) {
+      if (!wrong && !isDecimalNumber(text, f.begin, f.end)) wrong = &f;
+      number_like = number_like || startsLikeNumber(text, f.begin, f.end);
+    }
+    const bool first = !seen_data;
+    seen_data = true;
+    if (wrong && first && !number_like) continue;  // a header such as "x,y,z"
+    if (wrong) {
+      if (wrong->begin == wrong->end) {
+        // Point at the delimiter after the empty field (or before it at the end).
+        const size_t at = wrong->begin < row_end ? wrong->begin : wrong->begin - 1;
+        bad(at, at + 1, "empty field: every field between ',' or ';' must hold a number");
+      } else {
+        std::string message = "'" + text.substr(wrong->begin, wrong->end - wrong->begin) +
+                              "' is not a decimal number";
+        if (first)
+          message += " (a first row is a header only when none of its fields starts like a number)";
+        bad(wrong->begin, wrong->end, message);
       }
-      bad("'" + junk + "' is not a number");
       continue;
     }
-    seen_data = true;
-    if (count != 3 && count != 4) {
-      bad("expected 3 or 4 numbers (x, y, z[, scale]), found " + std::to_string(count));
+    if (fields.size() != 3 && fields.size() != 4) {
+      bad(row_begin, row_end,
+          "expected 3 or 4 numbers (x, y, z[, scale]), found " + std::to_string(fields.size()));
+      continue;
+    }
+    double values[4];
+    const Field* too_big = nullptr;
+    for (size_t k = 0; k < fields.size(); ++k) {
+      values[k] = std::strtod(text.c_str() + fields[k].begin, nullptr);
+      if (!too_big && !(std::fabs(values[k]) <= kFloatMax)) too_big = &fields[k];
+    }
+    if (too_big) {
+      // The same rule as numbers in the scene (checker.cpp, checkShaderValue).
+      bad(too_big->begin, too_big->end,
+          "'" + text.substr(too_big->begin, too_big->end - too_big->begin) +
+              "' is beyond the range of the shader's float32 numbers (" + formatNumber(kFloatMax) + ")");
       continue;
     }
     PositionRow row;
     row.position = {values[0], values[1], values[2]};
-    if (count == 4) row.scale = values[3];
-    if (!std::isfinite(row.position.x + row.position.y + row.position.z + row.scale)) {
-      bad("numbers must be finite");
+    if (fields.size() == 4) row.scale = values[3];
+    if (!(row.scale > 0)) {
+      bad(fields[3].begin, fields[3].end, "scale must be positive, got " + formatNumber(row.scale));
       continue;
     }
-    if (!(row.scale > 0)) {
-      std::ostringstream s;
-      s << "scale must be positive, got " << row.scale;
-      bad(s.str());
+    // The shader receives -position / scale and 1 / scale.
+    const double largest = std::max({std::fabs(row.position.x), std::fabs(row.position.y), std::fabs(row.position.z), 1.0});
+    if (largest / row.scale > kFloatMax) {
+      bad(row_begin, row_end, "position / scale is beyond the range of the shader's float32 numbers (" +
+                                  formatNumber(kFloatMax) + ")");
       continue;
     }
     out.rows.push_back(row);
   }
+  if (out.bad_rows == 0) std::string().swap(out.text);
   return out;
 }
 

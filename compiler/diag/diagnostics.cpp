@@ -11,6 +11,11 @@ Diagnostic& Diagnostics::error(SourceRange range, std::string message) {
   return list_.back();
 }
 
+const SourceFile& Diagnostics::keep(std::unique_ptr<SourceFile> file) {
+  kept_.push_back(std::move(file));
+  return *kept_.back();
+}
+
 Diagnostic& Diagnostics::warning(SourceRange range, std::string message) {
   list_.push_back({Severity::Warning, range, std::move(message), {}});
   return list_.back();

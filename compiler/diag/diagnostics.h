@@ -1,6 +1,7 @@
 // Diagnostics as data: collected in a list, printed by one formatter in the
 // form gcc and clang use (file:line:col: error: message, source line, caret).
 #pragma once
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -28,9 +29,13 @@ class Diagnostics {
   std::string format(bool color = false) const;
   // The same as a JSON array (for --diagnostics-format json).
   std::string formatJson() const;
+  // Keeps a file other than the scene alive as long as the diagnostics that
+  // point into it (a CSV read by instances(positions: file(...))).
+  const SourceFile& keep(std::unique_ptr<SourceFile> file);
 
  private:
   std::vector<Diagnostic> list_;
+  std::vector<std::shared_ptr<const SourceFile>> kept_;
   int error_count_ = 0;
 };
 

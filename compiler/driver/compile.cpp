@@ -32,6 +32,32 @@ size_t codeNodeCount(const ir::Scene& scene) {
   return seen.size();
 }
 
+const ir::Node* firstInstances(const ir::Scene& scene) {
+  std::unordered_set<const ir::Node*> seen;
+  std::vector<const ir::Node*> stack = {scene.root.get()};
+  while (!stack.empty()) {
+    const ir::Node* n = stack.back();
+    stack.pop_back();
+    if (!n || !seen.insert(n).second) continue;
+    if (n->kind == ir::NodeKind::Instances) return n;
+    for (const ir::NodeRef& c : n->children) stack.push_back(c.get());
+  }
+  return nullptr;
+}
+
+// The same limit for check and render: the data is what the emitter builds.
+bool sceneDataFits(const ir::Scene& scene, const EmitResult& emitted, size_t limit, Diagnostics& diags) {
+  const size_t bytes = emitted.scene_data.size() * sizeof(float);
+  if (bytes <= limit) return true;
+  const ir::Node* at = firstInstances(scene);
+  diags.error(at ? at->range : scene.root->range,
+              "the instances' data (their records, grid and hierarchy) would take " + std::to_string(bytes) +
+                  " bytes; at most " + std::to_string(limit) +
+                  " (128 MiB, the storage buffer every Vulkan device offers): use fewer copies, about a "
+                  "million spheres fit");
+  return false;
+}
+
 CompiledScene frontEnd(const std::string& path, std::string text, const CompileOptions& options,
                        Diagnostics& diags) {
   CompiledScene out;
@@ -74,6 +100,14 @@ CompiledScene checkSource(const std::string& path, std::string text, const Compi
                           Diagnostics& diags) {
   CompiledScene out = frontEnd(path, std::move(text), options, diags);
   out.ok = !diags.hasErrors() && out.scene.root;
+  // Instances' data is built by the emitter; building it here keeps `check`
+  // to the limit a render meets (an 8M-row file used to check, then fail 30 s
+  // into the render).
+  if (out.ok && firstInstances(out.scene)) {
+    auto t0 = std::chrono::steady_clock::now();
+    out.ok = sceneDataFits(out.scene, emitGlsl(out.scene, options.emit), options.max_scene_data_bytes, diags);
+    out.times.emit = secondsSince(t0);
+  }
   return out;
 }
 
@@ -90,6 +124,7 @@ CompiledScene compileSource(const std::string& path, std::string text, const Com
   }
   out.emitted = emitGlsl(out.scene, options.emit);
   out.times.emit = secondsSince(t0);
+  if (!sceneDataFits(out.scene, out.emitted, options.max_scene_data_bytes, diags)) return out;
   if (options.produce_spirv) {
     t0 = std::chrono::steady_clock::now();
     SpirvResult spv =

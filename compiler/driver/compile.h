@@ -13,6 +13,13 @@
 
 namespace sdfc {
 
+// The instances' data (records, grid, hierarchy: EmitResult::scene_data) is
+// one storage buffer, and 2^27 bytes is the maxStorageBufferRange Vulkan
+// guarantees on every device (lavapipe reports exactly that). `check`,
+// `compile` and everything else refuse more, so a scene that checks renders
+// on any device; docs/language.md gives what fits (about a million spheres).
+constexpr size_t kMaxSceneDataBytes = size_t(1) << 27;
+
 struct CompileOptions {
   CheckOptions check;
   EmitOptions emit;
@@ -30,6 +37,8 @@ struct CompileOptions {
   // never touches a user's cache. `cache_version` (sdfc's) is part of the key.
   bool spirv_cache = false;
   std::string cache_version;
+  // kMaxSceneDataBytes; lower only in tests (a small scene then meets it).
+  size_t max_scene_data_bytes = kMaxSceneDataBytes;
 };
 
 struct StageTimes {

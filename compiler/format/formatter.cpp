@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "format/same_tokens.h"
 #include "syntax/parser.h"
 
 // Layout rules (docs/editors.md lists them for users):
@@ -12,7 +13,7 @@
 //  - a block stays on one line when it was written on one line and holds no
 //    comment; otherwise one child a line;
 //  - an argument list or vector holding a comment is broken one item a line
-//    with a trailing comma; parentheses are kept as written (one level);
+//    with a trailing comma; parentheses are kept as written, every level;
 //  - `;` only where the next item would otherwise continue this one (it
 //    starts with '(' or '-'); numbers keep their spelling;
 //  - comments keep their place: at the end of a line or on their own line.
@@ -33,7 +34,11 @@ class Printer {
         write("let", s.range.begin, s.range.begin + 3);
         raw(" ");
         write(s.name, s.name_range.begin, s.name_range.end);
-        raw(" = ");
+        // '=' and ':' at their source places, so a comment before them stays there.
+        const size_t equals = nextToken(s.name_range.end);
+        raw(" ");
+        write("=", equals, equals + 1);
+        raw(" ");
       }
       expr(*s.value);
       if (i + 1 < file.statements.size() && !file.statements[i + 1].is_let &&
@@ -225,15 +230,36 @@ class Printer {
     }
   }
 
+  // Where `e` begins and ends inside its own parentheses.
+  static size_t bareBegin(const ast::Expr& e) {
+    if ((e.kind == ast::ExprKind::Binary || e.kind == ast::ExprKind::Member) && !e.operands.empty())
+      return fullBegin(*e.operands[0]);
+    return e.range.begin;
+  }
+  static size_t bareEnd(const ast::Expr& e) {
+    if ((e.kind == ast::ExprKind::Binary || e.kind == ast::ExprKind::Unary) && !e.operands.empty())
+      return fullEnd(*e.operands.back());
+    return e.range.end;
+  }
+
   void expr(const ast::Expr& e) {
-    if (e.paren_range.file) write("(", e.paren_range.begin, e.paren_range.begin + 1);
+    if (!e.paren_range.file) {
+      bare(e);
+      return;
+    }
+    // Every level as written: "((a))" stays, formatting changes only spaces.
+    int levels = 0;
+    for (size_t p = e.paren_range.begin; p < bareBegin(e) && src_[p] == '('; p = nextToken(p + 1), ++levels)
+      write("(", p, p + 1);
     bare(e);
-    if (e.paren_range.file) write(")", e.paren_range.end - 1, e.paren_range.end);
+    for (size_t p = nextToken(bareEnd(e)); levels > 0 && p < e.paren_range.end; p = nextToken(p + 1), --levels)
+      write(")", p, p + 1);
   }
 
   void bare(const ast::Expr& e) {
     switch (e.kind) {
       case ast::ExprKind::Number:
+      case ast::ExprKind::String:  // both as written: a number's spelling, a string's quotes and bytes
         write(src_.substr(e.range.begin, e.range.end - e.range.begin), e.range.begin, e.range.end);
         break;
       case ast::ExprKind::Name:
@@ -256,7 +282,12 @@ class Printer {
         break;
       }
       case ast::ExprKind::Member: {
-        expr(*e.operands[0]);
+        const ast::Expr& operand = *e.operands[0];
+        expr(operand);
+        // "1 .x" stays apart: "1.x" would lex as one malformed number.
+        if (!operand.paren_range.file && operand.kind == ast::ExprKind::Number &&
+            src_.find_first_not_of("0123456789", operand.range.begin) >= operand.range.end)
+          raw(" ");
         const size_t dot = nextToken(fullEnd(*e.operands[0]));
         write(".", dot, dot + 1);
         write(e.name, e.name_range.begin, e.name_range.end);
@@ -305,8 +336,8 @@ class Printer {
 
   void call(const ast::Expr& e) {
     write(e.name, e.name_range.begin, e.name_range.end);
-    if (!e.arguments.empty() || !e.has_block) {
-      const size_t open = nextToken(e.name_range.end);
+    const size_t open = nextToken(e.name_range.end);
+    if (open < src_.size() && src_[open] == '(') {  // "union() { ... }" keeps its "()"
       size_t close = open + 1;
       if (!e.arguments.empty()) close = nextToken(fullEnd(*e.arguments.back().value));
       if (close < src_.size() && src_[close] == ',') close = nextToken(close + 1);
@@ -321,7 +352,9 @@ class Printer {
              const ast::Argument& a = e.arguments[i];
              if (!a.name.empty()) {
                write(a.name, a.name_range.begin, a.name_range.end);
-               raw(": ");
+               const size_t colon = nextToken(a.name_range.end);
+               write(":", colon, colon + 1);
+               raw(" ");
              }
              expr(*a.value);
            });
@@ -372,7 +405,16 @@ std::optional<std::string> formatSource(const SourceFile& file, Diagnostics& dia
   const int errors_before = diags.errorCount();
   ast::File tree = parse(file, diags, &comments);
   if (diags.errorCount() > errors_before) return std::nullopt;
-  return Printer(file, std::move(comments)).run(tree);
+  std::string out = Printer(file, std::move(comments)).run(tree);
+  // The contract checked on every run: a layout bug must never cost a user
+  // their text (fmt -w and the editor write the result over the file).
+  const std::string difference = tokenDifference(file, SourceFile(file.path, out));
+  if (!difference.empty()) {
+    diags.error({}, "internal error: formatting " + file.path + " would change its text (" + difference +
+                        "); the file is left as it is");
+    return std::nullopt;
+  }
+  return out;
 }
 
 }  // namespace sdfc

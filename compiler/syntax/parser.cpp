@@ -313,6 +313,7 @@ class Parser {
   // argument  : [ IDENT ":" ] expr
   void parseCallTail(ast::Expr& call) {
     if (accept(TokenKind::LeftParen)) {
+      bool reported = false;
       while (!at(TokenKind::RightParen) && !at(TokenKind::EndOfFile)) {
         ast::Argument arg;
         if (at(TokenKind::Identifier) && peek(1).kind == TokenKind::Colon) {
@@ -328,6 +329,7 @@ class Parser {
         if (accept(TokenKind::Comma)) continue;
         if (!at(TokenKind::RightParen)) {
           if (!was_error) expect(TokenKind::RightParen, "after the arguments");
+          reported = true;
           // Recover: skip to the closing parenthesis of this call.
           int parens = 0;
           while (!at(TokenKind::EndOfFile)) {
@@ -340,7 +342,8 @@ class Parser {
         }
       }
       call.range = call.range.to(peek().range);
-      accept(TokenKind::RightParen);
+      // "a(" or "a(1," at the end of the file was taken as closed.
+      if (!accept(TokenKind::RightParen) && !reported) expect(TokenKind::RightParen, "to close the arguments");
     }
     if (at(TokenKind::LeftBrace)) parseBlock(call);
   }
