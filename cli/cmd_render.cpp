@@ -9,6 +9,7 @@
 #include <regex>
 
 #include "adaptive.h"
+#include "debug_view.h"
 #include "cli_support.h"
 #include "commands.h"
 #include "image_io.h"
@@ -122,7 +123,9 @@ int runRender(const CommandLine& cl) {
     times.clear();
     for (int i = 0; i < static_cast<int>(count); ++i) times.push_back(*a + i * *step);
   }
-  const auto denoiser = parseDenoiser(cl.denoiser);
+  // Beauty renders are denoised by default: nlr's weights fade with the
+  // estimated variance, so a converged pixel is left as it is (docs/denoise.md).
+  const auto denoiser = parseDenoiser(cl.denoiser.empty() ? "nlr" : cl.denoiser);
   // Check the output's extension and directory before any work.
   imageFormatFromPath(cl.output);
   checkWritablePath(times.size() > 1 ? farm::framePath(cl.output, 0) : cl.output);
@@ -140,7 +143,7 @@ int runRender(const CommandLine& cl) {
   const std::atomic<bool>* interrupt = installInterruptHandler();
   ToneMap tone;
   tone.exposure_stops = static_cast<float>(cl.exposure);
-  tone.curve = cl.aces ? ToneCurve::AcesFit : ToneCurve::Clamp;
+  tone.curve = cl.aces ? ToneCurve::AcesFit : *toneCurveFromName(cl.tonemap);
   const bool quiet = cl.quiet;
   if (!quiet)
     std::cerr << "sdfc: device " << context.deviceName() << ", " << driverText(context.physical_device)
@@ -236,7 +239,14 @@ int runRender(const CommandLine& cl) {
     }
     const FloatImage& image = denoised.empty() ? out.color : denoised;
     const std::string path = times.size() > 1 ? farm::framePath(cl.output, static_cast<int>(f)) : cl.output;
-    writeImage(path, image, tone);
+    if (o.view != gpu::kViewBeauty && imageFormatFromPath(path) == ImageFormat::Png) {
+      // A debug view's PNG: raw depths and counts mapped into a range a display
+      // shows, no tone curve (EXR and PFM keep the raw values; docs/debug_views.md).
+      writeImage(path, debugViewForDisplay(o.view, image, debugViewBudget(uint32_t(compiled.emitted.limits.max_steps), settings)),
+                 ToneMap{0.0f, ToneCurve::Clamp});
+    } else {
+      writeImage(path, image, tone);
+    }
     {
       // A primary ray that used its whole step budget ran out of steps: it is
       // drawn as a hit when it was still closing in, else as a miss; either way
@@ -274,10 +284,20 @@ int runRender(const CommandLine& cl) {
         }
       }
     }
-    if (!quiet)
+    if (!quiet) {
+      // What was done to the samples, and how to have it undone (issue 29); after
+      // the parenthesis, which scripts parse (bench/mitsuba_check.py).
+      std::string treated;
+      if (!denoised.empty())
+        treated += std::string(", denoised (") + denoiserName(*denoiser) + "; --denoise none for the raw mean)";
+      if (imageFormatFromPath(path) == ImageFormat::Png)
+        treated += o.view == gpu::kViewBeauty ? std::string(", tone curve ") + toneCurveName(tone.curve)
+                   : debugViewNeedsMapping(o.view) ? std::string(", mapped for display (raw values in .exr)")
+                                                   : std::string();
       std::cerr << "sdfc: wrote " << path << " (" << out.samples_done << " spp in "
                 << formatSeconds(out.seconds) << ", "
-                << (out.seconds > 0 ? out.samples_done / out.seconds : 0) << " spp/s)\n";
+                << (out.seconds > 0 ? out.samples_done / out.seconds : 0) << " spp/s)" << treated << "\n";
+    }
     if (out.interrupted) {
       std::cerr << "sdfc: interrupted; wrote the " << out.samples_done << " samples accumulated so far\n";
       return kExitInterrupted;
