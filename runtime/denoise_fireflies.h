@@ -9,20 +9,20 @@
 // the cause.
 //
 // A pixel of half a is an outlier when its luminance is more than `ratio` times
-// the brightest of the other 17 values around it (half b's 3x3 and half a's 3x3
-// without the pixel itself); it is scaled (hue kept) down to that bound, and so
-// is half b against half a. What both halves see (a one-pixel highlight, an
-// edge) is kept: half b's own pixel is in the bound. At convergence the halves
-// agree, so a pixel never exceeds its bound and the images are untouched; the
-// energy a clamp takes is that of samples the other half's neighbourhood did
-// not see, which vanishes as the samples grow.
+// both the median of the two halves over the 5x5 around it (robust while up to
+// half of those are fireflies, as seen through glass) and half b's own pixel;
+// it is scaled (hue kept) down to the larger of the two bounds, and so is half b
+// against half a. What both halves see (a one-pixel highlight, a thin bright
+// line) is kept by the second bound. At convergence the halves agree, so no
+// pixel exceeds it and the images are untouched; the energy a clamp takes is
+// that of samples the other half did not see, which vanishes as samples grow.
 #pragma once
 #include "denoise_svgf.h"  // SampleHalves
 
 namespace sdfc {
 
 struct FireflyParams {
-  float ratio = 2.0f;  // a pixel above ratio x its neighbourhood's brightest is an outlier
+  float ratio = 4.0f;  // above ratio x both its neighbourhood's median and the other half's pixel
 };
 
 // Clamps both halves in place; returns the number of pixel values changed.

@@ -109,8 +109,8 @@ TEST(DenoiseFireflies, ConvergedAndSharedDetailUntouched) {
   EXPECT_EQ(same.a.rgba, before.a.rgba);
   EXPECT_EQ(same.b.rgba, before.b.rgba);
 
-  // A firefly in one half only is brought to ratio x its neighbourhood's
-  // brightest, hue kept; the other half is untouched there.
+  // A firefly in one half only is brought to ratio x the larger of its 5x5
+  // median and the other half's pixel, hue kept; the other half is untouched there.
   SampleHalves h = shadowWithFireflies(7);
   h.a.at(33, 14)[0] = 80.0f;  // reddish
   const float b_before = h.b.at(33, 14)[0];
@@ -119,6 +119,29 @@ TEST(DenoiseFireflies, ConvergedAndSharedDetailUntouched) {
   EXPECT_LT(p[0], 1.0f);
   EXPECT_NEAR(p[0] / p[1], 2.0f, 1e-4f);
   EXPECT_EQ(h.b.at(33, 14)[0], b_before);
+
+  // Dense fireflies (glass: one pixel in 4 of each half) are clamped all the
+  // same; a thin bright line both halves see is kept.
+  SampleHalves dense = shadowWithFireflies(8);
+  for (uint32_t y = 0; y < kSize; ++y)
+    for (uint32_t x = 0; x < kSize; ++x) {
+      for (int c = 0; c < 3; ++c) dense.a.at(x, y)[c] = dense.b.at(x, y)[c] = kTruth;
+      FloatImage& half = (x + y) % 2 ? dense.a : dense.b;
+      if ((x / 2 + y) % 2 == 0)
+        for (int c = 0; c < 3; ++c) half.at(x, y)[c] = 30.0f;
+      if (x == 20)
+        for (int c = 0; c < 3; ++c) dense.a.at(x, y)[c] = dense.b.at(x, y)[c] = 5.0f;
+    }
+  clampFireflies(dense);
+  float brightest = 0;
+  for (uint32_t y = 0; y < kSize; ++y)
+    for (uint32_t x = 0; x < kSize; ++x)
+      if (x != 20) brightest = std::max({brightest, dense.a.at(x, y)[0], dense.b.at(x, y)[0]});
+  EXPECT_LT(brightest, 1.0f);
+  for (uint32_t y = 0; y < kSize; ++y) {
+    EXPECT_EQ(dense.a.at(20, y)[0], 5.0f);
+    EXPECT_EQ(dense.b.at(20, y)[0], 5.0f);
+  }
 }
 
 }  // namespace
