@@ -72,6 +72,8 @@ def main():
                 wall, _ = run(getattr(args, name), os.path.join(work, f"{name}.png"), args.size, env)
                 walls[name].append(wall)
                 print(f"  rep {rep} {name}: {wall:.2f} s wall (load {os.getloadavg()[0]:.1f})", flush=True)
+    if not args.reps:
+        return
     b, a = statistics.median(walls["before"]), statistics.median(walls["after"])
     print(f"median wall: before {b:.2f} s, after {a:.2f} s, after/before {a / b:.2f}")
 
