@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "image_io.h"
 #include "renderer.h"
@@ -60,14 +61,25 @@ FloatImage debugViewForDisplay(uint32_t view, const FloatImage& raw, const Debug
   FloatImage out(raw.width, raw.height);
   const size_t n = raw.pixelCount();
   if (view == gpu::kViewDepth) {
-    // The scene's hit range in this image; log, so near and far detail both show
-    // (a ground plane reaches hundreds of units where the subject is at tens).
-    float lo = INFINITY, hi = 0;
+    // The scene's hit range in this image, log, from the 1st to the 90th
+    // percentile of the hits: a ground plane reaches hundreds of units where the
+    // subject is at tens (castle: 15 to 1680, median 22), and a min-max range
+    // drew the whole subject in one colour. The farthest tenth is drawn darkest.
+    std::vector<float> hits;
     for (size_t i = 0; i < n; ++i) {
       const float d = raw.rgba[i * 4];
-      if (d >= 0 && std::isfinite(d)) lo = std::min(lo, d), hi = std::max(hi, d);
+      if (d >= 0 && std::isfinite(d)) hits.push_back(d);
     }
-    lo = std::max(lo, 1e-6f);
+    float lo = 1.0f, hi = 1.0f;
+    if (!hits.empty()) {
+      auto at = [&](double q) {
+        auto it = hits.begin() + std::ptrdiff_t(q * double(hits.size() - 1));
+        std::nth_element(hits.begin(), it, hits.end());
+        return *it;
+      };
+      lo = std::max(at(0.01), 1e-6f);
+      hi = at(0.90);
+    }
     const float span = hi > lo ? std::log(hi / lo) : 1.0f;
     for (size_t i = 0; i < n; ++i) {
       const float d = raw.rgba[i * 4];

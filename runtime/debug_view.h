@@ -26,8 +26,8 @@ bool debugViewNeedsMapping(uint32_t view);
 
 // The displayed image of a debug view: linear RGB, to be written with the linear
 // (clamp) tone curve so the bytes are the colour map's own sRGB values.
-//   depth:      viridis over log(depth) between the image's nearest and farthest hit,
-//               near bright (yellow), far dark (purple); misses grey.
+//   depth:      viridis over log(depth) between the 1st and 90th percentiles of the
+//               image's hits, near bright (yellow), far dark (purple); misses grey.
 //   steps:      viridis over log(1 + steps) / log(1 + max_steps).
 //   iterations: viridis over log(1 + iterations) / log(1 + budget).
 // Other views are returned as they are.
