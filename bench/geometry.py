@@ -11,11 +11,10 @@ WRONG_SURFACE = 1e-2  # a relative error above this is another surface, not impr
 
 
 def steps_from_heatmap(img, budget):
-    """Invert pathtrace.glsl heatMap(steps / budget) (float PFM, exact)."""
-    r, g, b = img[..., 0], img[..., 1], img[..., 2]
-    x = np.where(r > 0, np.where(g >= 1, (r + 2) / 4, (4 - g) / 4),
-                 np.where(b < 1, (2 - b) / 4, g / 4))
-    return np.rint(x * budget)
+    """The steps view's march steps per pixel: its PFM holds the raw count in
+    every channel (the heat map is drawn for PNGs only; runtime/debug_view.h).
+    `budget` is kept for the callers; the count needs no inverting."""
+    return np.rint(img[..., 0])
 
 
 def reference_roots(sdfc, scene, width, height, cache_dir):

@@ -121,7 +121,8 @@ def shader_figures(sdfc, scene, dir_, flags=()):
 def ms_once(sdfc, scene, dir_, spp):
     warm(sdfc, scene, dir_)
     png = os.path.join(dir_, "big.png")
-    _, _, err = timed([sdfc, "render", scene, "-o", png, "--size", "640x360", "--spp", str(spp)])
+    _, _, err = timed([sdfc, "render", scene, "-o", png, "--size", "640x360", "--spp", str(spp),
+                       "--denoise", "none"])
     return 1000.0 / field(r"spp in [^,]*, ([0-9.eE+-]+) spp/s", err)
 
 
@@ -147,7 +148,8 @@ def cpu_ms_per_sample(sdfc, scene, dir_):
     cpu = []
     for spp in (1, 9):
         proc = subprocess.run(["/usr/bin/time", "-f", "SDFC_BENCH_CPU %U %S", sdfc, "render", scene, "-o", png,
-                               "--size", "640x360", "--spp", str(spp)], capture_output=True, text=True)
+                               "--size", "640x360", "--spp", str(spp), "--denoise", "none"],
+                              capture_output=True, text=True)
         m = re.search(r"SDFC_BENCH_CPU ([0-9.]+) ([0-9.]+)", proc.stderr)
         if proc.returncode != 0 or not m:
             raise RuntimeError("render failed:\n" + proc.stderr[-2000:])

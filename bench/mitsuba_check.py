@@ -123,7 +123,8 @@ def read_pfm(path):
 def render_sdfc(sdfc, scene_path, seed, out, flags=()):
     """Image, wall time of the whole process, and the render loop's own time."""
     start = time.perf_counter()
-    run = subprocess.run([sdfc, "render", scene_path, "-o", out, "--seed", str(seed), *flags],
+    # Undenoised: the mean radiance of the samples themselves.
+    run = subprocess.run([sdfc, "render", scene_path, "-o", out, "--seed", str(seed), "--denoise", "none", *flags],
                          check=True, capture_output=True, text=True)
     wall = time.perf_counter() - start
     # "(N spp in X s, R spp/s)": N / R has more digits than X.

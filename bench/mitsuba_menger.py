@@ -268,7 +268,7 @@ def timed(cmd, **kw):
 
 def sdfc_render(sdfc, scene_path, out, seed, spp, bounces):
     proc, wall, rss = timed([sdfc, "render", scene_path, "-o", out, "--seed", str(seed),
-                             "--spp", str(spp), "--bounces", str(bounces)])
+                             "--spp", str(spp), "--bounces", str(bounces), "--denoise", "none"])
     err = proc.stderr
     m = re.search(r"compiled in (\d+) ms.*?pipeline in (\d+) ms", err)
     r = re.search(r"\((\d+) spp in ([0-9.]+)s", err)

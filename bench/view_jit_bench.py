@@ -54,7 +54,8 @@ def first_draw(tool, scene, glsl, driver):
 
 
 def render_seconds(sdfc, scene, spp, driver, out):
-    r = subprocess.run([sdfc, "render", scene, "--size", "640x360", "--spp", str(spp), "-o", out],
+    r = subprocess.run([sdfc, "render", scene, "--size", "640x360", "--spp", str(spp), "-o", out,
+                        "--denoise", "none"],
                        capture_output=True, text=True, env=env_for(driver), timeout=1800)
     m = re.search(r"\((\d+) spp in ([0-9.eE+-]+)s", r.stderr)
     if r.returncode != 0 or not m:

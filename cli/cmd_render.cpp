@@ -10,6 +10,7 @@
 #include <regex>
 
 #include "adaptive.h"
+#include "debug_view.h"
 #include "cli_support.h"
 #include "commands.h"
 #include "image_io.h"
@@ -132,11 +133,12 @@ int runRender(const CommandLine& cl) {
   if (cl.shards > 0 || cl.shard_index >= 0) {
     // A shard holds raw sample sums and `sdfc merge` writes them undenoised and
     // untoned: flags that act on the finished image would be dropped unseen.
-    const char* image_flag = cl.denoiser != "none"         ? "--denoise"
+    const char* image_flag = !cl.denoiser.empty() && cl.denoiser != "none" ? "--denoise"
                              : !cl.denoise_select.empty()  ? "--denoise-select"
                              : cl.denoise_aovs != "auto"   ? "--denoise-aovs"
                              : cl.exposure != 0            ? "--exposure"
                              : cl.aces                     ? "--aces"
+                             : cl.tonemap != "neutral"     ? "--tonemap"
                                                            : nullptr;
     if (image_flag) {
       std::cerr << "sdfc: error: " << image_flag
@@ -172,7 +174,9 @@ int runRender(const CommandLine& cl) {
     times.clear();
     for (int i = 0; i < static_cast<int>(count); ++i) times.push_back(*a + i * *step);
   }
-  const auto denoiser = parseDenoiser(cl.denoiser);
+  // Beauty renders are denoised by default: nlr's weights fade with the
+  // estimated variance, so a converged pixel is left as it is (docs/denoise.md).
+  const auto denoiser = parseDenoiser(cl.denoiser.empty() ? "nlr" : cl.denoiser);
   // Check the output's extension and directory before any work.
   imageFormatFromPath(cl.output);
   checkWritablePath(times.size() > 1 ? farm::framePath(cl.output, 0) : cl.output);
@@ -250,7 +254,7 @@ int runRender(const CommandLine& cl) {
   const std::atomic<bool>* interrupt = installInterruptHandler();
   ToneMap tone;
   tone.exposure_stops = static_cast<float>(cl.exposure);
-  tone.curve = cl.aces ? ToneCurve::AcesFit : ToneCurve::Clamp;
+  tone.curve = cl.aces ? ToneCurve::AcesFit : *toneCurveFromName(cl.tonemap);
   const bool quiet = cl.quiet;
   if (!quiet)
     std::cerr << "sdfc: device " << context.deviceName() << ", " << driverText(context.physical_device)
@@ -360,7 +364,14 @@ int runRender(const CommandLine& cl) {
     const FloatImage& image = denoised.empty() ? out.color : denoised;
     const std::string path = times.size() > 1 ? farm::framePath(cl.output, static_cast<int>(f)) : cl.output;
     const auto encode_start = std::chrono::steady_clock::now();
-    writeImage(path, image, tone);
+    if (o.view != gpu::kViewBeauty && imageFormatFromPath(path) == ImageFormat::Png) {
+      // A debug view's PNG: raw depths and counts mapped into a range a display
+      // shows, no tone curve (EXR and PFM keep the raw values; docs/debug_views.md).
+      writeImage(path, debugViewForDisplay(o.view, image, debugViewBudget(uint32_t(compiled.emitted.limits.max_steps), settings)),
+                 ToneMap{0.0f, ToneCurve::Clamp});
+    } else {
+      writeImage(path, image, tone);
+    }
     timings.add("encoding and writing" + frame, secondsSince(encode_start));
     {
       // A primary ray that used its whole step budget ran out of steps: it is
@@ -399,10 +410,20 @@ int runRender(const CommandLine& cl) {
         }
       }
     }
-    if (!quiet)
+    if (!quiet) {
+      // What was done to the samples, and how to have it undone (issue 29); after
+      // the parenthesis, which scripts parse (bench/mitsuba_check.py).
+      std::string treated;
+      if (!denoised.empty())
+        treated += std::string(", denoised (") + denoiserName(*denoiser) + "; --denoise none for the raw mean)";
+      if (imageFormatFromPath(path) == ImageFormat::Png)
+        treated += o.view == gpu::kViewBeauty ? std::string(", tone curve ") + toneCurveName(tone.curve)
+                   : debugViewNeedsMapping(o.view) ? std::string(", mapped for display (raw values in .exr)")
+                                                   : std::string();
       std::cerr << "sdfc: wrote " << path << " (" << out.samples_done << " spp in "
                 << formatSeconds(out.seconds) << ", "
-                << (out.seconds > 0 ? out.samples_done / out.seconds : 0) << " spp/s)\n";
+                << (out.seconds > 0 ? out.samples_done / out.seconds : 0) << " spp/s)" << treated << "\n";
+    }
     if (out.interrupted) {
       std::cerr << "sdfc: interrupted; wrote the " << out.samples_done << " samples accumulated so far\n";
       return kExitInterrupted;

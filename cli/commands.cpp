@@ -86,7 +86,9 @@ void registerCommands(CLI::App& app, CommandLine& cl) {
   render->add_option("--bounces", cl.bounces, "maximum path length")->check(CLI::Range(0, 64));
   render->add_option("--light-samples", cl.light_samples, "light samples per vertex")
       ->check(CLI::Range(0, 16));
-  render->add_option("--denoise", cl.denoiser, "none | bilateral | atrous | svgf | nlm | nlr")
+  render->add_option("--denoise", cl.denoiser,
+                     "none | bilateral | atrous | svgf | nlm | nlr (default nlr: it leaves converged "
+                     "pixels as they are; none for reference images)")
       ->check(CLI::IsMember({"none", "bilateral", "atrous", "svgf", "nlm", "nlr"}));
   render->add_option("--denoise-aovs", cl.denoise_aovs,
                      "features of svgf, nlm, nlr: auto (specular for nlr, else centre) | jittered "
@@ -146,7 +148,11 @@ void registerCommands(CLI::App& app, CommandLine& cl) {
   render->add_option("--device", cl.device, "Vulkan device index (see `sdfc devices`)");
   render->add_option("--exposure", cl.exposure, "exposure in stops for PNG output")
       ->check(numberIn(-kMaxExposureStops, kMaxExposureStops));
-  render->add_flag("--aces", cl.aces, "ACES filmic tone curve for PNG (default: clamp)");
+  render->add_option("--tonemap", cl.tonemap,
+                     "PNG tone curve: neutral (Khronos PBR Neutral, the default) | aces | linear "
+                     "(clamp); EXR and PFM stay linear")
+      ->check(CLI::IsMember({"neutral", "aces", "linear"}));
+  render->add_flag("--aces", cl.aces, "the same as --tonemap aces");
   render->add_flag("-q,--quiet", cl.quiet, "no progress output");
   render->add_flag("--timings", cl.stage_timings,
                    "print every fixed stage's time: process start, device, front end, glslang, "
@@ -174,7 +180,9 @@ void registerCommands(CLI::App& app, CommandLine& cl) {
   view->add_option("--device", cl.device, "Vulkan device index (see `sdfc devices`)");
   view->add_option("--exposure", cl.exposure, "exposure in stops")
       ->check(numberIn(-kMaxExposureStops, kMaxExposureStops));
-  view->add_flag("--aces", cl.aces, "ACES filmic tone curve (default: clamp)");
+  view->add_option("--tonemap", cl.tonemap, "tone curve: neutral (default) | aces | linear (clamp)")
+      ->check(CLI::IsMember({"neutral", "aces", "linear"}));
+  view->add_flag("--aces", cl.aces, "the same as --tonemap aces");
   view->add_flag("--no-dynamic-resolution", cl.no_dynamic_resolution,
                  "draw every frame at full resolution, also while the camera moves");
   view->add_option("--script", cl.script, "drive the view from a file of commands (docs/view.md)");

@@ -43,7 +43,7 @@ struct CommandLine {
   // render
   std::string size;
   int spp = 0, bounces = -1, light_samples = -1;
-  std::string denoiser = "none";
+  std::string denoiser;  // empty: the command's default (render nlr, view none)
   std::string denoise_aovs = "auto";  // the denoiser's features: auto | jittered | specular | centre
   std::vector<float> denoise_select;  // nlm/nlr last-pass strengths chosen per pixel; empty: off
   // Adaptive sampling at the same mean spp (runtime/adaptive.h, docs/adaptive.md).
@@ -62,7 +62,8 @@ struct CommandLine {
   unsigned seed = 0;
   int device = -1;
   double exposure = 0;
-  bool aces = false;
+  bool aces = false;                 // the old spelling of --tonemap aces
+  std::string tonemap = "neutral";   // PNG and view: neutral | aces | linear (runtime/image_io.h)
   bool quiet = false;
   // render shards (farm/): task shard_index of a job cut into `shards` per image
   int shards = 0;

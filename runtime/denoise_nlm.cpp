@@ -268,7 +268,13 @@ FloatImage nlmDenoise(const SampleHalves& halves, const FloatImage& normal_depth
   if (!(n_a > 0 && n_b > 0)) throw std::invalid_argument("nlm: needs samples in both halves");
   const int w = int(halves.a.width), h = int(halves.a.height);
   const Features f(normal_depth, albedo_steps);
-  const Plane a = rgbOf(halves.a), b = rgbOf(halves.b);
+  SampleHalves clamped;
+  if (params.clamp_fireflies) {
+    clamped = halves;
+    clampFireflies(clamped, params.fireflies);
+  }
+  const SampleHalves& input = params.clamp_fireflies ? clamped : halves;
+  const Plane a = rgbOf(input.a), b = rgbOf(input.b);
 
   Plane var_a, var_b, out_a, out_b;
   guideVariances(a, b, w, h, params.variance_radius, n_a, n_b, var_a, var_b);

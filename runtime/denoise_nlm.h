@@ -21,6 +21,7 @@
 #include "denoise_svgf.h"  // SampleHalves
 #include <vector>
 
+#include "denoise_fireflies.h"
 #include "denoise_select.h"
 #include "float_image.h"
 
@@ -45,6 +46,10 @@ struct NlmParams {
   // was measured worse on the castle and colonnade: docs/denoise.md.)
   std::vector<float> select_k;
   SelectParams select;
+  // Fireflies clamped in both halves first (denoise_fireflies.h): without it a
+  // caustic's fireflies become window-sized squares.
+  bool clamp_fireflies = true;
+  FireflyParams fireflies;
 };
 
 // `--denoise nlr`: NL-means-weighted first-order regression on features averaged

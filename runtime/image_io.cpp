@@ -163,12 +163,70 @@ ImageFormat imageFormatFromPath(const std::string& path) {
   throw ImageIoError("unknown image extension '" + ext + "' (use .png, .exr or .pfm)");
 }
 
+std::optional<ToneCurve> toneCurveFromName(const std::string& name) {
+  if (name == "linear") return ToneCurve::Clamp;
+  if (name == "neutral") return ToneCurve::PbrNeutral;
+  if (name == "aces") return ToneCurve::AcesFit;
+  return std::nullopt;
+}
+
+const char* toneCurveName(ToneCurve curve) {
+  switch (curve) {
+    case ToneCurve::Clamp: return "linear";
+    case ToneCurve::AcesFit: return "aces";
+    case ToneCurve::PbrNeutral: return "neutral";
+  }
+  return "?";
+}
+
+namespace {
+
+// The curve on exposed radiance (scale = 2^exposure taken once by the caller).
+inline void toneMapScaled(const float* linear, float scale, ToneCurve curve, float* out) {
+  float x[3];
+  for (int c = 0; c < 3; ++c) {
+    x[c] = linear[c] * scale;
+    if (!(x[c] > 0)) x[c] = 0;  // also maps NaN to black
+  }
+  if (curve == ToneCurve::PbrNeutral) {
+    // Khronos PBR Neutral tone mapping (Khronos 3D Formats WG, 2024), its published
+    // formula: a toe that lifts the darkest channel's offset (at most 0.04), then
+    // above start = 0.76 the peak channel p goes to 1 - d^2 / (p + d - start),
+    // d = 1 - start, the others scaled alike (hue kept), blended towards white by
+    // 1 - 1 / (0.15 (p - p') + 1) where the compression was strong.
+    constexpr float kStart = 0.8f - 0.04f, kDesaturation = 0.15f;
+    const float lo = std::min({x[0], x[1], x[2]});
+    const float offset = lo < 0.08f ? lo - 6.25f * lo * lo : 0.04f;
+    for (float& v : x) v -= offset;
+    const float peak = std::max({x[0], x[1], x[2]});
+    if (peak >= kStart) {
+      constexpr float d = 1.0f - kStart;
+      const float new_peak = 1.0f - d * d / (peak + d - kStart);
+      const float g = 1.0f - 1.0f / (kDesaturation * (peak - new_peak) + 1.0f);
+      for (float& v : x) v = v * (new_peak / peak) * (1.0f - g) + new_peak * g;
+    }
+    for (int c = 0; c < 3; ++c) out[c] = std::clamp(x[c], 0.0f, 1.0f);
+    return;
+  }
+  for (int c = 0; c < 3; ++c) {
+    float v = x[c];
+    if (v > 0 && curve == ToneCurve::AcesFit)
+      v = (v * (2.51f * v + 0.03f)) / (v * (2.43f * v + 0.59f) + 0.14f);  // Narkowicz 2015
+    out[c] = std::min(v, 1.0f);
+  }
+}
+
+}  // namespace
+
+void applyToneMap(const float linear[3], const ToneMap& tone_map, float out[3]) {
+  toneMapScaled(linear, std::exp2(tone_map.exposure_stops), tone_map.curve, out);
+}
+
 float applyToneCurve(float linear, const ToneMap& tone_map) {
-  float x = linear * std::exp2(tone_map.exposure_stops);
-  if (!(x > 0)) return 0;  // also maps NaN to black
-  if (tone_map.curve == ToneCurve::AcesFit)
-    x = (x * (2.51f * x + 0.03f)) / (x * (2.43f * x + 0.59f) + 0.14f);  // Narkowicz 2015
-  return std::min(x, 1.0f);
+  const float grey[3] = {linear, linear, linear};
+  float out[3];
+  applyToneMap(grey, tone_map, out);
+  return out[0];
 }
 
 float srgbEncode(float linear) {
@@ -235,20 +293,13 @@ uint8_t srgb8Fast(float tone_mapped) {
 std::vector<uint8_t> toSrgb8(const FloatImage& image, const ToneMap& tone_map) {
   std::vector<uint8_t> bytes(image.pixelCount() * 3);
   srgbThresholds();  // built once, before the loop
-  // applyToneCurve with its exp2 taken once: the same operations, the same floats.
+  // applyToneMap with its exp2 taken once: the same operations, the same floats.
   const float scale = std::exp2(tone_map.exposure_stops);
-  const bool aces = tone_map.curve == ToneCurve::AcesFit;
-  for (size_t i = 0; i < image.pixelCount(); ++i)
-    for (int c = 0; c < 3; ++c) {
-      float x = image.rgba[i * 4 + c] * scale;
-      if (!(x > 0)) {
-        x = 0;
-      } else {
-        if (aces) x = (x * (2.51f * x + 0.03f)) / (x * (2.43f * x + 0.59f) + 0.14f);
-        x = std::min(x, 1.0f);
-      }
-      bytes[i * 3 + c] = srgb8Fast(x);
-    }
+  for (size_t i = 0; i < image.pixelCount(); ++i) {
+    float mapped[3];
+    toneMapScaled(&image.rgba[i * 4], scale, tone_map.curve, mapped);
+    for (int c = 0; c < 3; ++c) bytes[i * 3 + c] = srgb8Fast(mapped[c]);
+  }
   return bytes;
 }
 

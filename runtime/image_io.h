@@ -5,6 +5,7 @@
 // Also readers and comparison metrics for golden-image tests.
 #pragma once
 #include <cstdint>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -24,17 +25,28 @@ enum class ImageFormat { Png, Exr, Pfm };
 ImageFormat imageFormatFromPath(const std::string& path);
 
 enum class ToneCurve {
-  Clamp,    // radiance * 2^exposure, clamped to [0, 1]
-  AcesFit,  // Narkowicz 2015 fit of the ACES RRT+ODT: x(2.51x+.03) / (x(2.43x+.59)+.14)
+  Clamp,       // `--tonemap linear`: radiance * 2^exposure, clamped to [0, 1] per channel
+  AcesFit,     // Narkowicz 2015 fit of the ACES RRT+ODT: x(2.51x+.03) / (x(2.43x+.59)+.14)
+  PbrNeutral,  // Khronos PBR Neutral (2024): identity below 0.76, a shoulder on the peak
+               // channel towards 1 that keeps the hue, desaturating only what it compresses
 };
 
-// PNG only; EXR and PFM store linear radiance untouched.
+// PNG and the view only; EXR and PFM store linear radiance untouched. The default
+// is what `sdfc render` and `sdfc view` use, so every PNG writer agrees.
 struct ToneMap {
   float exposure_stops = 0;  // radiance is multiplied by 2^exposure_stops first
-  ToneCurve curve = ToneCurve::Clamp;
+  ToneCurve curve = ToneCurve::PbrNeutral;
 };
 
-float applyToneCurve(float linear, const ToneMap& tone_map);  // -> [0, 1], still linear
+// "linear" | "neutral" | "aces" -> the curve; nullopt for other names.
+std::optional<ToneCurve> toneCurveFromName(const std::string& name);
+const char* toneCurveName(ToneCurve curve);
+
+// One pixel's linear RGB -> tone-mapped RGB in [0, 1], still linear (NaN and
+// negatives count as 0). PBR Neutral works on the pixel, the others per channel.
+void applyToneMap(const float linear[3], const ToneMap& tone_map, float out[3]);
+// A grey value's channel: applyToneMap of (v, v, v).
+float applyToneCurve(float linear, const ToneMap& tone_map);
 float srgbEncode(float linear);                               // sRGB OETF (IEC 61966-2-1)
 float srgbDecode(float encoded);                              // its inverse
 // A tone-mapped value in [0, 1] -> its sRGB byte: round(clamp(srgbEncode(v)) * 255).

@@ -361,7 +361,8 @@ TEST_F(KernelRender, DebugViewsAndAovs) {
   EXPECT_NEAR(im.color.at(c, c)[1], 0.8f, 1e-6);
   p.view = gpu::kViewSteps;
   im = render(*renderer, p);
-  EXPECT_GE(im.color.at(c, c)[2], 0.0f);
+  EXPECT_GE(im.color.at(c, c)[0], 1.0f);  // the raw step count, as attachment 2's w
+  EXPECT_EQ(im.color.at(c, c)[0], im.albedo_steps.at(c, c)[3]);
   // With no samples, the iteration count is exact: s loop 1 + bounce 1 + primary
   // march steps + (on a hit) the refinement steps and the normal's loop (4 taps
   // and the material).

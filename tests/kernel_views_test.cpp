@@ -61,11 +61,11 @@ TEST(KernelViews, DebugViewKernelsHoldNoPathTracing) {
   // The beauty kernel has the tracer and no debug views.
   const CompiledScene beauty = compileView("castle.sdf", castle, KernelView::Beauty);
   EXPECT_NE(beauty.emitted.glsl.find("tracePath"), std::string::npos);
-  EXPECT_EQ(beauty.emitted.glsl.find("heatMap"), std::string::npos);
+  EXPECT_EQ(beauty.emitted.glsl.find("kViewSteps) color"), std::string::npos);
   EXPECT_EQ(beauty.emitted.glsl.find("frame.view"), std::string::npos);
   // And the all-in-one kernel both.
   const CompiledScene all = compileView("castle.sdf", castle, KernelView::All);
-  EXPECT_NE(all.emitted.glsl.find("heatMap"), std::string::npos);
+  EXPECT_NE(all.emitted.glsl.find("kViewSteps) color"), std::string::npos);
   EXPECT_NE(all.emitted.glsl.find("frame.view"), std::string::npos);
   EXPECT_LT(compileView("castle.sdf", castle, KernelView::Normal).spirv.size() * 3,
             all.spirv.size() * 2);  // the normal kernel is well under 2/3 of the all-in-one

@@ -58,7 +58,7 @@ TEST_F(RuntimeImageIo, ExrAndPfmRoundTripExactly) {
 
 TEST_F(RuntimeImageIo, PngRoundTripWithinQuantisation) {
   const FloatImage image = gradient(33, 17);
-  writeImage(path("a.png"), image);
+  writeImage(path("a.png"), image, ToneMap{0.0f, ToneCurve::Clamp});  // the default is PBR Neutral
   EXPECT_FALSE(fs::exists(path("a.png.tmp")));
   const FloatImage back = readImage(path("a.png"));
   ASSERT_EQ(back.width, 33u);
@@ -103,6 +103,7 @@ TEST(RuntimeToneMap, CurvesAndSrgb) {
   for (float v : {0.001f, 0.01f, 0.2f, 0.7f}) EXPECT_NEAR(srgbDecode(srgbEncode(v)), v, 1e-6f);
 
   ToneMap clamp;
+  clamp.curve = ToneCurve::Clamp;
   EXPECT_EQ(applyToneCurve(2.0f, clamp), 1.0f);
   EXPECT_EQ(applyToneCurve(-1.0f, clamp), 0.0f);
   EXPECT_EQ(applyToneCurve(std::nanf(""), clamp), 0.0f);
@@ -123,6 +124,38 @@ TEST(RuntimeToneMap, CurvesAndSrgb) {
     previous = t;
   }
   EXPECT_GT(previous, 0.99f);
+}
+
+// The default curve: Khronos PBR Neutral. Below its shoulder it is the identity
+// less a small offset (at most 0.04), so a 0.6-albedo floor lit to 1.1 is not
+// clipped to white as the clamp did (issue 29); above it the peak channel goes
+// smoothly to 1 with the hue's order kept.
+TEST(RuntimeToneMap, PbrNeutralHasAShoulder) {
+  ToneMap neutral;
+  EXPECT_EQ(neutral.curve, ToneCurve::PbrNeutral);  // the default
+  EXPECT_EQ(applyToneCurve(0.0f, neutral), 0.0f);
+  EXPECT_EQ(applyToneCurve(std::nanf(""), neutral), 0.0f);
+  EXPECT_NEAR(applyToneCurve(0.5f, neutral), 0.46f, 1e-6f);
+  EXPECT_NEAR(applyToneCurve(0.02f, neutral), 0.02f - 0.02f + 6.25f * 0.02f * 0.02f, 1e-7f);
+  float previous = 0;
+  for (float v = 0.001f; v < 1000; v *= 1.2f) {
+    const float t = applyToneCurve(v, neutral);
+    EXPECT_GT(t, previous) << v;
+    EXPECT_LT(t, 1.0f) << v;
+    previous = t;
+  }
+  EXPECT_GT(previous, 0.99f);
+  // A bright orange stays orange: channels in order, none clipped.
+  const float orange[3] = {3.0f, 1.5f, 0.3f};
+  float out[3];
+  applyToneMap(orange, neutral, out);
+  EXPECT_GT(out[0], out[1]);
+  EXPECT_GT(out[1], out[2]);
+  EXPECT_LT(out[0], 1.0f);
+  EXPECT_EQ(toneCurveFromName("neutral"), ToneCurve::PbrNeutral);
+  EXPECT_EQ(toneCurveFromName("linear"), ToneCurve::Clamp);
+  EXPECT_EQ(toneCurveFromName("aces"), ToneCurve::AcesFit);
+  EXPECT_FALSE(toneCurveFromName("agx"));
 }
 
 TEST(RuntimeMetrics, RmseAndRelMse) {
@@ -181,12 +214,14 @@ TEST(RuntimeImage, Srgb8TableMatchesDirectFormula) {
   for (float& v : image.rgba) v = value(rng) * value(rng) / 20.0f;
   image.rgba[0] = std::nanf("");
   for (const ToneMap tone : {ToneMap{0.0f, ToneCurve::Clamp}, ToneMap{0.7f, ToneCurve::Clamp},
-                             ToneMap{-1.3f, ToneCurve::AcesFit}}) {
+                             ToneMap{-1.3f, ToneCurve::AcesFit}, ToneMap{0.4f, ToneCurve::PbrNeutral}}) {
     const std::vector<uint8_t> bytes = toSrgb8(image, tone);
     size_t differing = 0;
-    for (size_t i = 0; i < image.pixelCount(); ++i)
-      for (int c = 0; c < 3; ++c)
-        differing += bytes[i * 3 + c] != srgb8Direct(applyToneCurve(image.rgba[i * 4 + c], tone));
+    for (size_t i = 0; i < image.pixelCount(); ++i) {
+      float mapped[3];
+      applyToneMap(&image.rgba[i * 4], tone, mapped);
+      for (int c = 0; c < 3; ++c) differing += bytes[i * 3 + c] != srgb8Direct(mapped[c]);
+    }
     EXPECT_EQ(differing, 0u);
   }
 }

@@ -19,6 +19,7 @@
 #include "background_compiler.h"
 #include "camera_controller.h"
 #include "cli_support.h"
+#include "debug_view.h"
 #include "denoise.h"
 #include "file_watcher.h"
 #include "image_io.h"
@@ -294,11 +295,11 @@ void Viewer::open() {
   reload_unpresented_ = true;
   compiler_->request(view_);
 
-  denoise_ = cl_.denoiser != "none";
+  denoise_ = !cl_.denoiser.empty() && cl_.denoiser != "none";
   dynamic_resolution_ = !cl_.no_dynamic_resolution;
   if (cl_.spp > 0) spp_override_ = uint32_t(cl_.spp);
   tone_.exposure_stops = float(cl_.exposure);
-  tone_.curve = cl_.aces ? ToneCurve::AcesFit : ToneCurve::Clamp;
+  tone_.curve = cl_.aces ? ToneCurve::AcesFit : *toneCurveFromName(cl_.tonemap);
   time_ = cl_.time;
   status_.file = std::filesystem::path(cl_.input).filename().string();
   std::fprintf(stderr, "sdfc: view %ux%u on %s (present mode %s)\n", width_, height_,
@@ -422,7 +423,11 @@ bool Viewer::drawFrame() {
   acc_->meanInto(displayed_);  // reuses last frame's storage
   if (denoise_ && view_ == gpu::kViewBeauty && !moving)
     displayed_ = sdfc::denoise(Denoiser::ATrous, displayed_, acc_->normal_depth, acc_->albedo_steps);
-  rgb_ = toSrgb8(displayed_, tone_);
+  // Debug views as `sdfc render` writes their PNGs: mapped for display, no tone curve.
+  if (debugViewNeedsMapping(view_))
+    displayed_ = debugViewForDisplay(
+        view_, displayed_, debugViewBudget(uint32_t(compiled.emitted.limits.max_steps), acc_->settings));
+  rgb_ = toSrgb8(displayed_, view_ == gpu::kViewBeauty ? tone_ : ToneMap{0.0f, ToneCurve::Clamp});
   const std::vector<uint8_t>* shown = &rgb_;
   if (key.scale > 1) {
     upscale(rgb_, displayed_.width, displayed_.height, key.scale, width_, height_, upscaled_);
@@ -525,7 +530,8 @@ void Viewer::saveImage(const std::string& path) {
     return;
   }
   try {
-    writeImage(path, displayed_, tone_);  // temporary + rename, as `render`
+    // What the window shows (debug views are mapped already, no tone curve).
+    writeImage(path, displayed_, view_ == gpu::kViewBeauty ? tone_ : ToneMap{0.0f, ToneCurve::Clamp});
     std::fprintf(stderr, "sdfc: wrote %s (%ux%u, %u spp)\n", path.c_str(), displayed_.width,
                  displayed_.height, acc_ ? acc_->samples_done : 0);
   } catch (const std::exception& e) {

@@ -37,7 +37,7 @@ wait_for_job() {
 
 case "$case_name" in
 still)
-  "$sdfc" render "$castle" "${still_flags[@]}" -o "$work/single.exr" -q
+  "$sdfc" render "$castle" "${still_flags[@]}" --denoise none -o "$work/single.exr" -q
   "$sdfc" farm submit "$castle" "${still_flags[@]}" --shards 8 -o "$work/job"
   wait_for_job "$work/job"
   "$sdfc" farm status "$work/job"
@@ -55,7 +55,7 @@ still)
   ;;
 animation)
   # fps 4: frame times 0, 0.25, ... are exact, as are the --frames A-B:step times.
-  "$sdfc" render "$morph" --size 64x36 --spp 64 --frames 0-1.25:0.25 -o "$work/single.exr" -q
+  "$sdfc" render "$morph" --size 64x36 --spp 64 --frames 0-1.25:0.25 --denoise none -o "$work/single.exr" -q
   video=()
   command -v ffmpeg >/dev/null && video=(--video "$work/job/anim.mp4")
   "$sdfc" farm submit "$morph" --size 64x36 --spp 64 --frames 0-5 --fps 4 --shards 2 -o "$work/job" "${video[@]}"
@@ -68,7 +68,7 @@ animation)
   echo "animation: 6 frames x 2 shards, each bit-identical to its single render"
   ;;
 fault)
-  "$sdfc" render "$castle" "${still_flags[@]}" -o "$work/single.exr" -q
+  "$sdfc" render "$castle" "${still_flags[@]}" --denoise none -o "$work/single.exr" -q
   # 1. The killed shard is retried inside its job.
   SDFC_FAULT_KILL_SHARD=3 SDFC_FAULT_MARKER="$work/marker1" \
     "$sdfc" farm submit "$castle" "${still_flags[@]}" --shards 4 --retries 1 -o "$work/retry"
