@@ -142,6 +142,8 @@ struct Scene {
   std::vector<SphereLight> lights;
   RenderSettings render;
   bool uses_time = false;
+  // Files brought in by `import` (ranges and diagnostics point into them).
+  std::vector<std::shared_ptr<SourceFile>> imported_sources;
 };
 
 // Stable text dump for --emit ir and for pass tests (text in, text out).
