@@ -137,6 +137,25 @@ TEST(Parametric, SameIrAsANamedShape) {
   EXPECT_NE(da.find("instances"), std::string::npos) << "40 copies of one part become data:\n" << da;
 }
 
+// A body that is one primitive stays inline, as written out: 40 calls with
+// 40 different heights become one set of copies with per-copy parameters.
+TEST(Parametric, PrimitiveBodiesGroupLikeWrittenPrimitives) {
+  std::string calls, written;
+  for (int i = 0; i < 40; ++i) {
+    const std::string at = "translate([" + std::to_string(i % 8 * 2) + ", 0, " + std::to_string(i / 8 * 2) + "]) ";
+    calls += at + "{ rod(" + std::to_string(1 + i % 5) + ") }\n";
+    written += at + "{ cylinder(radius: 0.2, height: " + std::to_string(1 + i % 5) + ") }\n";
+  }
+  const CompiledScene a = checked("let rod(h) = cylinder(radius: 0.2, height: h)\nscene { union {\n" + calls + "} }\n");
+  const CompiledScene b = checked("scene { union {\n" + written + "} }\n");
+  ASSERT_TRUE(a.scene.root && b.scene.root);
+  // The same but for the source lines the nodes come from.
+  const std::regex line("# line \\d+");
+  const std::string da = std::regex_replace(ir::dump(a.scene), line, "");
+  EXPECT_EQ(da, std::regex_replace(ir::dump(b.scene), line, ""));
+  EXPECT_NE(da.find("instances"), std::string::npos) << da;
+}
+
 int functionsNamed(const std::string& glsl, const std::string& prefix) {
   std::set<std::string> names;
   const std::regex def("\\nfloat (" + prefix + "\\w*)\\(vec3 p\\)");
