@@ -170,6 +170,15 @@ TEST_F(Imports, Diagnostics) {
                 "DIR/bad.sdf:2:45: note: here, in the definition of 'post'\n"
                 "let post(h) = cylinder(radius: 0.2, height: h)\n"
                 "                                            ^\n");
+  // Not a regular file (a device would never end, a directory is no scene).
+  write("device.sdf", "import \"/dev/zero\"\nimport \"lib\"\nscene { sphere(radius: 1) }\n");
+  fs::create_directories(dir_ / "lib");
+  expectDiagnostics("device.sdf", "DIR/device.sdf:1:8: error: '/dev/zero' is not a regular file\n"
+                "import \"/dev/zero\"\n"
+                "       ^~~~~~~~~~~\n"
+                "DIR/device.sdf:2:8: error: 'DIR/lib' is not a regular file\n"
+                "import \"lib\"\n"
+                "       ^~~~~\n");
   // A syntax error in an imported file; an unknown qualified name.
   write("broken.sdf", "let x = sphere(radius: 1\n");
   write("uses_broken.sdf", "import \"broken.sdf\" as b\nscene { b.y(1) }\n");

@@ -85,8 +85,15 @@ class Loader {
   // Reads and parses a file once, however often it is imported.
   const ast::File* parsed(const ast::Statement& s, const std::string& path, const std::string& id) {
     if (auto it = trees_.find(id); it != trees_.end()) return it->second;
+    // Only regular files: a FIFO or a device (/dev/zero) would block or never end.
+    std::error_code ec;
+    if (std::filesystem::exists(path, ec) && !std::filesystem::is_regular_file(path, ec)) {
+      diags_.error(s.import_path_range, "'" + path + "' is not a regular file");
+      trees_[id] = nullptr;
+      return nullptr;
+    }
     std::unique_ptr<SourceFile> file = readSourceFile(path);
-    if (!file || std::filesystem::is_directory(path)) {
+    if (!file) {
       diags_.error(s.import_path_range, "cannot read '" + path + "' (imports are relative to the importing file)");
       trees_[id] = nullptr;
       return nullptr;
