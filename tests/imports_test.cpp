@@ -137,7 +137,10 @@ TEST_F(Imports, Diagnostics) {
                 "    ^~~~~\n"
                 "DIR/clash.sdf:2:5: note: 'stone' is defined here\n"
                 "let stone = diffuse(albedo: [1, 0, 0])\n"
-                "    ^~~~~\n");
+                "    ^~~~~\n"
+                "DIR/clash.sdf:2:13: warning: material 'stone' is never used by a shape\n"
+                "let stone = diffuse(albedo: [1, 0, 0])\n"
+                "            ^~~~~~~~~~~~~~~~~~~~~~~~~~\n");
   write("more.sdf", "let tower = sphere(radius: 1)\n");
   write("clash2.sdf", "import \"parts.sdf\"\nimport \"more.sdf\"\nscene { tower(1) }\n");
   expectDiagnostics("clash2.sdf", "DIR/clash2.sdf:2:8: error: this import brings in 'tower', which is already defined\n"
@@ -179,6 +182,14 @@ TEST_F(Imports, Diagnostics) {
                 "DIR/device.sdf:2:8: error: 'DIR/lib' is not a regular file\n"
                 "import \"lib\"\n"
                 "       ^~~~~\n");
+  // An imported file sees its own names and its imports', not its importer's or a sibling's.
+  write("sibling a.sdf", "let left = translate([-1, 0, 0]) { right }\n");
+  write("sibling b.sdf", "let right = sphere(radius: 1)\n");
+  write("siblings.sdf", "import \"sibling a.sdf\"\nimport \"sibling b.sdf\"\n"
+                        "scene { left right }\n");
+  expectDiagnostics("siblings.sdf", "DIR/sibling a.sdf:1:36: error: unknown name 'right'\n"
+                "let left = translate([-1, 0, 0]) { right }\n"
+                "                                   ^~~~~\n");
   // A syntax error in an imported file; an unknown qualified name.
   write("broken.sdf", "let x = sphere(radius: 1\n");
   write("uses_broken.sdf", "import \"broken.sdf\" as b\nscene { b.y(1) }\n");

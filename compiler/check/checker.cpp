@@ -186,6 +186,38 @@ class Checker {
 
   bool fromImport(const SourceRange& r) const { return r.file && r.file != &source_; }
 
+  // The file whose names are being looked up (with prefix_): the checked
+  // file, or the one holding the definition being resolved or expanded.
+  const SourceFile* file_ = &source_;
+  std::map<std::pair<const SourceFile*, const SourceFile*>, bool> visible_;
+
+  // Whether a body in `from` may use a definition of `to`: the same file or
+  // one `from` imports, transitively (an imported file does not see the
+  // names of the file importing it, nor of its siblings).
+  bool sees(const SourceFile* from, const SourceFile* to) {
+    if (from == to) return true;
+    auto [it, inserted] = visible_.try_emplace({from, to}, false);
+    if (!inserted) return it->second;
+    auto edges = imports_.edges.find(from);
+    bool found = false;
+    if (edges != imports_.edges.end())
+      for (const SourceFile* next : edges->second) found = found || sees(next, to);
+    visible_[{from, to}] = found;
+    return found;
+  }
+
+  // The binding `name` (qualified by prefix_) as seen from file_, or null.
+  Binding* findBinding(const std::string& name) {
+    auto it = bindings_.find(prefix_ + name);
+    if (it != bindings_.end() && sees(file_, it->second.statement->name_range.file)) return &it->second;
+    it = bindings_.find(hiddenKey(file_, prefix_ + name));
+    return it != bindings_.end() ? &it->second : nullptr;
+  }
+  // Where a definition that lost a clash is bound: its own file still sees it.
+  static std::string hiddenKey(const SourceFile* file, const std::string& key) {
+    return "#" + (file ? file->path : std::string()) + "#" + key;
+  }
+
   void bindImported(const ImportedDefinition& d) {
     const ast::Statement& s = *d.statement;
     const std::string key = d.prefix + s.name;
@@ -201,14 +233,15 @@ class Checker {
       e.notes.push_back({Severity::Note, s.name_range, "'" + s.name + "' from " + d.via + " is defined here", {}});
       e.notes.push_back({Severity::Note, old.statement->name_range,
                          "'" + key + "' " + (old.imported ? "from " + old.via + " " : "") + "is defined here", {}});
-      return;
+      it = bindings_.try_emplace(hiddenKey(s.name_range.file, key)).first;
+      if (it->second.statement) return;
     }
     Binding& b = it->second;
     b.statement = &s;
     b.imported = true;
     b.prefix = d.prefix;
     b.via = d.via;
-    order_.push_back(key);
+    order_.push_back(it->first);
     if (s.has_params) checkParameters(s, b);
   }
   // The parameters in scope while a parametric body is checked (null at the
@@ -252,9 +285,12 @@ class Checker {
     const auto* outer_params = params_;
     params_ = nullptr;
     const std::string outer_prefix = prefix_;
+    const SourceFile* outer_file = file_;
     prefix_ = b.prefix;
+    file_ = s.name_range.file;
     Value v = evalExpr(*s.value);
     prefix_ = outer_prefix;
+    file_ = outer_file;
     params_ = outer_params;
     if (define != options_.defines.end()) {
       if (v.type != Value::Type::Number && v.type != Value::Type::Error) {
@@ -289,8 +325,8 @@ class Checker {
         return v;
       }
     }
-    auto it = bindings_.find(prefix_ + e.name);
-    if (it == bindings_.end()) {
+    Binding* found = findBinding(e.name);
+    if (!found) {
       std::vector<std::string> candidates;
       for (const std::string& key : order_)
         if (key.compare(0, prefix_.size(), prefix_) == 0) candidates.push_back(key.substr(prefix_.size()));
@@ -300,12 +336,12 @@ class Checker {
       candidates.push_back("pi");
       std::string message = "unknown name '" + e.name + "'";
       const std::string near = nearestName(e.name, candidates);
-      if (!near.empty()) message += "; did you mean '" + near + "'?";
+      if (!near.empty() && near != e.name) message += "; did you mean '" + near + "'?";
       if (isBuiltinCallable(e.name)) message = "'" + e.name + "' must be called: '" + e.name + "(...)'";
       diags_->error(e.range, message);
       return {};
     }
-    Binding& b = it->second;
+    Binding& b = *found;
     b.used = true;
     if (b.parametric()) {
       Diagnostic& d = diags_->error(e.range, "'" + e.name + "' has parameters; call it: '" + e.name + "(...)'");
@@ -381,8 +417,7 @@ class Checker {
       case ast::ExprKind::Member: {
         // `parts.stone`: a definition imported `as parts`.
         if (const ast::Expr& o = *e.operands[0]; o.kind == ast::ExprKind::Name && !(params_ && params_->count(o.name)) &&
-                                                 !bindings_.count(prefix_ + o.name) &&
-                                                 bindings_.count(prefix_ + o.name + "." + e.name)) {
+                                                 !findBinding(o.name) && findBinding(o.name + "." + e.name)) {
           ast::Expr qualified;
           qualified.kind = ast::ExprKind::Name;
           qualified.name = o.name + "." + e.name;
@@ -474,11 +509,11 @@ class Checker {
       diags_->error(e.name_range, "'" + e.name + "' is a parameter, not a definition: it cannot be called");
       return {};
     }
-    if (auto it = bindings_.find(prefix_ + e.name); it != bindings_.end()) {
-      if (it->second.parametric()) return evalDefinitionCall(e, it->second);
-      it->second.used = true;
+    if (Binding* b = findBinding(e.name)) {
+      if (b->parametric()) return evalDefinitionCall(e, *b);
+      b->used = true;
       Diagnostic& d = diags_->error(e.name_range, "'" + e.name + "' has no parameters; use it without '(...)'");
-      d.notes.push_back({Severity::Note, it->second.statement->name_range, "'" + e.name + "' is defined here", {}});
+      d.notes.push_back({Severity::Note, b->statement->name_range, "'" + e.name + "' is defined here", {}});
       return {};
     }
     if (e.name == "instances") return evalInstances(e, *findBuiltin("instances"));
@@ -679,7 +714,9 @@ class Checker {
     diags_ = &captured;
     params_ = &scope;
     const std::string outer_prefix = prefix_;
+    const SourceFile* outer_file = file_;
     prefix_ = b.prefix;
+    file_ = def.name_range.file;
     expansions_.push_back({&b, call.range});
     ++resolve_depth_;
     bool ok = true;
@@ -693,6 +730,7 @@ class Checker {
     expansions_.pop_back();
     params_ = outer_params;
     prefix_ = outer_prefix;
+    file_ = outer_file;
     diags_ = outer_diags;
     for (const Diagnostic& d : captured.all()) {
       if (!contains(def.range, d.range)) {

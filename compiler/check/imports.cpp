@@ -70,10 +70,11 @@ class Loader {
       return;
     }
     const std::string inner = prefix + (s.alias.empty() ? "" : s.alias + ".");
-    if (!bound_.insert({id, inner}).second) return;  // the same file into the same names: once
     const ast::File* tree = parsed(s, path, id);
     if (!tree) return;
     const SourceFile& file = *sources_[id];
+    out_.edges[&source].push_back(&file);
+    if (!bound_.insert({id, inner}).second) return;  // the same file into the same names: once
     const std::string via = "'" + path + "', imported at " + where(s.import_path_range);
     for (const ast::Statement& d : tree->statements)
       if (d.is_let) out_.definitions.push_back({&d, inner, via, &s});

@@ -4,6 +4,7 @@
 // lists the definitions each brings in under its prefix ("" or "parts.").
 // The checker binds them; diagnostics inside a file name that file.
 #pragma once
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -27,6 +28,9 @@ struct ImportSet {
   std::vector<std::shared_ptr<SourceFile>> files;  // every imported file, once
   std::vector<std::unique_ptr<ast::File>> trees;
   std::vector<ImportedDefinition> definitions;
+  // The files each file imports: a body in a file sees the names of the
+  // file and of these, transitively (under their prefixes), nothing else.
+  std::map<const SourceFile*, std::vector<const SourceFile*>> edges;
 };
 
 // Imports are nested at most this deep (a chain, not a cycle, of files).
