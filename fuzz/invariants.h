@@ -13,8 +13,10 @@ namespace sdfc::fuzz {
 
 inline std::string rangeProblem(const Diagnostic& d, const SourceFile* source) {
   if (d.range.file) {
-    if (d.range.file != source) return "a diagnostic points into another file: " + d.message;
-    if (d.range.begin > d.range.end || d.range.end > source->text.size())
+    // Another file is one the scene imports (import "parts.sdf"): its own text bounds the range.
+    if (d.range.file != source && d.range.file->path == source->path)
+      return "a diagnostic points into another copy of the file: " + d.message;
+    if (d.range.begin > d.range.end || d.range.end > d.range.file->text.size())
       return "a diagnostic range is outside the file: " + d.message;
   }
   for (const Diagnostic& n : d.notes)

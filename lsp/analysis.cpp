@@ -1,8 +1,13 @@
 #include "lsp/analysis.h"
 
 #include <algorithm>
+#include <cctype>
+#include <cstring>
+#include <filesystem>
 #include <set>
 
+#include "check/imports.h"
+#include "check/parametric.h"
 #include "syntax/lexer.h"
 #include "syntax/parser.h"
 #include "lsp/uri.h"
@@ -10,13 +15,54 @@
 namespace sdfc::lsp {
 namespace {
 
-void indexExpr(Analysis& a, const ast::Expr& e) {
-  if ((e.kind == ast::ExprKind::Name || e.kind == ast::ExprKind::Call) && a.lets.count(e.name))
+const ast::Parameter* parameterOf(const ast::Statement* s, const std::string& name) {
+  if (!s) return nullptr;
+  for (const ast::Parameter& p : s->params)
+    if (p.name == name) return &p;
+  return nullptr;
+}
+
+// `scope`: the parametric `let` being indexed (its parameters hide lets).
+void indexExpr(Analysis& a, const ast::Expr& e, const ast::Statement* scope) {
+  if (e.kind == ast::ExprKind::Name && parameterOf(scope, e.name))
+    a.uses.push_back({e.name, e.range, false, scope});
+  else if (e.kind == ast::ExprKind::Call && !a.lets.count(e.name) && a.imported.count(e.name))
+    a.uses.push_back({e.name, e.name_range, false});
+  else if (e.kind == ast::ExprKind::Member && e.operands[0]->kind == ast::ExprKind::Name &&
+           a.imported.count(e.operands[0]->name + "." + e.name))
+    a.uses.push_back({e.operands[0]->name + "." + e.name, e.range, false});
+  else if (e.kind == ast::ExprKind::Name && !a.lets.count(e.name) && a.imported.count(e.name))
+    a.uses.push_back({e.name, e.range, false});
+  else if ((e.kind == ast::ExprKind::Name || e.kind == ast::ExprKind::Call) && a.lets.count(e.name))
     a.uses.push_back({e.name, e.kind == ast::ExprKind::Call ? e.name_range : e.range, false});
-  for (const ast::ExprPtr& o : e.operands) indexExpr(a, *o);
-  for (const ast::Argument& arg : e.arguments)
-    if (arg.value) indexExpr(a, *arg.value);
-  for (const ast::ExprPtr& c : e.children) indexExpr(a, *c);
+  // A named argument of a parametric definition's call is a use of its parameter.
+  const ast::Statement* callee = nullptr;
+  if (e.kind == ast::ExprKind::Call && a.lets.count(e.name) && a.lets.at(e.name)->has_params)
+    callee = a.lets.at(e.name);
+  for (const ast::ExprPtr& o : e.operands) indexExpr(a, *o, scope);
+  for (const ast::Argument& arg : e.arguments) {
+    if (!arg.name.empty() && parameterOf(callee, arg.name))
+      a.uses.push_back({arg.name, arg.name_range, false, callee});
+    if (arg.value) indexExpr(a, *arg.value, scope);
+  }
+  for (const ast::ExprPtr& c : e.children) indexExpr(a, *c, scope);
+}
+
+CalleeDoc definitionDoc(const Analysis& a, const ast::Statement& s) {
+  CalleeDoc c{s.name, CalleeKind::Definition, "defined in this file", {}, true};
+  const std::vector<ParamUsage> uses = inferParameterUses(s);
+  for (size_t i = 0; i < s.params.size(); ++i) {
+    ParamDoc p;
+    p.name = s.params[i].name;
+    p.type = paramUseName(uses[i].use);
+    if (s.params[i].default_value) {
+      const SourceRange& r = s.params[i].default_value->range;
+      p.fallback = a.text().substr(r.begin, r.end - r.begin);
+    }
+    p.required = !s.params[i].default_value;
+    c.params.push_back(p);
+  }
+  return c;
 }
 
 void indexNodes(Analysis& a, const ir::Node& n, std::set<const ir::Node*>& seen) {
@@ -34,10 +80,25 @@ std::shared_ptr<const Analysis> analyzeDocument(const Document& doc, bool utf8) 
   CompileOptions options;
   options.fuse_transforms = false;  // keep one IR node per call, for hover
   options.produce_spirv = false;
+  a->utf8 = utf8;
   // The file's own path, so file("points.csv") is read beside it; a URI that
   // names no local file (untitled:) stands as the name, read relative to here.
   const std::string path = pathFromUri(doc.uri).value_or(doc.uri);
   a->compiled = checkSource(path, doc.text, options, a->diagnostics);
+  // Imported definitions, by the names this file uses (files imported by
+  // imported files are reached under their prefixes the same way).
+  {
+    Diagnostics quiet;
+    const ast::File main = parse(*a->compiled.source, quiet);
+    const ImportSet imports = loadImports(main, *a->compiled.source, quiet);
+    for (const ImportedDefinition& d : imports.definitions) {
+      // The checker's files are the ones the ranges must point into.
+      for (const auto& f : a->compiled.scene.imported_sources)
+        if (f->path == d.statement->name_range.file->path)
+          a->imported.emplace(d.prefix + d.statement->name,
+                              SourceRange{f.get(), d.statement->name_range.begin, d.statement->name_range.end});
+    }
+  }
   Diagnostics again;  // the same syntax errors a second time: not reported twice
   a->tree = parse(*a->compiled.source, again, &a->comments);
   a->tokens = lex(*a->compiled.source, again);
@@ -46,7 +107,13 @@ std::shared_ptr<const Analysis> analyzeDocument(const Document& doc, bool utf8) 
     if (s.is_let && !a->lets.count(s.name)) a->lets[s.name] = &s;
   for (const ast::Statement& s : a->tree.statements) {
     if (s.is_let) a->uses.push_back({s.name, s.name_range, true});
-    if (s.value) indexExpr(*a, *s.value);
+    const ast::Statement* scope = s.is_let && s.has_params && a->lets[s.name] == &s ? &s : nullptr;
+    for (const ast::Parameter& p : s.params) {
+      if (scope) a->uses.push_back({p.name, p.name_range, true, scope});
+      if (p.default_value) indexExpr(*a, *p.default_value, scope);
+    }
+    if (s.value) indexExpr(*a, *s.value, scope);
+    if (scope) a->definitions.emplace(s.name, definitionDoc(*a, s));
   }
   std::sort(a->uses.begin(), a->uses.end(),
             [](const NameUse& x, const NameUse& y) { return x.range.begin < y.range.begin; });
@@ -58,6 +125,46 @@ std::shared_ptr<const Analysis> analyzeDocument(const Document& doc, bool utf8) 
 const NameUse* Analysis::nameAt(size_t offset) const {
   for (const NameUse& u : uses)
     if (u.range.begin <= offset && offset <= u.range.end) return &u;
+  return nullptr;
+}
+
+// One decoder for every URI the server reads (lsp/uri.cpp); a URI that names
+// no local file stands as it is.
+std::string uriToPath(const std::string& uri) { return pathFromUri(uri).value_or(uri); }
+
+std::string pathToUri(const std::string& path) {
+  if (path.empty() || path[0] != '/') return path;
+  static const char* kHex = "0123456789ABCDEF";
+  std::string uri = "file://";
+  for (unsigned char c : path) {
+    if (std::isalnum(c) || std::strchr("/-._~", c)) {
+      uri += static_cast<char>(c);
+    } else {
+      uri += '%';
+      uri += kHex[c >> 4];
+      uri += kHex[c & 15];
+    }
+  }
+  return uri;
+}
+
+json Analysis::location(const SourceRange& r) const {
+  if (!r.file || r.file == compiled.source.get())
+    return {{"uri", uri}, {"range", lines.rangeOf(r.file ? r.begin : 0, r.file ? std::max(r.begin, r.end) : 0)}};
+  const LineIndex other(r.file->text, utf8);
+  std::string path = r.file->path;
+  if (!path.empty() && path[0] != '/') path = std::filesystem::absolute(path).string();
+  return {{"uri", pathToUri(path)}, {"range", other.rangeOf(r.begin, std::max(r.begin, r.end))}};
+}
+
+const CalleeDoc* Analysis::callee(const std::string& name) const {
+  auto it = definitions.find(name);
+  return it != definitions.end() ? &it->second : findCallee(name);
+}
+
+const ast::Statement* Analysis::enclosingDefinition(size_t offset) const {
+  for (const ast::Statement& s : tree.statements)
+    if (s.is_let && s.has_params && s.range.begin <= offset && offset <= s.range.end) return &s;
   return nullptr;
 }
 

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "driver/compile.h"
+#include "lsp/catalogue.h"
 #include "lsp/documents.h"
 #include "syntax/ast.h"
 #include "syntax/token.h"
@@ -19,6 +20,9 @@ struct NameUse {
   std::string name;
   SourceRange range;
   bool definition = false;
+  // A parameter: the parametric `let` it belongs to (its uses in the body,
+  // and named arguments at calls); null for a `let` name.
+  const ast::Statement* scope = nullptr;
 };
 
 struct Analysis {
@@ -33,15 +37,30 @@ struct Analysis {
   std::map<std::string, const ast::Statement*> lets;  // first definition of each name
   std::vector<NameUse> uses;                           // definitions and uses, in source order
   std::map<size_t, const ir::Node*> nodes;             // IR node by its call's start offset
+  std::map<std::string, CalleeDoc> definitions;        // parametric `let`s, documented as callees
+  // Definitions brought in by `import`, by the name this file uses for them
+  // ("tower", "parts.tower"): where each is defined in its own file.
+  std::map<std::string, SourceRange> imported;
+  bool utf8 = false;
 
   const std::string& text() const { return compiled.source->text; }
   const SourceFile& source() const { return *compiled.source; }
   // The use or definition of a `let` name under `offset` (or just before it).
   const NameUse* nameAt(size_t offset) const;
+  // A built-in or a parametric definition of this file.
+  const CalleeDoc* callee(const std::string& name) const;
+  // The parametric `let` whose text holds `offset`, if any.
+  const ast::Statement* enclosingDefinition(size_t offset) const;
+  // An LSP location for a range in this document or in an imported file.
+  json location(const SourceRange& r) const;
   // The IR node a `let` shape compiles to, if any.
   const ir::Node* definitionNode(const std::string& name) const;
 };
 
 std::shared_ptr<const Analysis> analyzeDocument(const Document& doc, bool utf8);
+
+// file:///a/b%20c.sdf <-> /a/b c.sdf (other URIs are kept as they are).
+std::string uriToPath(const std::string& uri);
+std::string pathToUri(const std::string& path);
 
 }  // namespace sdfc::lsp

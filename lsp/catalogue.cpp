@@ -150,6 +150,7 @@ std::string CalleeDoc::signature() const {
 const char* kindName(CalleeKind kind) {
   switch (kind) {
     case CalleeKind::Primitive: return "primitive";
+    case CalleeKind::Definition: return "definition";
     case CalleeKind::Operator: return "operator";
     case CalleeKind::Material: return "material";
     case CalleeKind::Setting: return "setting";

@@ -93,8 +93,15 @@ json item(const std::string& label, int kind, const std::string& detail, const s
 
 constexpr int kFunction = 3, kField = 5, kVariable = 6, kKeyword = 14, kConstant = 21, kModule = 9;
 
-void addLets(const Analysis& a, json& out) {
+void addLets(const Analysis& a, json& out, size_t offset) {
+  if (const ast::Statement* def = a.enclosingDefinition(offset))
+    if (const CalleeDoc* c = a.callee(def->name))
+      for (const ParamDoc& p : c->params) out.push_back(item(p.name, kVariable, p.label(), "0", "parameter of `" + def->name + "`"));
   for (const auto& [name, s] : a.lets) {
+    if (s->has_params) {
+      if (const CalleeDoc* c = a.callee(name)) out.push_back(item(name, kFunction, c->signature(), "1", c->markdown()));
+      continue;
+    }
     std::string value = a.text().substr(s->range.begin, s->range.end - s->range.begin);
     if (value.find('\n') != std::string::npos) value = value.substr(0, value.find('\n')) + " ...";
     out.push_back(item(name, kVariable, value, "1"));
@@ -121,7 +128,7 @@ json completion(const Analysis& a, size_t offset) {
   switch (c.where) {
     case Where::Arguments:
       if (at_name)
-        if (const CalleeDoc* callee = findCallee(c.callee))
+        if (const CalleeDoc* callee = a.callee(c.callee))
           for (const ParamDoc& p : callee->params)
             if (!c.given.count(p.name))
               out.push_back(item(p.name, kField, p.label(), "0",
@@ -129,18 +136,18 @@ json completion(const Analysis& a, size_t offset) {
                                  p.name + ": "));
       [[fallthrough]];
     case Where::Vector:
-      addLets(a, out);
+      addLets(a, out, offset);
       out.push_back(item("time", kConstant, "scene time in seconds", "1"));
       out.push_back(item("pi", kConstant, "3.14159265358979", "1"));
       addCallees(out, true, true, false);
       break;
     case Where::Block:
-      addLets(a, out);
+      addLets(a, out, offset);
       addCallees(out, true, false, false);
       break;
     case Where::TopLevel:
       if (c.previous && c.previous->kind == TokenKind::Equals) {  // let name = |
-        addLets(a, out);
+        addLets(a, out, offset);
         addCallees(out, true, true, false);
         break;
       }
@@ -154,7 +161,7 @@ json completion(const Analysis& a, size_t offset) {
 json signatureHelp(const Analysis& a, size_t offset) {
   const Context c = contextAt(a, offset, true);
   if (c.where != Where::Arguments) return nullptr;
-  const CalleeDoc* callee = findCallee(c.callee);
+  const CalleeDoc* callee = a.callee(c.callee);
   if (!callee) return nullptr;
   json params = json::array();
   std::string label = callee->name + "(";

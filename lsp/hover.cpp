@@ -76,10 +76,20 @@ json result(const Analysis& a, const SourceRange& r, const std::string& markdown
 
 json hover(const Analysis& a, size_t offset) {
   if (const NameUse* use = a.nameAt(offset)) {
+    if (use->scope) {
+      const CalleeDoc* c = a.callee(use->scope->name);
+      for (const ParamDoc& p : c ? c->params : std::vector<ParamDoc>{})
+        if (p.name == use->name)
+          return result(a, use->range, "```sdf\n" + p.label() + "\n```\nparameter of `" + c->name + "`: " + p.type +
+                                           (p.required ? ", required" : ", default " + p.fallback) + "\n");
+      return nullptr;
+    }
+    if (!a.lets.count(use->name)) return nullptr;  // imported: go to its definition instead
     const ast::Statement* s = a.lets.at(use->name);
     std::string value = a.text().substr(s->range.begin, s->range.end - s->range.begin);
     if (value.size() > 400) value = value.substr(0, 400) + " ...";
     std::string md = "```sdf\n" + value + "\n```\n";
+    if (auto d = a.definitions.find(use->name); d != a.definitions.end()) md = d->second.markdown() + "\n" + md;
     if (const ir::Node* n = a.definitionNode(use->name)) md += nodeText(a, *n);
     return result(a, use->range, md);
   }
@@ -87,7 +97,7 @@ json hover(const Analysis& a, size_t offset) {
   for (const ast::Statement& s : a.tree.statements)
     if (s.value) find(*s.value, offset, f);
   if (f.arg) {
-    const CalleeDoc* c = findCallee(f.arg_owner->name);
+    const CalleeDoc* c = a.callee(f.arg_owner->name);
     if (!c) return nullptr;
     for (const ParamDoc& p : c->params)
       if (p.name == f.arg->name) {
@@ -100,7 +110,7 @@ json hover(const Analysis& a, size_t offset) {
     return nullptr;
   }
   if (f.call) {
-    const CalleeDoc* c = findCallee(f.call->name);
+    const CalleeDoc* c = a.callee(f.call->name);
     if (!c) return nullptr;
     std::string md = c->markdown();
     auto it = a.nodes.find(f.call->range.begin);

@@ -1,5 +1,6 @@
 // Go to definition, find references, highlight and rename for `let` names
-// (the only names a file defines; they are visible in the whole file).
+// (visible in the whole file) and the parameters of parametric ones
+// (visible in their definition, and as argument names at its calls).
 #include <regex>
 
 #include "check/builtins.h"
@@ -17,15 +18,26 @@ json location(const Analysis& a, const SourceRange& r) {
 json definition(const Analysis& a, size_t offset) {
   const NameUse* use = a.nameAt(offset);
   if (!use) return nullptr;
+  if (use->scope)
+    for (const ast::Parameter& p : use->scope->params)
+      if (p.name == use->name) return location(a, p.name_range);
+  if (!a.lets.count(use->name)) {
+    auto it = a.imported.find(use->name);
+    return it != a.imported.end() ? a.location(it->second) : json(nullptr);
+  }
   return location(a, a.lets.at(use->name)->name_range);
 }
+
+namespace {
+bool same(const NameUse& u, const NameUse& v) { return u.name == v.name && u.scope == v.scope; }
+}  // namespace
 
 json references(const Analysis& a, size_t offset, bool include_declaration) {
   const NameUse* use = a.nameAt(offset);
   json out = json::array();
   if (!use) return out;
   for (const NameUse& u : a.uses)
-    if (u.name == use->name && (include_declaration || !u.definition)) out.push_back(location(a, u.range));
+    if (same(u, *use) && (include_declaration || !u.definition)) out.push_back(location(a, u.range));
   return out;
 }
 
@@ -34,7 +46,7 @@ json documentHighlight(const Analysis& a, size_t offset) {
   json out = json::array();
   if (!use) return out;
   for (const NameUse& u : a.uses)
-    if (u.name == use->name)
+    if (same(u, *use))
       out.push_back({{"range", a.lines.rangeOf(u.range.begin, u.range.end)}, {"kind", u.definition ? 3 : 2}});
   return out;
 }
@@ -48,16 +60,21 @@ json prepareRename(const Analysis& a, size_t offset) {
 json rename(const Analysis& a, size_t offset, const std::string& new_name) {
   const NameUse* use = a.nameAt(offset);
   if (!use) throw RpcError(kRequestFailed, "only a name bound by 'let' can be renamed");
+  if (!use->scope && !a.lets.count(use->name))
+    throw RpcError(kRequestFailed, "'" + use->name + "' is imported; rename it in the file that defines it");
   static const std::regex identifier("[A-Za-z_][A-Za-z0-9_]*");
   if (!std::regex_match(new_name, identifier) || new_name == "let")
     throw RpcError(kRequestFailed, "'" + new_name + "' is not a valid name");
   if (isReservedName(new_name))
     throw RpcError(kRequestFailed, "'" + new_name + "' is a built-in name");
-  if (new_name != use->name && a.lets.count(new_name))
+  if (new_name != use->name && !use->scope && a.lets.count(new_name))
     throw RpcError(kRequestFailed, "'" + new_name + "' is already defined");
+  if (use->scope && new_name != use->name)
+    for (const ast::Parameter& p : use->scope->params)
+      if (p.name == new_name) throw RpcError(kRequestFailed, "'" + new_name + "' is already a parameter");
   json edits = json::array();
   for (const NameUse& u : a.uses)
-    if (u.name == use->name)
+    if (same(u, *use))
       edits.push_back({{"range", a.lines.rangeOf(u.range.begin, u.range.end)}, {"newText", new_name}});
   return {{"changes", {{a.uri, edits}}}};
 }

@@ -107,6 +107,14 @@ std::vector<SceneCase> operatorScenes() {
        "let m = diffuse(albedo: [0.5, 0.5, 0.5])\n"
        "scene { sphere(radius: 0.3, material: m) translate([1, 0, 0]) { rod } translate([-1, 0, 0]) { rod }\n"
        "  translate([0, 1, 0]) { rod } union(smooth: 0.1) { translate([0, -1, 0]) { rod } } }"},
+      // Parametric definitions: specialisations (constants folded in), a
+      // time-dependent argument, shape and material arguments, nested calls.
+      {"parametric definitions",
+       "let m = diffuse(albedo: [0.5, 0.5, 0.5])\n"
+       "let post(h, r: 0.1) = union { cylinder(radius: r, height: h) translate([0, h / 2, 0]) { sphere(radius: r * 2) } }\n"
+       "let pair(gap, s, k: m) = union(material: k) { translate([-gap, 0, 0]) { s } translate([gap, 0, 0]) { s } }\n"
+       "scene { post(1) translate([0.5, 0, 0]) { post(0.6, r: 0.15) } translate([-0.5, 0, 0]) { post(1) }\n"
+       "  translate([0, 0, 0.6]) { post(0.5 + 0.3 * sin(time)) } pair(0.7, post(0.4)) }"},
   };
 }
 

@@ -389,6 +389,16 @@ TEST(Grammar, TextMateHighlightsEachKindOfToken) {
   // A user name that merely starts like a built-in is not one.
   EXPECT_EQ(tm.scopeOf("let spheres = 1", "spheres"), "entity.name.variable.sdf");
   EXPECT_EQ(tm.scopeOf("spheres", "spheres"), "variable.other.sdf");
+  // Parametric definitions and imports.
+  const std::string def = "let tower(height, radius: 1) = parts.post(height)";
+  EXPECT_EQ(tm.scopeOf(def, "tower"), "entity.name.variable.sdf");
+  EXPECT_EQ(tm.scopeOf(def, "radius"), "variable.parameter.sdf");
+  EXPECT_EQ(tm.scopeOf(def, "parts"), "variable.other.sdf");
+  const std::string import = "import \"my parts.sdf\" as lib";
+  EXPECT_EQ(tm.scopeOf(import, "import"), "keyword.other.import.sdf");
+  EXPECT_EQ(tm.scopeOf(import, "my parts"), "string.quoted.double.sdf");
+  EXPECT_EQ(tm.scopeOf(import, "as"), "keyword.other.import.sdf");
+  EXPECT_EQ(tm.scopeOf(import, "lib"), "entity.name.namespace.sdf");
 }
 
 // ---- docs/language.md -------------------------------------------------------

@@ -8,6 +8,8 @@ import os
 import re
 import subprocess
 import sys
+import tempfile
+import urllib.parse
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from lsp_client import LspClient  # noqa: E402
@@ -106,6 +108,42 @@ edits = r["changes"][uri]
 check("rename edits", len(edits) == len(refs) and all(e["newText"] == "granite" for e in edits), r)
 r = c.request("textDocument/rename", {**doc, "position": use, "newName": "sphere"})
 check("rename to a built-in refused", r.get("error", {}).get("code") == -32803, r)
+
+# Parametric definitions and imports, in a real directory with a space in its name.
+tmpdir = tempfile.mkdtemp(prefix="lsp params ")
+with open(os.path.join(tmpdir, "parts.sdf"), "w") as f:
+    f.write("let post(h, r: 0.2) = cylinder(radius: r, height: h)\n")
+ptext = ('import "parts.sdf" as parts\n'
+         'let tower(height, radius: 1) = union {\n'
+         '  cylinder(radius: radius, height: height)\n'
+         '  translate([0, height / 2, 0]) { parts.post(height) }\n'
+         '}\n'
+         'scene { tower(5) tower(7, radius: 1.3) }\n')
+puri = "file://" + urllib.parse.quote(os.path.join(tmpdir, "castle.sdf"))
+pdoc = {"textDocument": {"uri": puri}}
+c.notify("textDocument/didOpen", {"textDocument": {"uri": puri, "languageId": "sdf", "version": 1, "text": ptext}})
+_, d = c.wait_notification("textDocument/publishDiagnostics", lambda m: m["params"]["uri"] == puri)
+errors = [x for x in d["params"]["diagnostics"] if x["severity"] == 1]
+check("parametric scene with an import has no errors", not errors, errors)
+r = c.request("textDocument/definition", {**pdoc, "position": pos(ptext, "height", nth=2)})["result"]
+check("definition of a parameter", r and r["range"]["start"] == pos(ptext, "height"), r)
+refs = c.request("textDocument/references", {**pdoc, "position": pos(ptext, "height", nth=3),
+                                              "context": {"includeDeclaration": True}})["result"]
+check("references of a parameter", len(refs) == 4, refs)
+r = c.request("textDocument/rename", {**pdoc, "position": pos(ptext, "radius"), "newName": "width"})["result"]
+starts = sorted((e["range"]["start"]["line"], e["range"]["start"]["character"]) for e in r["changes"][puri])
+want = sorted((p["line"], p["character"]) for p in
+              [pos(ptext, "radius"), pos(ptext, "radius", nth=2), pos(ptext, "radius", nth=3)])
+check("rename a parameter (not the primitive's argument name)", starts == want, (starts, want))
+h = c.request("textDocument/hover", {**pdoc, "position": pos(ptext, "tower(5)", delta=1)})["result"]
+value = h["contents"]["value"] if h else ""
+check("hover a definition's call", "tower(height: a number, radius: a number = 1)" in value, value)
+items = c.request("textDocument/completion", {**pdoc, "position": pos(ptext, "tower(7", delta=6)})["result"]["items"]
+labels = {i["label"] for i in items}
+check("complete a definition's parameters", {"height", "radius"} <= labels, sorted(labels)[:20])
+r = c.request("textDocument/definition", {**pdoc, "position": pos(ptext, "parts.post", delta=7)})["result"]
+check("definition across files", r and r["uri"].endswith("/parts.sdf") and "%20" in r["uri"] and
+      r["range"]["start"] == {"line": 0, "character": 4}, r)
 
 # Symbols and formatting.
 syms = c.request("textDocument/documentSymbol", doc)["result"]

@@ -237,6 +237,34 @@ quit
         else:
             check(False, f"frames presented while playing ({len(played)})")
 
+
+    # A save of an imported file reloads the scene that imports it.
+    with tempfile.TemporaryDirectory() as d:
+        j = lambda name: os.path.join(d, name)
+        os.makedirs(j("lib dir"))
+        part = "let part(r) = sphere(radius: r, material: diffuse(albedo: COLOUR))\n"
+        open(j("lib dir/parts.sdf"), "w").write(part.replace("COLOUR", "[0.8, 0.3, 0.25]"))
+        open(j("lib dir/parts2.sdf"), "w").write(part.replace("COLOUR", "[0.2, 0.4, 0.9]"))
+        open(j("main.sdf"), "w").write('import "lib dir/parts.sdf" as lib\n' +
+                                       SCENE.replace("SHAPE", "lib.part(0.7)"))
+        script = f"""wait-spp 2
+save {j('before.png')}
+run sleep 0.2; cp '{j("lib dir/parts2.sdf")}' '{j("lib dir/parts.sdf")}'
+wait-reload
+wait-spp 2
+save {j('after.png')}
+quit
+"""
+        open(j("events.txt"), "w").write(script)
+        log = j("frames.log")
+        r = subprocess.run([SDFC, "view", j("main.sdf"), "--script", j("events.txt"), "--frame-log", log,
+                            "--size", "96x64"], env=env, capture_output=True, text=True, timeout=300)
+        sys.stderr.write(r.stderr)
+        check(r.returncode == 0, f"import session: quit exits 0 (got {r.returncode})")
+        events = [l for l in open(log).read().splitlines() if l.startswith("event ")]
+        check(sum("reload ok" in e for e in events) == 2, "saving the imported file reloads the scene")
+        before, after = read_png(j("before.png")), read_png(j("after.png"))
+        check((np.abs(before - after).max(axis=-1) > 8).mean() > 0.02, "the reload shows the imported change")
     if failures:
         print(f"{len(failures)} check(s) failed")
         return 1

@@ -99,6 +99,13 @@ std::unique_ptr<BuiltScene> BackgroundCompiler::buildReload(uint32_t view) {
   if (image_height_ > 0) options.emit.march.image_height = int(image_height_);
   LoadedScene loaded = loadScene(command_line_, diags, true, true, options, true);
   built->compile_seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  {
+    // A save of an imported file reloads too (even when this compile failed there).
+    std::vector<std::string> imports;
+    for (const auto& f : loaded.compiled.scene.imported_sources) imports.push_back(f->path);
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (watcher_) watcher_->watchAlso(imports);
+  }
   if (loaded.exit_code != kExitOk) {
     built->error = loaded.exit_code == kExitIo ? "cannot read the file" : "the scene has errors";
     return built;

@@ -3,7 +3,9 @@
 // in-place writes and editors that save to a temporary and rename it over.
 #pragma once
 #include <cstdint>
+#include <map>
 #include <string>
+#include <vector>
 
 namespace sdfc::view {
 
@@ -12,6 +14,9 @@ class FileWatcher {
   explicit FileWatcher(std::string path);
   // True once per change since the last call (the first call records the state).
   bool changed();
+  // Watch these files too (the scene's imports, as of its last compile);
+  // a file already watched keeps its stamp, so a save during a compile counts.
+  void watchAlso(const std::vector<std::string>& paths);
 
  private:
   struct Stamp {
@@ -21,10 +26,11 @@ class FileWatcher {
       return mtime_ns == o.mtime_ns && size == o.size && inode == o.inode;
     }
   };
-  Stamp read() const;
+  static Stamp read(const std::string& path);
 
   std::string path_;
   Stamp last_;
+  std::map<std::string, Stamp> also_;
 };
 
 }  // namespace sdfc::view

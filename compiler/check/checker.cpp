@@ -4,11 +4,15 @@
 #include <cmath>
 #include <limits>
 #include <functional>
+#include <optional>
 #include <set>
+#include <tuple>
 #include <unordered_map>
 #include <unordered_set>
 
 #include "check/builtins.h"
+#include "check/imports.h"
+#include "check/parametric.h"
 #include "check/point_file.h"
 
 namespace sdfc {
@@ -49,47 +53,82 @@ struct Binding {
   enum class State { Unresolved, Resolving, Done } state = State::Unresolved;
   Value value;
   bool used = false;
+  // A parametric definition: how its body uses each parameter, and one
+  // value per distinct argument list (calls with equal arguments share it).
+  bool parametric() const { return statement->has_params; }
+  std::vector<ParamUsage> uses;
+  std::unordered_map<std::string, Value> specialisations;
+  bool broken = false;  // it calls itself: reported once, then every call is an error value
+  // Imported: the namespace its body looks names up in ("parts." for a file
+  // imported `as parts`), and how it came in.
+  bool imported = false;
+  std::string prefix;
+  std::string via;
 };
+
+// What a parameter's use accepts.
+bool fitsUse(Value::Type t, ParamUse use) {
+  switch (use) {
+    case ParamUse::Unknown: return true;
+    case ParamUse::Number: return t == Value::Type::Number;
+    case ParamUse::Numeric: return t == Value::Type::Number || t == Value::Type::Vector;
+    case ParamUse::Vector: return t == Value::Type::Vector;
+    case ParamUse::Shape: return t == Value::Type::Shape;
+    case ParamUse::Material: return t == Value::Type::Material;
+  }
+  return true;
+}
+
+bool contains(const SourceRange& outer, const SourceRange& inner) {
+  return outer.file && inner.file == outer.file && inner.begin >= outer.begin && inner.end <= outer.end;
+}
 
 class Checker {
  public:
   Checker(const SourceFile& source, Diagnostics& diags, const CheckOptions& options)
-      : source_(source), diags_(diags), options_(options) {}
+      : source_(source), diags_(&diags), root_diags_(&diags), options_(options) {}
 
   ir::Scene run(const ast::File& file) {
+    imports_ = loadImports(file, source_, *diags_);
     // Pass 1: collect definitions, so they may be used before they appear.
     for (const ast::Statement& s : file.statements) {
       if (!s.is_let) continue;
       if (isReservedName(s.name)) {
-        diags_.error(s.name_range, "'" + s.name + "' is a built-in name and cannot be redefined");
+        diags_->error(s.name_range, "'" + s.name + "' is a built-in name and cannot be redefined");
         continue;
       }
       auto [it, inserted] = bindings_.try_emplace(s.name);
       if (!inserted) {
-        Diagnostic& d = diags_.error(s.name_range, "'" + s.name + "' is already defined");
+        Diagnostic& d = diags_->error(s.name_range, "'" + s.name + "' is already defined");
         d.notes.push_back({Severity::Note, it->second.statement->name_range,
                            "previous definition is here", {}});
         continue;
       }
       it->second.statement = &s;
       order_.push_back(s.name);
+      if (s.has_params) checkParameters(s, it->second);
     }
-    for (const auto& [name, value] : options_.defines)
-      if (!bindings_.count(name))
-        diags_.error({}, "-D " + name + ": the scene defines no 'let " + name + "'");
+    for (const ImportedDefinition& d : imports_.definitions) bindImported(d);
+    for (const auto& [name, value] : options_.defines) {
+      auto it = bindings_.find(name);
+      if (it == bindings_.end())
+        diags_->error({}, "-D " + name + ": the scene defines no 'let " + name + "'");
+      else if (it->second.parametric())
+        diags_->error({}, "-D " + name + ": '" + name + "' is a parametric definition, not a number");
+    }
     // Pass 2: the settings and the scene, in file order.
     bool have_scene = false;
     for (const ast::Statement& s : file.statements) {
       if (s.is_let || !s.value || s.value->kind == ast::ExprKind::Error) continue;
       const ast::Expr& e = *s.value;
       if (e.kind != ast::ExprKind::Call) {
-        diags_.error(e.range, "a statement must be 'let', 'scene { ... }' or a setting such as "
+        diags_->error(e.range, "a statement must be 'let', 'scene { ... }' or a setting such as "
                               "'camera(...)'");
         continue;
       }
       if (e.name == "scene") {
         if (have_scene) {
-          diags_.error(e.name_range, "the file already has a scene");
+          diags_->error(e.name_range, "the file already has a scene");
           continue;
         }
         have_scene = true;
@@ -99,39 +138,123 @@ class Checker {
       } else {
         Value v = evalExpr(e);
         if (v.type != Value::Type::Error)
-          diags_.error(e.range, std::string("a statement cannot be ") + typeName(v.type) +
+          diags_->error(e.range, std::string("a statement cannot be ") + typeName(v.type) +
                                     " on its own; did you mean to put it in 'scene { ... }' or "
                                     "bind it with 'let'?");
       }
     }
-    if (!have_scene && !diags_.hasErrors())
-      diags_.error({&source_, source_.text.size(), source_.text.size()},
+    if (!have_scene && !diags_->hasErrors())
+      diags_->error({&source_, source_.text.size(), source_.text.size()},
                    "the file has no 'scene { ... }'");
     // Definitions nobody used are still checked, then reported.
     for (const std::string& name : order_) {
       Binding& b = bindings_[name];
+      if (b.parametric()) {
+        // Its body is checked at each call, with the call's arguments.
+        if (!b.used && !b.imported) diags_->warning(b.statement->name_range, "'" + name + "' is never used");
+        continue;
+      }
+      if (b.imported && !b.used) continue;  // a library's unused parts are not checked here
       if (b.state == Binding::State::Unresolved) resolve(name, b);
       // An unused material gets its own warning below.
       // A definition with errors has been reported already: one mistake, one message.
-      if (!b.used && b.value.type != Value::Type::Material && b.value.type != Value::Type::Error)
-        diags_.warning(b.statement->name_range, "'" + name + "' is never used");
+      if (!b.used && !b.imported && b.value.type != Value::Type::Material && b.value.type != Value::Type::Error)
+        diags_->warning(b.statement->name_range, "'" + name + "' is never used");
     }
+    scene_.imported_sources = imports_.files;
     for (size_t i = 0; i < scene_.materials.size(); ++i)
-      if (!material_used_[i])
-        diags_.warning(scene_.materials[i].range,
+      if (!material_used_[i] && !fromImport(scene_.materials[i].range))
+        diags_->warning(scene_.materials[i].range,
                        "material '" + scene_.materials[i].name + "' is never used by a shape");
     return std::move(scene_);
   }
 
  private:
   const SourceFile& source_;
-  Diagnostics& diags_;
+  Diagnostics* diags_;  // while a body is expanded: its own list (see expandBody)
+  Diagnostics* root_diags_;
   const CheckOptions& options_;
   std::unordered_map<std::string, Binding> bindings_;
   std::vector<std::string> order_;
   ir::Scene scene_;
   std::vector<bool> material_used_;
   std::set<std::string> seen_settings_;
+  ImportSet imports_;
+  // The namespace names are looked up in: "" in the checked file, "parts."
+  // inside the body of a definition imported `as parts`.
+  std::string prefix_;
+
+  bool fromImport(const SourceRange& r) const { return r.file && r.file != &source_; }
+
+  // The file whose names are being looked up (with prefix_): the checked
+  // file, or the one holding the definition being resolved or expanded.
+  const SourceFile* file_ = &source_;
+  std::map<std::pair<const SourceFile*, const SourceFile*>, bool> visible_;
+
+  // Whether a body in `from` may use a definition of `to`: the same file or
+  // one `from` imports, transitively (an imported file does not see the
+  // names of the file importing it, nor of its siblings).
+  bool sees(const SourceFile* from, const SourceFile* to) {
+    if (from == to) return true;
+    auto [it, inserted] = visible_.try_emplace({from, to}, false);
+    if (!inserted) return it->second;
+    auto edges = imports_.edges.find(from);
+    bool found = false;
+    if (edges != imports_.edges.end())
+      for (const SourceFile* next : edges->second) found = found || sees(next, to);
+    visible_[{from, to}] = found;
+    return found;
+  }
+
+  // The binding `name` (qualified by prefix_) as seen from file_, or null.
+  Binding* findBinding(const std::string& name) {
+    auto it = bindings_.find(prefix_ + name);
+    if (it != bindings_.end() && sees(file_, it->second.statement->name_range.file)) return &it->second;
+    it = bindings_.find(hiddenKey(file_, prefix_ + name));
+    return it != bindings_.end() ? &it->second : nullptr;
+  }
+  // Where a definition that lost a clash is bound: its own file still sees it.
+  static std::string hiddenKey(const SourceFile* file, const std::string& key) {
+    return "#" + (file ? file->path : std::string()) + "#" + key;
+  }
+
+  void bindImported(const ImportedDefinition& d) {
+    const ast::Statement& s = *d.statement;
+    const std::string key = d.prefix + s.name;
+    if (isReservedName(s.name)) {
+      diags_->error(s.name_range, "'" + s.name + "' is a built-in name and cannot be redefined");
+      return;
+    }
+    auto [it, inserted] = bindings_.try_emplace(key);
+    if (!inserted) {
+      const Binding& old = it->second;
+      Diagnostic& e = diags_->error(d.import->import_path_range,
+                                    "this import brings in '" + key + "', which is already defined");
+      e.notes.push_back({Severity::Note, s.name_range, "'" + s.name + "' from " + d.via + " is defined here", {}});
+      e.notes.push_back({Severity::Note, old.statement->name_range,
+                         "'" + key + "' " + (old.imported ? "from " + old.via + " " : "") + "is defined here", {}});
+      it = bindings_.try_emplace(hiddenKey(s.name_range.file, key)).first;
+      if (it->second.statement) return;
+    }
+    Binding& b = it->second;
+    b.statement = &s;
+    b.imported = true;
+    b.prefix = d.prefix;
+    b.via = d.via;
+    order_.push_back(it->first);
+    if (s.has_params) checkParameters(s, b);
+  }
+  // The parameters in scope while a parametric body is checked (null at the
+  // top level: a body sees its parameters and the file's definitions only).
+  const std::unordered_map<std::string, Value>* params_ = nullptr;
+  // The calls being expanded, outermost first (for recursion and its chain).
+  struct Expansion {
+    const Binding* binding;
+    SourceRange call;
+  };
+  std::vector<Expansion> expansions_;
+  // Warnings inside a body, reported once however many calls expand it.
+  std::set<std::tuple<const SourceFile*, size_t, std::string>> body_warnings_;
 
   // ---- names -------------------------------------------------------------
 
@@ -143,7 +266,7 @@ class Checker {
   const Value& resolve(const std::string& name, Binding& b) {
     if (b.state == Binding::State::Done) return b.value;
     if (resolve_depth_ >= kMaxDefinitionDepth) {
-      diags_.error(b.statement->name_range,
+      diags_->error(b.statement->name_range,
                    "definitions refer to each other more than " +
                        std::to_string(kMaxDefinitionDepth) + " levels deep");
       b.state = Binding::State::Done;
@@ -157,10 +280,21 @@ class Checker {
     b.state = Binding::State::Resolving;
     const ast::Statement& s = *b.statement;
     auto define = options_.defines.find(name);
+    // A definition sees the file's names, never the parameters of a body
+    // that happens to use it first.
+    const auto* outer_params = params_;
+    params_ = nullptr;
+    const std::string outer_prefix = prefix_;
+    const SourceFile* outer_file = file_;
+    prefix_ = b.prefix;
+    file_ = s.name_range.file;
     Value v = evalExpr(*s.value);
+    prefix_ = outer_prefix;
+    file_ = outer_file;
+    params_ = outer_params;
     if (define != options_.defines.end()) {
       if (v.type != Value::Type::Number && v.type != Value::Type::Error) {
-        diags_.error(s.name_range, "-D " + name + " gives a number, but '" + name + "' is " +
+        diags_->error(s.name_range, "-D " + name + " gives a number, but '" + name + "' is " +
                                        typeName(v.type));
       } else {
         v.type = Value::Type::Number;
@@ -183,22 +317,39 @@ class Checker {
       return number(ir::timeScalar(), e.range);
     }
     if (e.name == "pi") return number(ir::constant(M_PI), e.range);
-    auto it = bindings_.find(e.name);
-    if (it == bindings_.end()) {
-      std::vector<std::string> candidates = order_;
+    if (params_) {
+      auto p = params_->find(e.name);
+      if (p != params_->end()) {
+        Value v = p->second;
+        v.range = e.range;
+        return v;
+      }
+    }
+    Binding* found = findBinding(e.name);
+    if (!found) {
+      std::vector<std::string> candidates;
+      for (const std::string& key : order_)
+        if (key.compare(0, prefix_.size(), prefix_) == 0) candidates.push_back(key.substr(prefix_.size()));
+      if (params_)
+        for (const auto& [name, value] : *params_) candidates.push_back(name);
       candidates.push_back("time");
       candidates.push_back("pi");
       std::string message = "unknown name '" + e.name + "'";
       const std::string near = nearestName(e.name, candidates);
-      if (!near.empty()) message += "; did you mean '" + near + "'?";
+      if (!near.empty() && near != e.name) message += "; did you mean '" + near + "'?";
       if (isBuiltinCallable(e.name)) message = "'" + e.name + "' must be called: '" + e.name + "(...)'";
-      diags_.error(e.range, message);
+      diags_->error(e.range, message);
       return {};
     }
-    Binding& b = it->second;
+    Binding& b = *found;
     b.used = true;
+    if (b.parametric()) {
+      Diagnostic& d = diags_->error(e.range, "'" + e.name + "' has parameters; call it: '" + e.name + "(...)'");
+      d.notes.push_back({Severity::Note, b.statement->name_range, "'" + e.name + "' is defined here", {}});
+      return {};
+    }
     if (b.state == Binding::State::Resolving) {
-      Diagnostic& d = diags_.error(e.range, "'" + e.name + "' is defined in terms of itself");
+      Diagnostic& d = diags_->error(e.range, "'" + e.name + "' is defined in terms of itself");
       d.notes.push_back({Severity::Note, b.statement->name_range, "'" + e.name + "' is defined here", {}});
       return {};
     }
@@ -222,7 +373,7 @@ class Checker {
       case ast::ExprKind::Error: return {};
       case ast::ExprKind::Number: return number(ir::constant(e.number), e.range);
       case ast::ExprKind::String:
-        diags_.error(e.range, "a string may only name a file, as in "
+        diags_->error(e.range, "a string may only name a file, as in "
                               "instances(positions: file(\"points.csv\"))");
         return {};
       case ast::ExprKind::Name: return lookupName(e);
@@ -234,14 +385,14 @@ class Checker {
           Value x = evalExpr(*el);
           if (x.type == Value::Type::Error) return {};
           if (x.type != Value::Type::Number) {
-            diags_.error(x.range, std::string("a vector element must be a number, not ") +
+            diags_->error(x.range, std::string("a vector element must be a number, not ") +
                                       typeName(x.type));
             return {};
           }
           v.vector.push_back(x.number);
         }
         if (v.vector.size() > 4) {
-          diags_.error(e.range, "vectors have at most 4 elements, this one has " +
+          diags_->error(e.range, "vectors have at most 4 elements, this one has " +
                                     std::to_string(v.vector.size()));
           return {};
         }
@@ -259,18 +410,27 @@ class Checker {
           return a;
         }
         if (a.type != Value::Type::Error)
-          diags_.error(e.range, std::string("cannot negate ") + typeName(a.type));
+          diags_->error(e.range, std::string("cannot negate ") + typeName(a.type));
         return {};
       }
       case ast::ExprKind::Binary: return evalBinary(e);
       case ast::ExprKind::Member: {
+        // `parts.stone`: a definition imported `as parts`.
+        if (const ast::Expr& o = *e.operands[0]; o.kind == ast::ExprKind::Name && !(params_ && params_->count(o.name)) &&
+                                                 !findBinding(o.name) && findBinding(o.name + "." + e.name)) {
+          ast::Expr qualified;
+          qualified.kind = ast::ExprKind::Name;
+          qualified.name = o.name + "." + e.name;
+          qualified.range = e.range;
+          return lookupName(qualified);
+        }
         Value a = evalExpr(*e.operands[0]);
         if (a.type == Value::Type::Error) return {};
         static const std::string kFields = "xyzw";
         const size_t index = e.name.size() == 1 ? kFields.find(e.name[0]) : std::string::npos;
         if (a.type != Value::Type::Vector || index == std::string::npos ||
             index >= a.vector.size()) {
-          diags_.error(e.name_range, "no component '" + e.name + "' in " + typeName(a.type));
+          diags_->error(e.name_range, "no component '" + e.name + "' in " + typeName(a.type));
           return {};
         }
         return number(a.vector[index], e.range);
@@ -287,23 +447,23 @@ class Checker {
     const char op = e.op;
     auto scalarOp = [&](const Scalar& x, const Scalar& y) -> std::optional<Scalar> {
       if (op == '/' && y.isConst() && y.value == 0) {
-        diags_.error(e.operands[1]->range, "division by zero");
+        diags_->error(e.operands[1]->range, "division by zero");
         return std::nullopt;
       }
       Scalar r = ir::binary(op, x, y);
       if (r.isConst() && !std::isfinite(r.value)) {
-        diags_.error(e.range, "this arithmetic overflows to a value that is not finite");
+        diags_->error(e.range, "this arithmetic overflows to a value that is not finite");
         return std::nullopt;
       }
       if (!timeExpressionFits(r, e.range)) return std::nullopt;
       if (op == '/' && !y.isConst()) {
         const ir::Interval d = y.range();
         if (d.lo == 0 && d.hi == 0) {
-          diags_.error(e.operands[1]->range, "division by zero at every time");
+          diags_->error(e.operands[1]->range, "division by zero at every time");
           return std::nullopt;
         }
         if (d.lo <= 0 && d.hi >= 0)
-          diags_.warning(e.operands[1]->range, "the divisor ranges over " + rangeText(d) +
+          diags_->warning(e.operands[1]->range, "the divisor ranges over " + rangeText(d) +
                                                    " over time; where it is 0 the value is not finite");
       }
       return r;
@@ -317,7 +477,7 @@ class Checker {
     const bool na = a.type == Value::Type::Number, nb = b.type == Value::Type::Number;
     if ((va && (vb || nb)) || (na && vb)) {
       if (va && vb && a.vector.size() != b.vector.size()) {
-        diags_.error(e.range, "vectors of different sizes (" + std::to_string(a.vector.size()) +
+        diags_->error(e.range, "vectors of different sizes (" + std::to_string(a.vector.size()) +
                                   " and " + std::to_string(b.vector.size()) + ")");
         return {};
       }
@@ -332,7 +492,7 @@ class Checker {
       }
       return v;
     }
-    diags_.error(e.range, std::string("cannot apply '") + op + "' to " + typeName(a.type) +
+    diags_->error(e.range, std::string("cannot apply '") + op + "' to " + typeName(a.type) +
                               " and " + typeName(b.type));
     return {};
   }
@@ -342,7 +502,18 @@ class Checker {
   Value evalCall(const ast::Expr& e) {
     if (e.bad_name) return {};  // the lexer reported it
     if (e.name == "file") {
-      diags_.error(e.name_range, "'file' may only give the positions of instances(...)");
+      diags_->error(e.name_range, "'file' may only give the positions of instances(...)");
+      return {};
+    }
+    if (params_ && params_->count(e.name)) {
+      diags_->error(e.name_range, "'" + e.name + "' is a parameter, not a definition: it cannot be called");
+      return {};
+    }
+    if (Binding* b = findBinding(e.name)) {
+      if (b->parametric()) return evalDefinitionCall(e, *b);
+      b->used = true;
+      Diagnostic& d = diags_->error(e.name_range, "'" + e.name + "' has no parameters; use it without '(...)'");
+      d.notes.push_back({Severity::Note, b->statement->name_range, "'" + e.name + "' is defined here", {}});
       return {};
     }
     if (e.name == "instances") return evalInstances(e, *findBuiltin("instances"));
@@ -353,43 +524,251 @@ class Checker {
         case BuiltinCategory::Operator: return evalOperator(e, *sig);
         case BuiltinCategory::Material: return evalMaterial(e, *sig);
         case BuiltinCategory::Setting:
-          diags_.error(e.name_range, "'" + e.name + "' is a setting; write it as a statement on "
+          diags_->error(e.name_range, "'" + e.name + "' is a setting; write it as a statement on "
                                                     "its own line");
           return {};
       }
     }
     if (e.name == "scene") {
-      diags_.error(e.name_range, "'scene' must be a statement on its own");
+      diags_->error(e.name_range, "'scene' must be a statement on its own");
+      return {};
+    }
+    if (e.name.find('.') != std::string::npos) {
+      diags_->error(e.name_range, "unknown definition '" + e.name + "' (an imported one is 'alias.name', for "
+                                  "import \"file.sdf\" as alias)");
       return {};
     }
     std::string message = "unknown function '" + e.name + "'";
     const std::string near = nearestName(e.name, allCallableNames());
     if (!near.empty()) message += "; did you mean '" + near + "'?";
-    diags_.error(e.name_range, message);
+    diags_->error(e.name_range, message);
     return {};
   }
 
+  // ---- parametric definitions --------------------------------------------
+
+  void checkParameters(const ast::Statement& s, Binding& b) {
+    std::set<std::string> seen;
+    for (const ast::Parameter& p : s.params) {
+      if (isReservedName(p.name)) {
+        diags_->error(p.name_range, "'" + p.name + "' is a built-in name and cannot be a parameter");
+        b.broken = true;
+      } else if (!seen.insert(p.name).second) {
+        diags_->error(p.name_range, "'" + s.name + "' has two parameters named '" + p.name + "'");
+        b.broken = true;
+      }
+    }
+    b.uses = inferParameterUses(s);
+  }
+
+  // Equal keys: equal arguments (shapes and materials by identity).
+  static std::string valueKey(const Value& v) {
+    char buf[48];
+    switch (v.type) {
+      case Value::Type::Number: return "n" + scalarKey(v.number);
+      case Value::Type::Vector: {
+        std::string k = "v";
+        for (const Scalar& s : v.vector) k += scalarKey(s) + ",";
+        return k;
+      }
+      case Value::Type::Shape: std::snprintf(buf, sizeof buf, "s%p", static_cast<const void*>(v.shape.get())); return buf;
+      case Value::Type::Material: return "m" + std::to_string(v.material);
+      case Value::Type::Error: return "e";
+    }
+    return "?";
+  }
+
+  // A call of `let name(params) = body`: the arguments are bound in the
+  // caller's scope, checked against how the body uses them, and the body is
+  // checked with them (once per distinct argument list). The result is the
+  // shape (or value) written out: every later stage sees no difference.
+  Value evalDefinitionCall(const ast::Expr& e, Binding& b) {
+    b.used = true;
+    const ast::Statement& def = *b.statement;
+    const std::string& name = def.name;
+    auto definedHere = [&](Diagnostic& d) {
+      d.notes.push_back({Severity::Note, def.name_range, "'" + name + "' is defined here", {}});
+    };
+    if (b.broken) return {};
+    for (size_t i = 0; i < expansions_.size(); ++i) {
+      if (expansions_[i].binding != &b) continue;
+      std::string chain;
+      for (size_t j = i; j < expansions_.size(); ++j) chain += "'" + expansions_[j].binding->statement->name + "' -> ";
+      chain += "'" + name + "'";
+      Diagnostic d{Severity::Error, e.name_range,
+                   "'" + name + "' calls itself (" + chain + "); recursion is not allowed, nothing could end it", {}};
+      for (size_t j = i + 1; j < expansions_.size(); ++j)
+        d.notes.push_back({Severity::Note, expansions_[j].call,
+                           "'" + expansions_[j].binding->statement->name + "' is called here", {}});
+      definedHere(d);
+      root_diags_->add(std::move(d));  // once, as it is, not as an error of the outer call
+      b.broken = true;
+      return {};
+    }
+    if (e.has_block) {
+      Diagnostic& d = diags_->error(e.range, "'" + name + "' is a definition and takes no block; pass shapes "
+                                             "as arguments");
+      definedHere(d);
+      return {};
+    }
+    const size_t n = def.params.size();
+    std::vector<std::optional<Value>> values(n);
+    bool ok = true;
+    size_t next_positional = 0;
+    bool seen_named = false;
+    for (const ast::Argument& a : e.arguments) {
+      Value v = evalExpr(*a.value);
+      if (v.type == Value::Type::Error) {
+        ok = false;
+        continue;
+      }
+      size_t index = n;
+      if (a.name.empty()) {
+        if (seen_named) {
+          diags_->error(a.value->range, "positional argument after a named one");
+          ok = false;
+          continue;
+        }
+        if (next_positional >= n) {
+          Diagnostic& d = diags_->error(a.value->range, "'" + name + "' takes at most " + std::to_string(n) +
+                                                            " positional argument" + (n == 1 ? "" : "s"));
+          definedHere(d);
+          ok = false;
+          continue;
+        }
+        index = next_positional++;
+      } else {
+        seen_named = true;
+        for (size_t i = 0; i < n; ++i)
+          if (def.params[i].name == a.name) index = i;
+        if (index == n) {
+          std::vector<std::string> names;
+          for (const ast::Parameter& p : def.params) names.push_back(p.name);
+          std::string message = "'" + name + "' has no parameter '" + a.name + "'";
+          const std::string near = nearestName(a.name, names);
+          if (!near.empty()) message += "; did you mean '" + near + "'?";
+          Diagnostic& d = diags_->error(a.name_range, message);
+          definedHere(d);
+          ok = false;
+          continue;
+        }
+        if (values[index]) {
+          diags_->error(a.name_range, "'" + a.name + "' is given twice");
+          ok = false;
+          continue;
+        }
+      }
+      const ParamUsage& use = b.uses[index];
+      if (!fitsUse(v.type, use.use)) {
+        Diagnostic& d = diags_->error(v.range, "'" + def.params[index].name + "' of '" + name + "' must be " +
+                                                   paramUseName(use.use) + ", not " + typeName(v.type));
+        d.notes.push_back({Severity::Note, use.where,
+                           "'" + name + "' uses '" + def.params[index].name + "' as " + paramUseName(use.use) + " here", {}});
+        ok = false;
+        continue;
+      }
+      values[index] = v;
+    }
+    for (size_t i = 0; i < n && ok; ++i) {
+      if (values[i] || def.params[i].default_value) continue;
+      Diagnostic& d = diags_->error(e.range, "'" + name + "' needs '" + def.params[i].name + "'");
+      d.notes.push_back({Severity::Note, def.params[i].name_range,
+                         "'" + def.params[i].name + "' has no default", {}});
+      ok = false;
+    }
+    if (!ok) return {};
+    // Defaults depend only on earlier parameters: the given ones are the key.
+    std::string key;
+    for (const std::optional<Value>& v : values) key += (v ? valueKey(*v) : std::string("default")) + ";";
+    auto memo = b.specialisations.find(key);
+    if (memo != b.specialisations.end()) {
+      Value v = memo->second;
+      v.range = e.range;
+      return v;
+    }
+    if (resolve_depth_ >= kMaxDefinitionDepth) {
+      diags_->error(e.range, "definitions call each other more than " + std::to_string(kMaxDefinitionDepth) +
+                                 " levels deep");
+      return {};
+    }
+    Value result = expandBody(e, b, values);
+    if (result.type == Value::Type::Shape && result.shape->definition.empty() &&
+        result.shape->kind != ir::NodeKind::Primitive)
+      result.shape->definition = name;  // one function per specialisation (a lone primitive stays inline)
+    if (result.type == Value::Type::Material && scene_.materials[result.material].name.empty())
+      scene_.materials[result.material].name = name;
+    b.specialisations.emplace(key, result);
+    result.range = e.range;
+    return result;
+  }
+
+  // Checks the body of `b` with its parameters bound. Problems inside the
+  // definition become errors at the call (the chain of calls shows in the
+  // message), each with a note where in the definition it arose.
+  Value expandBody(const ast::Expr& call, Binding& b, const std::vector<std::optional<Value>>& values) {
+    const ast::Statement& def = *b.statement;
+    Diagnostics captured;
+    Diagnostics* const outer_diags = diags_;
+    const auto* outer_params = params_;
+    std::unordered_map<std::string, Value> scope;
+    diags_ = &captured;
+    params_ = &scope;
+    const std::string outer_prefix = prefix_;
+    const SourceFile* outer_file = file_;
+    prefix_ = b.prefix;
+    file_ = def.name_range.file;
+    expansions_.push_back({&b, call.range});
+    ++resolve_depth_;
+    bool ok = true;
+    for (size_t i = 0; i < def.params.size() && ok; ++i) {
+      Value v = values[i] ? *values[i] : evalExpr(*def.params[i].default_value);
+      if (v.type == Value::Type::Error) ok = false;
+      scope[def.params[i].name] = v;
+    }
+    Value result = ok ? evalExpr(*def.value) : Value{};
+    --resolve_depth_;
+    expansions_.pop_back();
+    params_ = outer_params;
+    prefix_ = outer_prefix;
+    file_ = outer_file;
+    diags_ = outer_diags;
+    for (const Diagnostic& d : captured.all()) {
+      if (!contains(def.range, d.range)) {
+        diags_->add(d);
+      } else if (d.severity == Severity::Error) {
+        Diagnostic wrapped{Severity::Error, call.range, "in this call of '" + call.name + "': " + d.message, {}};
+        wrapped.notes.push_back({Severity::Note, d.range, "here, in the definition of '" + def.name + "'", {}});
+        for (const Diagnostic& note : d.notes) wrapped.notes.push_back(note);
+        diags_->add(std::move(wrapped));
+      } else if (body_warnings_.insert({d.range.file, d.range.begin, d.message}).second) {
+        diags_->add(d);
+      }
+    }
+    if (captured.hasErrors()) return {};
+    return result;
+  }
+
   Value evalMath(const ast::Expr& e, int arity) {
-    if (e.has_block) diags_.error(e.range, "'" + e.name + "' takes no block");
+    if (e.has_block) diags_->error(e.range, "'" + e.name + "' takes no block");
     std::vector<Scalar> args;
     for (const ast::Argument& a : e.arguments) {
-      if (!a.name.empty()) diags_.error(a.name_range, "'" + e.name + "' takes positional arguments");
+      if (!a.name.empty()) diags_->error(a.name_range, "'" + e.name + "' takes positional arguments");
       Value v = evalExpr(*a.value);
       if (v.type == Value::Type::Error) return {};
       if (v.type != Value::Type::Number) {
-        diags_.error(v.range, "'" + e.name + "' expects numbers, not " + typeName(v.type));
+        diags_->error(v.range, "'" + e.name + "' expects numbers, not " + typeName(v.type));
         return {};
       }
       args.push_back(v.number);
     }
     if (static_cast<int>(args.size()) != arity) {
-      diags_.error(e.range, "'" + e.name + "' takes " + std::to_string(arity) + " argument" +
+      diags_->error(e.range, "'" + e.name + "' takes " + std::to_string(arity) + " argument" +
                                 (arity == 1 ? "" : "s") + ", got " + std::to_string(args.size()));
       return {};
     }
     Scalar r = ir::callFunction(e.name, args);
     if (r.isConst() && !std::isfinite(r.value)) {
-      diags_.error(e.range, "'" + e.name + "' gives a value that is not finite here");
+      diags_->error(e.range, "'" + e.name + "' gives a value that is not finite here");
       return {};
     }
     if (!r.isConst() && (!timeExpressionFits(r, e.range) || !checkDomainOverTime(e, args)))
@@ -405,7 +784,7 @@ class Checker {
   // walked by interval arithmetic): its size is limited.
   bool timeExpressionFits(const Scalar& s, const SourceRange& range) {
     if (s.isConst() || s.expr->size <= kMaxTimeExpressionSize) return true;
-    diags_.error(range, "this expression depends on 'time' and would be " + fmt(s.expr->size) +
+    diags_->error(range, "this expression depends on 'time' and would be " + fmt(s.expr->size) +
                             " operations in the shader; at most " + std::to_string(kMaxTimeExpressionSize) +
                             " (name a part with 'let' only shares it in the checker, not in the shader)");
     return false;
@@ -417,10 +796,10 @@ class Checker {
   bool checkDomainOverTime(const ast::Expr& e, const std::vector<Scalar>& args) {
     auto report = [&](bool never, const std::string& what) {
       if (never) {
-        diags_.error(e.range, "'" + e.name + "' is not finite at any time: " + what);
+        diags_->error(e.range, "'" + e.name + "' is not finite at any time: " + what);
         return false;
       }
-      diags_.warning(e.range, "'" + e.name + "' is not finite for some times: " + what);
+      diags_->warning(e.range, "'" + e.name + "' is not finite for some times: " + what);
       return true;
     };
     if (e.name == "sqrt") {
@@ -451,7 +830,7 @@ class Checker {
     constexpr double kFloatMax = std::numeric_limits<float>::max();
     const double largest = ir::largestConstant(s);
     if (largest > kFloatMax) {
-      diags_.error(range, what + (s.isConst() ? " is " : " uses the constant ") + fmt(s.isConst() ? s.value : largest) +
+      diags_->error(range, what + (s.isConst() ? " is " : " uses the constant ") + fmt(s.isConst() ? s.value : largest) +
                               ", beyond the range of the shader's float32 numbers (" + fmt(kFloatMax) + ")");
       return false;
     }
@@ -459,12 +838,12 @@ class Checker {
     const ir::Interval r = s.range();
     if (!r.bounded()) return true;  // grows with time without bound: fine at any one time
     if (r.lo > kFloatMax || r.hi < -kFloatMax) {
-      diags_.error(range, what + " ranges over " + rangeText(r) +
+      diags_->error(range, what + " ranges over " + rangeText(r) +
                               " over time, beyond the range of the shader's float32 numbers");
       return false;
     }
     if (r.hi > kFloatMax || r.lo < -kFloatMax)
-      diags_.warning(range, what + " ranges over " + rangeText(r) +
+      diags_->warning(range, what + " ranges over " + rangeText(r) +
                                 " over time; where it is beyond " + fmt(kFloatMax) +
                                 " the shader's float32 value is infinite");
     return true;
@@ -493,12 +872,12 @@ class Checker {
       }
       if (a.name.empty()) {
         if (seen_named) {
-          diags_.error(a.value->range, "positional argument after a named one");
+          diags_->error(a.value->range, "positional argument after a named one");
           out.ok = false;
           continue;
         }
         if (next_positional >= specs.size()) {
-          diags_.error(a.value->range, "'" + e.name + "' takes at most " +
+          diags_->error(a.value->range, "'" + e.name + "' takes at most " +
                                            std::to_string(specs.size()) + " positional argument" +
                                            (specs.size() == 1 ? "" : "s"));
           out.ok = false;
@@ -509,7 +888,7 @@ class Checker {
       }
       seen_named = true;
       if (allow_material && a.name == "material") {
-        if (out.material) diags_.error(a.name_range, "'material' is given twice");
+        if (out.material) diags_->error(a.name_range, "'material' is given twice");
         out.material = v;
         continue;
       }
@@ -523,12 +902,12 @@ class Checker {
         std::string message = "'" + e.name + "' has no parameter '" + a.name + "'";
         const std::string near = nearestName(a.name, names);
         if (!near.empty()) message += "; did you mean '" + near + "'?";
-        diags_.error(a.name_range, message);
+        diags_->error(a.name_range, message);
         out.ok = false;
         continue;
       }
       if (out.values[index]) {
-        diags_.error(a.name_range, "'" + a.name + "' is given twice");
+        diags_->error(a.name_range, "'" + a.name + "' is given twice");
         out.ok = false;
         continue;
       }
@@ -537,7 +916,7 @@ class Checker {
     for (size_t i = 0; i < specs.size(); ++i) {
       if (out.values[i] || !specs[i].required) continue;
       if (!out.ok) continue;  // an argument failed: it may have been this one
-      diags_.error(e.range, "'" + e.name + "' needs '" + specs[i].name + "'");
+      diags_->error(e.range, "'" + e.name + "' needs '" + specs[i].name + "'");
       out.ok = false;
     }
     return out;
@@ -549,7 +928,7 @@ class Checker {
       return ir::Vec3{v.number, v.number, v.number};  // a number stands for a uniform vector
     }
     if (v.type != Value::Type::Vector || (v.vector.size() != 3)) {
-      diags_.error(v.range, "'" + std::string(spec.name) + "' of '" + callee +
+      diags_->error(v.range, "'" + std::string(spec.name) + "' of '" + callee +
                                 "' must be a 3-vector like [x, y, z], not " +
                                 (v.type == Value::Type::Vector
                                      ? "a " + std::to_string(v.vector.size()) + "-vector"
@@ -563,7 +942,7 @@ class Checker {
     bool has_time = v.type == Value::Type::Number ? !v.number.isConst() : false;
     for (const Scalar& s : v.vector) has_time = has_time || !s.isConst();
     if (has_time && !spec.time_allowed) {
-      diags_.error(v.range, "'" + std::string(spec.name) + "' of '" + callee +
+      diags_->error(v.range, "'" + std::string(spec.name) + "' of '" + callee +
                                 "' must be a constant; it cannot depend on 'time'");
       return false;
     }
@@ -577,15 +956,15 @@ class Checker {
       case ValueRule::Any: return true;
       case ValueRule::Positive:
         if (s.isConst() && !(s.value > 0)) {
-          diags_.error(range, what + " must be positive, got " + fmt(s.value));
+          diags_->error(range, what + " must be positive, got " + fmt(s.value));
           return false;
         }
         if (!s.isConst() && r.lo <= 0)
-          diags_.warning(range, what + " may reach " + fmt(r.lo) + " over time; it must stay positive");
+          diags_->warning(range, what + " may reach " + fmt(r.lo) + " over time; it must stay positive");
         return true;
       case ValueRule::NonNegative:
         if (s.isConst() && !(s.value >= 0)) {
-          diags_.error(range, what + " must not be negative, got " + fmt(s.value));
+          diags_->error(range, what + " must not be negative, got " + fmt(s.value));
           return false;
         }
         return true;
@@ -595,7 +974,7 @@ class Checker {
 
   std::optional<Scalar> numberArg(const Value& v, const ArgSpec& spec, const std::string& callee) {
     if (v.type != Value::Type::Number) {
-      diags_.error(v.range, "'" + std::string(spec.name) + "' of '" + callee + "' must be a number, not " +
+      diags_->error(v.range, "'" + std::string(spec.name) + "' of '" + callee + "' must be a number, not " +
                                 typeName(v.type));
       return std::nullopt;
     }
@@ -622,7 +1001,7 @@ class Checker {
           return std::nullopt;
     const dvec3 direction = vec->isConst() ? vec->value() : dvec3(1);
     if (spec.nonzero && std::max({std::fabs(direction.x), std::fabs(direction.y), std::fabs(direction.z)}) == 0) {
-      diags_.error(v.range, what + " must not be the zero vector");
+      diags_->error(v.range, what + " must not be the zero vector");
       return std::nullopt;
     }
     if (spec.nonzero && vec->isConst()) {
@@ -642,7 +1021,7 @@ class Checker {
     if (!args.material) return -1;
     const Value& m = *args.material;
     if (m.type != Value::Type::Material) {
-      diags_.error(m.range, std::string("'material' must be a material, not ") + typeName(m.type));
+      diags_->error(m.range, std::string("'material' must be a material, not ") + typeName(m.type));
       return -1;
     }
     material_used_[m.material] = true;
@@ -658,7 +1037,7 @@ class Checker {
   }
 
   Value evalPrimitive(const ast::Expr& e, const PrimitiveInfo& info) {
-    if (e.has_block) diags_.error(e.range, "'" + e.name + "' is a primitive and takes no block");
+    if (e.has_block) diags_->error(e.range, "'" + e.name + "' is a primitive and takes no block");
     std::vector<ArgSpec> specs;
     for (const ParamSpec& p : info.params) specs.push_back(argSpecOf(p, info));
     BoundArgs args = bindArguments(e, specs, true);
@@ -703,7 +1082,7 @@ class Checker {
       case PrimitiveKind::Menger: {
         const double level = c(0);
         if (level != std::floor(level) || level > kMaxMengerLevel) {
-          diags_.error(e.range, "menger 'level' must be a whole number from 0 to " +
+          diags_->error(e.range, "menger 'level' must be a whole number from 0 to " +
                                     std::to_string(kMaxMengerLevel) + " (deeper holes are below "
                                     "float32 marching precision), got " + fmt(level));
           return false;
@@ -714,7 +1093,7 @@ class Checker {
         const double rounding = c(3);
         const double smallest = std::min({c(0), c(1), c(2)});
         if (rounding > smallest / 2) {
-          diags_.error(e.range, "box 'rounding' (" + fmt(rounding) +
+          diags_->error(e.range, "box 'rounding' (" + fmt(rounding) +
                                     ") must be at most half the smallest side (" +
                                     fmt(smallest / 2) + ")");
           return false;
@@ -724,7 +1103,7 @@ class Checker {
       case PrimitiveKind::RoundCone:
         // Otherwise one sphere holds the other and no cone touches both.
         if (c(2) <= std::fabs(c(0) - c(1))) {
-          diags_.error(e.range, "round_cone 'height' (" + fmt(c(2)) +
+          diags_->error(e.range, "round_cone 'height' (" + fmt(c(2)) +
                                     ") must exceed the difference of 'bottom' and 'top' (" +
                                     fmt(std::fabs(c(0) - c(1))) + "), or one sphere holds the other");
           return false;
@@ -732,7 +1111,7 @@ class Checker {
         return true;
       case PrimitiveKind::Torus:
         if (c(1) > c(0))
-          diags_.warning(e.range, "torus 'minor' > 'major' makes a spindle torus; its distance "
+          diags_->warning(e.range, "torus 'minor' > 'major' makes a spindle torus; its distance "
                                   "is only a bound near the axis");
         return true;
       default: return true;
@@ -744,14 +1123,14 @@ class Checker {
     std::vector<ir::NodeRef> children;
     bool ok = args.ok;
     if (!e.has_block) {
-      diags_.error(e.range, "'" + e.name + "' needs a block of shapes: '" + e.name + "(...) { ... }'");
+      diags_->error(e.range, "'" + e.name + "' needs a block of shapes: '" + e.name + "(...) { ... }'");
       ok = false;
     }
     for (const ast::ExprPtr& c : e.children) {
       Value v = evalExpr(*c);
       if (v.type == Value::Type::Error) { ok = false; continue; }
       if (v.type != Value::Type::Shape) {
-        diags_.error(v.range, std::string("'") + e.name + "' expects shapes in its block, not " +
+        diags_->error(v.range, std::string("'") + e.name + "' expects shapes in its block, not " +
                                   typeName(v.type));
         ok = false;
         continue;
@@ -759,7 +1138,7 @@ class Checker {
       children.push_back(v.shape);
     }
     if (e.has_block && children.empty() && ok) {
-      diags_.error(e.range, "'" + e.name + "' has an empty block");
+      diags_->error(e.range, "'" + e.name + "' has an empty block");
       return {};
     }
     // morph's 't' is checked even when a child has an error: all errors in one run.
@@ -792,24 +1171,24 @@ class Checker {
         if (!s) return {};
         node->smooth = *s;
         if (!s->isConst() || s->value > 0)
-          diags_.warning(e.name_range, "smooth '" + name + "' gives a distance bound, not an "
+          diags_->warning(e.name_range, "smooth '" + name + "' gives a distance bound, not an "
                                        "exact distance (marching takes smaller steps near it)");
       }
       if (name == "subtract" && children.size() < 2)
-        diags_.warning(e.range, "'subtract' with one shape subtracts nothing");
+        diags_->warning(e.range, "'subtract' with one shape subtracts nothing");
       node->children = children;
       return shapeValue(node, e.range);
     }
     if (name == "morph") {
       if (children.size() != 2) {
-        diags_.error(e.range, "'morph' blends exactly 2 shapes, got " + std::to_string(children.size()));
+        diags_->error(e.range, "'morph' blends exactly 2 shapes, got " + std::to_string(children.size()));
         return {};
       }
       if (!morph_t) return {};
       node->kind = ir::NodeKind::Morph;
       node->amount = *morph_t;
       node->children = children;
-      diags_.warning(e.name_range, "'morph' gives a distance bound, not an exact distance");
+      diags_->warning(e.name_range, "'morph' gives a distance bound, not an exact distance");
       return shapeValue(node, e.range);
     }
     node->children = {single()};
@@ -832,7 +1211,7 @@ class Checker {
         if (!v) return {};
         node->kind = ir::NodeKind::ScaleNonUniform;
         node->vec = *v;
-        diags_.warning(e.name_range, "non-uniform 'scale' gives a distance bound, not an exact "
+        diags_->warning(e.name_range, "non-uniform 'scale' gives a distance bound, not an exact "
                                      "distance (marching takes smaller steps)");
       }
     } else if (name == "reflect") {
@@ -853,7 +1232,7 @@ class Checker {
       node->kind = ir::NodeKind::Repeat;
       node->vec = *cell;
       if (glm::length(cell->value()) == 0) {
-        diags_.error(arg(0)->range, "'cell' of 'repeat' must be positive along at least one axis");
+        diags_->error(arg(0)->range, "'cell' of 'repeat' must be positive along at least one axis");
         return {};
       }
       if (const Value* c = arg(1)) {
@@ -862,7 +1241,7 @@ class Checker {
         const dvec3 cv = counts->value();
         for (int i = 0; i < 3; ++i) {
           if (cv[i] != std::floor(cv[i]) || cv[i] > kMaxRepeatCount) {
-            diags_.error(c->range, "'count' of 'repeat' must hold whole numbers from 0 (infinite) to " +
+            diags_->error(c->range, "'count' of 'repeat' must hold whole numbers from 0 (infinite) to " +
                                        std::to_string(kMaxRepeatCount) + ", got " + fmt(cv[i]));
             return {};
           }
@@ -894,39 +1273,39 @@ class Checker {
     if (arg.kind == ast::ExprKind::Call && arg.name == "file") {
       if (arg.arguments.size() != 1 || !arg.arguments[0].name.empty() ||
           arg.arguments[0].value->kind != ast::ExprKind::String || arg.has_block) {
-        diags_.error(arg.range, "'file' takes one string, the path of a CSV file: file(\"points.csv\")");
+        diags_->error(arg.range, "'file' takes one string, the path of a CSV file: file(\"points.csv\")");
         return false;
       }
       const ast::Expr& name = *arg.arguments[0].value;
-      const std::string path = resolveBesides(source_.path, name.name);
+      const std::string path = resolveBesides(name.range.file ? name.range.file->path : source_.path, name.name);
       PointFile file = readPointFile(path);
       if (!file.readable) {
-        diags_.error(name.range, "cannot read '" + path + "': " + file.unreadable_reason);
+        diags_->error(name.range, "cannot read '" + path + "': " + file.unreadable_reason);
         return false;
       }
       if (file.bad_rows > 0) {
         // Each bad field at its place in the CSV (file:line:col, its line and a
         // caret), with a note at the file(...) that read it.
-        const SourceFile& csv = diags_.keep(std::make_unique<SourceFile>(path, std::move(file.text)));
+        const SourceFile& csv = diags_->keep(std::make_unique<SourceFile>(path, std::move(file.text)));
         for (const PointFileError& bad : file.errors) {
-          Diagnostic& d = diags_.error({&csv, bad.begin, bad.end}, bad.message);
+          Diagnostic& d = diags_->error({&csv, bad.begin, bad.end}, bad.message);
           d.notes.push_back({Severity::Note, name.range, "in the positions read from '" + name.name + "' here", {}});
         }
         if (file.bad_rows > file.errors.size())
-          diags_.error(name.range, "'" + name.name + "' has " + std::to_string(file.bad_rows) +
+          diags_->error(name.range, "'" + name.name + "' has " + std::to_string(file.bad_rows) +
                                        " bad rows; the first " + std::to_string(file.errors.size()) +
                                        " are shown");
         return false;
       }
       if (file.rows.empty()) {
-        diags_.error(name.range, "'" + name.name + "' holds no positions");
+        diags_->error(name.range, "'" + name.name + "' holds no positions");
         return false;
       }
       rows = std::move(file.rows);
       return true;
     }
     if (arg.kind != ast::ExprKind::Vector) {
-      diags_.error(arg.range, "'positions' of 'instances' must be a list [[x, y, z], ...] or "
+      diags_->error(arg.range, "'positions' of 'instances' must be a list [[x, y, z], ...] or "
                               "file(\"points.csv\")");
       return false;
     }
@@ -937,7 +1316,7 @@ class Checker {
       bool constant = v.type == Value::Type::Vector;
       for (const Scalar& s : v.vector) constant = constant && s.isConst();
       if (v.type != Value::Type::Vector || (v.vector.size() != 3 && v.vector.size() != 4) || !constant) {
-        diags_.error(v.range, "each position must be a constant [x, y, z] or [x, y, z, scale]");
+        diags_->error(v.range, "each position must be a constant [x, y, z] or [x, y, z, scale]");
         ok = false;
         continue;
       }
@@ -945,7 +1324,7 @@ class Checker {
       row.position = {v.vector[0].value, v.vector[1].value, v.vector[2].value};
       if (v.vector.size() == 4) row.scale = v.vector[3].value;
       if (!(row.scale > 0)) {
-        diags_.error(v.range, "the scale of a position must be positive, got " + fmt(row.scale));
+        diags_->error(v.range, "the scale of a position must be positive, got " + fmt(row.scale));
         ok = false;
         continue;
       }
@@ -968,7 +1347,7 @@ class Checker {
       else if (name == "material" && !material) material = evalExpr(*a.value);
       else {
         const std::string near = nearestName(name, {"positions", "smooth", "material"});
-        diags_.error(a.name.empty() ? a.value->range : a.name_range,
+        diags_->error(a.name.empty() ? a.value->range : a.name_range,
                      name.empty() ? "'instances' takes at most 2 positional arguments"
                                   : "'instances' has no parameter '" + name + "' (or it is given twice)" +
                                         (near.empty() || near == name ? "" : "; did you mean '" + near + "'?"));
@@ -976,28 +1355,28 @@ class Checker {
       }
     }
     if (!positions && ok) {
-      diags_.error(e.range, "'instances' needs 'positions'");
+      diags_->error(e.range, "'instances' needs 'positions'");
       ok = false;
     }
     std::vector<PositionRow> rows;
     if (positions && !positionsFrom(*positions, rows)) ok = false;
     std::vector<ir::NodeRef> children;
     if (!e.has_block) {
-      diags_.error(e.range, "'instances' needs a block with the shape to place: 'instances(...) { ... }'");
+      diags_->error(e.range, "'instances' needs a block with the shape to place: 'instances(...) { ... }'");
       ok = false;
     }
     for (const ast::ExprPtr& c : e.children) {
       Value v = evalExpr(*c);
       if (v.type == Value::Type::Error) { ok = false; continue; }
       if (v.type != Value::Type::Shape) {
-        diags_.error(v.range, std::string("'instances' expects shapes in its block, not ") + typeName(v.type));
+        diags_->error(v.range, std::string("'instances' expects shapes in its block, not ") + typeName(v.type));
         ok = false;
         continue;
       }
       children.push_back(v.shape);
     }
     if (e.has_block && children.empty() && ok) {
-      diags_.error(e.range, "'instances' has an empty block");
+      diags_->error(e.range, "'instances' has an empty block");
       return {};
     }
     Scalar k = ir::constant(0);
@@ -1008,7 +1387,7 @@ class Checker {
       else k = *s;
     }
     if (rows.size() > kMaxInstances) {
-      diags_.error(positions->range, "at most " + std::to_string(kMaxInstances) + " instances, got " +
+      diags_->error(positions->range, "at most " + std::to_string(kMaxInstances) + " instances, got " +
                                          std::to_string(rows.size()));
       ok = false;
     }
@@ -1053,13 +1432,13 @@ class Checker {
   bool checkMorphAmount(const Scalar& t, const SourceRange& range) {
     const ir::Interval r = t.range();
     if (!r.bounded()) {
-      diags_.error(range, "morph 't' is unbounded over time, so no step size is safe; keep it in a "
+      diags_->error(range, "morph 't' is unbounded over time, so no step size is safe; keep it in a "
                           "range, e.g. with clamp() or sin()");
       return false;
     }
     const double stretch = std::max(std::fabs(r.lo) + std::fabs(1 - r.lo), std::fabs(r.hi) + std::fabs(1 - r.hi));
     if (stretch > kMaxMorphStretch) {
-      diags_.error(range, "morph 't' ranges over " + rangeText(r) + "; marching must divide its distance by " +
+      diags_->error(range, "morph 't' ranges over " + rangeText(r) + "; marching must divide its distance by " +
                               fmt(stretch) + ", at most " + fmt(kMaxMorphStretch) + " (t within [" +
                               fmt((1 - kMaxMorphStretch) / 2) + ", " + fmt((1 + kMaxMorphStretch) / 2) + "])");
       return false;
@@ -1074,7 +1453,7 @@ class Checker {
     const auto& degrees = args.values[1];
     const auto& euler = args.values[2];
     if (euler && (axis || degrees)) {
-      diags_.error(e.range, "'rotate' takes either 'axis' and 'degrees' or 'euler', not both");
+      diags_->error(e.range, "'rotate' takes either 'axis' and 'degrees' or 'euler', not both");
       return {};
     }
     if (euler) {
@@ -1104,7 +1483,7 @@ class Checker {
       return shapeValue(inner, e.range);
     }
     if (!axis || !degrees) {
-      diags_.error(e.range, "'rotate' needs 'axis' and 'degrees', or 'euler'");
+      diags_->error(e.range, "'rotate' needs 'axis' and 'degrees', or 'euler'");
       return {};
     }
     auto ax = vectorArg(*axis, sig.args[0], "rotate");
@@ -1117,7 +1496,7 @@ class Checker {
   }
 
   Value evalMaterial(const ast::Expr& e, const BuiltinSignature& sig) {
-    if (e.has_block) diags_.error(e.range, "'" + e.name + "' is a material and takes no block");
+    if (e.has_block) diags_->error(e.range, "'" + e.name + "' is a material and takes no block");
     BoundArgs args = bindArguments(e, sig.args, false);
     if (!args.ok) return {};
     ir::Material m;
@@ -1136,7 +1515,7 @@ class Checker {
     };
     auto checkUnit = [&](size_t i, const dvec3& c) {
       if (args.values[i] && (c.x > 1 || c.y > 1 || c.z > 1))
-        diags_.warning(args.values[i]->range, "'" + std::string(sig.args[i].name) +
+        diags_->warning(args.values[i]->range, "'" + std::string(sig.args[i].name) +
                                                   "' above 1 reflects more light than arrives "
                                                   "(energy is not conserved)");
     };
@@ -1151,7 +1530,7 @@ class Checker {
         auto r = num(1, 0.3);
         if (!r) return {};
         if (*r > 1) {
-          diags_.error(args.values[1]->range, "'roughness' of 'metal' must be in [0, 1], got " + fmt(*r));
+          diags_->error(args.values[1]->range, "'roughness' of 'metal' must be in [0, 1], got " + fmt(*r));
           return {};
         }
         m.roughness = *r;
@@ -1161,7 +1540,7 @@ class Checker {
       auto tint = vec(1, dvec3(1));
       if (!ior || !tint) return {};
       if (*ior < 1 || *ior > 4) {
-        diags_.error(args.values[0]->range, "'ior' of 'glass' must be in [1, 4], got " + fmt(*ior));
+        diags_->error(args.values[0]->range, "'ior' of 'glass' must be in [1, 4], got " + fmt(*ior));
         return {};
       }
       checkUnit(1, *tint);
@@ -1190,9 +1569,9 @@ class Checker {
   // ---- statements --------------------------------------------------------
 
   void checkScene(const ast::Expr& e) {
-    if (!e.arguments.empty()) diags_.error(e.arguments[0].name_range, "'scene' takes no arguments");
+    if (!e.arguments.empty()) diags_->error(e.arguments[0].name_range, "'scene' takes no arguments");
     if (!e.has_block) {
-      diags_.error(e.range, "'scene' needs a block: 'scene { ... }'");
+      diags_->error(e.range, "'scene' needs a block: 'scene { ... }'");
       return;
     }
     std::vector<ir::NodeRef> children;
@@ -1200,13 +1579,13 @@ class Checker {
       Value v = evalExpr(*c);
       if (v.type == Value::Type::Error) continue;
       if (v.type != Value::Type::Shape) {
-        diags_.error(v.range, std::string("the scene holds shapes, not ") + typeName(v.type));
+        diags_->error(v.range, std::string("the scene holds shapes, not ") + typeName(v.type));
         continue;
       }
       children.push_back(v.shape);
     }
     if (children.empty()) {
-      if (!diags_.hasErrors()) diags_.error(e.range, "the scene is empty");
+      if (!diags_->hasErrors()) diags_->error(e.range, "the scene is empty");
       return;
     }
     auto root = std::make_shared<ir::Node>();
@@ -1218,9 +1597,9 @@ class Checker {
 
   void checkSetting(const ast::Expr& e) {
     const BuiltinSignature& sig = *findBuiltin(e.name);
-    if (e.has_block) diags_.error(e.range, "'" + e.name + "' takes no block");
+    if (e.has_block) diags_->error(e.range, "'" + e.name + "' takes no block");
     if (e.name != "light" && !seen_settings_.insert(e.name).second)
-      diags_.warning(e.name_range, "'" + e.name + "' is set again; the last one wins");
+      diags_->warning(e.name_range, "'" + e.name + "' is set again; the last one wins");
     BoundArgs args = bindArguments(e, sig.args, false);
     if (!args.ok) return;
     auto vec = [&](size_t i) -> std::optional<dvec3> {
@@ -1237,7 +1616,7 @@ class Checker {
       auto v = num(i);
       if (!v) return;
       if (*v != std::floor(*v) || *v < lo || *v > hi) {
-        diags_.error(args.values[i]->range, "'" + std::string(sig.args[i].name) + "' must be a whole number from " +
+        diags_->error(args.values[i]->range, "'" + std::string(sig.args[i].name) + "' must be a whole number from " +
                                                 std::to_string(lo) + " to " + std::to_string(hi) +
                                                 ", got " + fmt(*v));
         return;
@@ -1251,7 +1630,7 @@ class Checker {
       if (auto v = vec(2)) c.up = *v;
       if (auto v = num(3)) {
         if (*v <= 0 || *v >= 180) {
-          diags_.error(args.values[3]->range, "'fov' must be between 0 and 180 degrees, got " + fmt(*v));
+          diags_->error(args.values[3]->range, "'fov' must be between 0 and 180 degrees, got " + fmt(*v));
         } else {
           c.fov_degrees = *v;
         }
@@ -1259,21 +1638,21 @@ class Checker {
       if (auto v = num(4)) c.aperture = *v;
       if (auto v = num(5)) c.focus_distance = *v;
       if (glm::length(c.target - c.position) == 0)
-        diags_.error(e.range, "the camera's 'target' equals its 'position'");
+        diags_->error(e.range, "the camera's 'target' equals its 'position'");
       else if (glm::length(glm::cross(c.target - c.position, c.up)) < 1e-9)
-        diags_.error(e.range, "the camera's 'up' is parallel to its view direction");
+        diags_->error(e.range, "the camera's 'up' is parallel to its view direction");
     } else if (e.name == "render") {
       ir::RenderSettings& r = scene_.render;
       if (args.values[0]) {
         const Value& size = *args.values[0];
         if (size.type != Value::Type::Vector || size.vector.size() != 2 || !size.vector[0].isConst() ||
             !size.vector[1].isConst()) {
-          diags_.error(size.range, "'size' of 'render' must be [width, height]");
+          diags_->error(size.range, "'size' of 'render' must be [width, height]");
         } else {
           const double w = size.vector[0].value, h = size.vector[1].value;
           if (w != std::floor(w) || h != std::floor(h) || w < 1 || h < 1 || w > kMaxImageSide ||
               h > kMaxImageSide)
-            diags_.error(size.range, "'size' must be whole numbers from 1 to " +
+            diags_->error(size.range, "'size' must be whole numbers from 1 to " +
                                          std::to_string(kMaxImageSide));
           else
             r.width = static_cast<int>(w), r.height = static_cast<int>(h);
@@ -1284,7 +1663,7 @@ class Checker {
       whole(3, 0, 16, r.light_samples);
     } else if (e.name == "sky") {
       auto color = vec(0), top = vec(1), bottom = vec(2);
-      if (color && (top || bottom)) diags_.error(e.range, "'sky' takes 'color', or 'top' and 'bottom'");
+      if (color && (top || bottom)) diags_->error(e.range, "'sky' takes 'color', or 'top' and 'bottom'");
       if (color) scene_.sky.top = scene_.sky.bottom = *color;
       if (top) scene_.sky.top = *top;
       if (bottom) scene_.sky.bottom = *bottom;
@@ -1292,7 +1671,7 @@ class Checker {
       ir::Sun s;
       if (auto v = vec(0)) s.direction = glm::normalize(*v);
       if (auto v = num(1)) {
-        if (*v > 45) diags_.error(args.values[1]->range, "'angle' of 'sun' must be at most 45 degrees");
+        if (*v > 45) diags_->error(args.values[1]->range, "'angle' of 'sun' must be at most 45 degrees");
         s.angle_degrees = *v;
       }
       const dvec3 color = vec(2).value_or(dvec3(1));
@@ -1304,7 +1683,7 @@ class Checker {
       scene_.sun = s;
     } else if (e.name == "light") {
       if (scene_.lights.size() >= static_cast<size_t>(kMaxLights)) {
-        diags_.error(e.name_range, "a scene has at most " + std::to_string(kMaxLights) +
+        diags_->error(e.name_range, "a scene has at most " + std::to_string(kMaxLights) +
                                        " 'light's (the kernel's per-ray light loop is bounded); this is light " +
                                        std::to_string(scene_.lights.size() + 1));
         return;

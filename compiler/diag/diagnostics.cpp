@@ -21,6 +21,12 @@ Diagnostic& Diagnostics::warning(SourceRange range, std::string message) {
   return list_.back();
 }
 
+Diagnostic& Diagnostics::add(Diagnostic d) {
+  if (d.severity == Severity::Error) ++error_count_;
+  list_.push_back(std::move(d));
+  return list_.back();
+}
+
 namespace {
 const char* severityName(Severity s) {
   switch (s) {

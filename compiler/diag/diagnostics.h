@@ -22,6 +22,7 @@ class Diagnostics {
  public:
   Diagnostic& error(SourceRange range, std::string message);
   Diagnostic& warning(SourceRange range, std::string message);
+  Diagnostic& add(Diagnostic d);  // a diagnostic made elsewhere (an error counts as one)
   bool hasErrors() const { return error_count_ > 0; }
   int errorCount() const { return error_count_; }
   const std::vector<Diagnostic>& all() const { return list_; }

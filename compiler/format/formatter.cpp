@@ -30,19 +30,24 @@ class Printer {
     for (size_t i = 0; i < file.statements.size(); ++i) {
       const ast::Statement& s = file.statements[i];
       beginItem(s.range.begin);
+      if (s.is_import) {
+        importStatement(s);
+        continue;
+      }
       if (s.is_let) {
         write("let", s.range.begin, s.range.begin + 3);
         raw(" ");
         write(s.name, s.name_range.begin, s.name_range.end);
+        if (s.has_params) parameters(s);
         // '=' and ':' at their source places, so a comment before them stays there.
-        const size_t equals = nextToken(s.name_range.end);
+        const size_t equals = nextToken(s.has_params ? s.params_range.end : s.name_range.end);
         raw(" ");
         write("=", equals, equals + 1);
         raw(" ");
       }
       expr(*s.value);
       if (i + 1 < file.statements.size() && !file.statements[i + 1].is_let &&
-          needsSemicolon(*file.statements[i + 1].value))
+          !file.statements[i + 1].is_import && needsSemicolon(*file.statements[i + 1].value))
         raw(";");
     }
     flushComments(src_.size(), true);
@@ -218,6 +223,39 @@ class Printer {
   }
 
   // ---- the tree -------------------------------------------------------------
+
+  // import "parts.sdf" [as parts]; the path keeps its spelling.
+  void importStatement(const ast::Statement& s) {
+    write("import", s.range.begin, s.range.begin + 6);
+    raw(" ");
+    const SourceRange& p = s.import_path_range;
+    write(src_.substr(p.begin, p.end - p.begin), p.begin, p.end);
+    if (!s.alias.empty()) {
+      raw(" ");
+      const size_t as = nextToken(p.end);
+      write("as", as, as + 2);
+      raw(" ");
+      write(s.alias, s.alias_range.begin, s.alias_range.end);
+    }
+  }
+
+  // (a, b: 1): laid out as an argument list.
+  void parameters(const ast::Statement& s) {
+    const SourceRange& r = s.params_range;
+    write("(", r.begin, r.begin + 1);
+    list(s.params.size(), r.begin, r.end - 1, [&](size_t i) { return s.params[i].name_range.begin; },
+         [&](size_t i) {
+           const ast::Parameter& p = s.params[i];
+           write(p.name, p.name_range.begin, p.name_range.end);
+           if (p.default_value) {
+             const size_t colon = nextToken(p.name_range.end);
+             write(":", colon, colon + 1);
+             raw(" ");
+             expr(*p.default_value);
+           }
+         });
+    write(")", r.end - 1, r.end);
+  }
 
   // True when `next` would glue onto the item before it without a ';'.
   static bool needsSemicolon(const ast::Expr& next) {

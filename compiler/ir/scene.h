@@ -148,6 +148,8 @@ struct Scene {
   // Where the scene's frame has its origin in the world: coordinates here are
   // world minus origin (passes/rebase.cpp moves a far scene to its camera).
   glm::dvec3 origin{0.0};
+  // Files brought in by `import` (ranges and diagnostics point into them).
+  std::vector<std::shared_ptr<SourceFile>> imported_sources;
 };
 
 // Stable text dump for --emit ir and for pass tests (text in, text out).

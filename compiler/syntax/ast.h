@@ -38,12 +38,30 @@ struct Expr {
   int height = 1;                   // levels of this tree (later stages recurse that deep)
 };
 
+// A parameter of a parametric definition: `let tower(height, radius: 1) = ...`.
+struct Parameter {
+  std::string name;
+  SourceRange name_range;
+  ExprPtr default_value;  // null: the parameter must be given at every call
+};
+
 struct Statement {
   bool is_let = false;
   std::string name;  // let
   SourceRange name_range;
+  // let: `(...)` was written after the name (a parametric definition, called
+  // like a built-in), even when empty.
+  bool has_params = false;
+  std::vector<Parameter> params;
+  SourceRange params_range;  // from "(" to ")"
   ExprPtr value;     // let: the bound value; otherwise the statement's call
   SourceRange range;
+  // import "path" [as alias]: `import_path` is the string's text.
+  bool is_import = false;
+  std::string import_path;
+  SourceRange import_path_range;
+  std::string alias;  // empty: the definitions come in unqualified
+  SourceRange alias_range;
 };
 
 struct File {

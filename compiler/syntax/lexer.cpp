@@ -16,6 +16,7 @@ const char* tokenKindName(TokenKind kind) {
     case TokenKind::Number: return "number";
     case TokenKind::String: return "string";
     case TokenKind::KeywordLet: return "'let'";
+    case TokenKind::KeywordImport: return "'import'";
     case TokenKind::LeftParen: return "'('";
     case TokenKind::RightParen: return "')'";
     case TokenKind::LeftBrace: return "'{'";
@@ -161,6 +162,7 @@ std::vector<Token> lex(const SourceFile& file, Diagnostics& diags, std::vector<C
         }
       }
       if (t.text == "let") t.kind = TokenKind::KeywordLet;
+      if (t.text == "import") t.kind = TokenKind::KeywordImport;
       tokens.push_back(t);
       continue;
     }

@@ -102,16 +102,17 @@ class Parser {
         advance();
         return;
       }
-      if (braces == 0 && at(TokenKind::KeywordLet)) return;
+      if (braces == 0 && (at(TokenKind::KeywordLet) || at(TokenKind::KeywordImport))) return;
       advance();
     }
   }
 
-  // statement : "let" IDENT "=" expr [";"] | expr [";"]
+  // statement : "let" IDENT [ parameters ] "=" expr [";"] | "import" STRING [ "as" IDENT ] [";"] | expr [";"]
   std::optional<ast::Statement> parseStatement() {
     ast::Statement stmt;
     const Token& first = peek();
     const size_t errors_before = diags_.errorCount();
+    if (at(TokenKind::KeywordImport)) return parseImport();
     if (accept(TokenKind::KeywordLet)) {
       stmt.is_let = true;
       if (!at(TokenKind::Identifier)) {
@@ -122,6 +123,10 @@ class Parser {
       const Token& name = advance();
       stmt.name = std::string(name.text);
       stmt.name_range = name.range;
+      if (at(TokenKind::LeftParen) && !parseParameters(stmt)) {
+        synchronizeStatement();
+        return std::nullopt;
+      }
       if (!expect(TokenKind::Equals, "after the name being defined")) {
         synchronizeStatement();
         return std::nullopt;
@@ -133,6 +138,61 @@ class Parser {
     if (diags_.errorCount() > errors_before && !at(TokenKind::EndOfFile) &&
         stmt.value->kind == ast::ExprKind::Error)
       synchronizeStatement();
+    return stmt;
+  }
+
+  // parameters : "(" [ parameter { "," parameter } [","] ] ")"
+  // parameter : IDENT [ ":" expr ]
+  bool parseParameters(ast::Statement& stmt) {
+    const Token& open = advance();  // '('
+    stmt.has_params = true;
+    stmt.params_range = open.range;
+    while (!at(TokenKind::RightParen)) {
+      if (!at(TokenKind::Identifier)) {
+        expect(TokenKind::Identifier, "(a parameter's name)");
+        return false;
+      }
+      ast::Parameter param;
+      const Token& name = advance();
+      param.name = std::string(name.text);
+      param.name_range = name.range;
+      if (accept(TokenKind::Colon)) {
+        param.default_value = parseExpr();
+        if (param.default_value->kind == ast::ExprKind::Error) return false;
+      }
+      stmt.params.push_back(std::move(param));
+      if (!accept(TokenKind::Comma)) break;
+    }
+    stmt.params_range = stmt.params_range.to(peek().range);
+    return expect(TokenKind::RightParen, "after the parameters");
+  }
+
+  // The import statement: `as` is an IDENT spelled "as", not a keyword.
+  std::optional<ast::Statement> parseImport() {
+    ast::Statement stmt;
+    const Token& first = advance();  // 'import'
+    stmt.is_import = true;
+    if (!at(TokenKind::String)) {
+      expect(TokenKind::String, "after 'import' (the path of a .sdf file)");
+      synchronizeStatement();
+      return std::nullopt;
+    }
+    const Token& path = advance();
+    stmt.import_path = std::string(path.text.substr(1, path.text.size() - 2));
+    stmt.import_path_range = path.range;
+    if (at(TokenKind::Identifier) && peek().text == "as") {
+      advance();
+      if (!at(TokenKind::Identifier)) {
+        expect(TokenKind::Identifier, "after 'as'");
+        synchronizeStatement();
+        return std::nullopt;
+      }
+      const Token& alias = advance();
+      stmt.alias = std::string(alias.text);
+      stmt.alias_range = alias.range;
+    }
+    stmt.range = first.range.to(tokens_[pos_ > 0 ? pos_ - 1 : 0].range);
+    accept(TokenKind::Semicolon);
     return stmt;
   }
 
@@ -237,7 +297,7 @@ class Parser {
     return e;
   }
 
-  // primary : NUMBER | STRING | IDENT [ call_tail ] | "[" expr { "," expr } [","] "]" | "(" expr ")"
+  // primary : NUMBER | STRING | IDENT [ call_tail ] | IDENT "." IDENT call_tail | "[" expr { "," expr } [","] "]" | "(" expr ")"
   ast::ExprPtr parsePrimary() {
     const Token& t = peek();
     switch (t.kind) {
@@ -264,6 +324,16 @@ class Parser {
         e->name_range = t.range;
         e->range = t.range;
         e->bad_name = t.bad_name;
+        // `parts.tower(...)`: a call of a definition imported `as parts`.
+        if (at(TokenKind::Dot) && peek(1).kind == TokenKind::Identifier &&
+            (peek(2).kind == TokenKind::LeftParen || peek(2).kind == TokenKind::LeftBrace)) {
+          advance();
+          const Token& member = advance();
+          e->name += "." + std::string(member.text);
+          e->name_range = t.range.to(member.range);
+          e->range = e->name_range;
+          e->bad_name = e->bad_name || member.bad_name;
+        }
         if (at(TokenKind::LeftParen) || at(TokenKind::LeftBrace)) {
           e->kind = ast::ExprKind::Call;
           parseCallTail(*e);

@@ -7,7 +7,7 @@
 namespace sdfc {
 
 enum class TokenKind {
-  Identifier, Number, String, KeywordLet,
+  Identifier, Number, String, KeywordLet, KeywordImport,
   LeftParen, RightParen, LeftBrace, RightBrace, LeftBracket, RightBracket,
   Comma, Colon, Semicolon, Equals, Dot, Plus, Minus, Star, Slash,
   EndOfFile, Invalid,
