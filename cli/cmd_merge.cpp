@@ -4,6 +4,7 @@
 #include <iostream>
 
 #include "commands.h"
+#include "cli_support.h"
 #include "image_io.h"
 #include "progress.h"
 #include "shard_merge.h"
@@ -11,7 +12,7 @@
 namespace sdfc {
 
 int runMerge(const CommandLine& cl) {
-  imageFormatFromPath(cl.output);  // the extension, before any work
+  if (!checkImageExtension(cl.output)) return kExitUsage;  // the extension, before any work
   int first = farm::kNoFrame, last = farm::kNoFrame;
   farm::ShardSet set;
   try {

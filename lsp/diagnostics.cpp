@@ -19,6 +19,7 @@ json publishDiagnostics(const Analysis& a) {
                  {"severity", d.severity == Severity::Error ? 1 : d.severity == Severity::Warning ? 2 : 3},
                  {"source", "sdfc"},
                  {"message", d.message}};
+    if (!d.name.empty()) item["code"] = d.name;  // the warning's name, as in [-Wname]
     if (!d.notes.empty()) {
       json related = json::array();
       for (const Diagnostic& n : d.notes)

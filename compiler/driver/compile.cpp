@@ -9,6 +9,7 @@
 #include "passes/passes.h"
 #include "spirv/glsl_to_spirv.h"
 #include "syntax/parser.h"
+#include "syntax/pragmas.h"
 
 namespace sdfc {
 namespace {
@@ -36,7 +37,9 @@ CompiledScene frontEnd(const std::string& path, std::string text, const CompileO
   CompiledScene out;
   out.source = std::make_unique<SourceFile>(path, std::move(text));
   auto t0 = std::chrono::steady_clock::now();
-  ast::File ast = parse(*out.source, diags);
+  std::vector<Comment> comments;
+  ast::File ast = parse(*out.source, diags, &comments);
+  applyWarningPragmas(ast, *out.source, comments, diags);
   out.times.parse = secondsSince(t0);
   t0 = std::chrono::steady_clock::now();
   out.scene = check(ast, *out.source, diags, options.check);
