@@ -88,7 +88,7 @@ python3 -c "print('scene { ' + ' '.join(['sphere(radius: -1)'] * 3000) + ' }')" 
 expect 1 "^sdfc: note: stopped after 20 errors; 2980 more errors not shown \(--error-limit 0 shows them all\)" -- "$sdfc" check "$work/many.sdf"
 [ "$(grep -c ': error: ' "$work/err")" -eq 20 ] || fail "the error limit printed $(grep -c ': error: ' "$work/err") errors"
 [ "$(wc -c <"$work/err")" -lt 20000 ] || fail "20 errors on a long line printed $(wc -c <"$work/err") bytes"
-grep -q "^\.\.\.sphere(radius: -1) sphere" "$work/err" || fail "a long line is not shown as a window"
+grep -Eq '^\.\.\..*\.\.\.$' "$work/err" || fail "a long line is not shown as a window"
 expect 1 "" -- "$sdfc" check "$work/many.sdf" --error-limit 3
 [ "$(grep -c ': error: ' "$work/err")" -eq 3 ] || fail "--error-limit 3 printed $(grep -c ': error: ' "$work/err") errors"
 "$sdfc" check "$work/many.sdf" --error-limit 0 --diagnostics-format json 2>"$work/all.json"

@@ -238,6 +238,7 @@ class Checker {
         return {};
       case ast::ExprKind::Name: return lookupName(e);
       case ast::ExprKind::Vector: {
+        if (e.reported) return {};  // the parser reported it
         Value v;
         v.type = Value::Type::Vector;
         v.range = e.range;
@@ -931,6 +932,7 @@ class Checker {
       rows = std::move(file.rows);
       return true;
     }
+    if (arg.reported) return false;  // the parser reported it
     if (arg.kind != ast::ExprKind::Vector) {
       diags_.error(arg.range, "'positions' of 'instances' must be a list [[x, y, z], ...] or "
                               "file(\"points.csv\")");

@@ -302,12 +302,15 @@ class Parser {
             if (at(TokenKind::RightBracket) && depth-- == 0) break;
             if (depth == 0 && (at(TokenKind::RightParen) || at(TokenKind::RightBrace) ||
                                at(TokenKind::LeftBrace)))
-              return errorExpr(t.range.to(peek().range));
+              break;
             advance();
           }
-          const Token& end = peek();
+          e->range = t.range.to(peek().range);
           accept(TokenKind::RightBracket);
-          return errorExpr(t.range.to(end.range));
+          // Not an Error node: the statement around it parsed on, so nothing
+          // after it is skipped.
+          e->reported = true;
+          return e;
         }
         expect(TokenKind::RightBracket, "to close the vector");
         e->range = t.range.to(close.range);
