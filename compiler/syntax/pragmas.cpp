@@ -87,9 +87,9 @@ void applyWarningPragmas(const ast::File& file, const SourceFile& source,
         if (!fits) continue;
         if (!best || s.begin < best->begin || (s.begin == best->begin && s.end > best->end)) best = &s;
       }
-      if (!best) continue;  // nothing follows: nothing to allow
-      region.begin = best->begin;
-      region.end = std::max(best->end, best->begin + 1);
+      // Nothing follows: nothing to allow (an empty region; names still checked).
+      region.begin = best ? best->begin : 0;
+      region.end = best ? std::max(best->end, best->begin + 1) : 0;
     }
     for (const std::string& name : names) {
       if (isWarningName(name)) {
