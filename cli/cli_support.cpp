@@ -1,5 +1,8 @@
 #include "cli_support.h"
 
+#include "diag/warnings.h"
+#include "image_io.h"
+
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -54,6 +57,27 @@ LoadedScene loadScene(const CommandLine& cl, Diagnostics& diags, bool emit, bool
     }
     options.check.defines[d.substr(0, eq)] = *value;
   }
+  bool werror = cl.werror;
+  for (const std::string& w : cl.warning_options) {
+    if (w == "error") {
+      werror = true;
+      continue;
+    }
+    const std::string name = w.substr(0, 3) == "no-" ? w.substr(3) : "";
+    if (!isWarningName(name)) {
+      std::string list;
+      for (const WarningInfo& info : kWarnings) list += std::string(list.empty() ? "" : ", ") + info.name;
+      const std::string near = nearestName(name.empty() ? w : name, warningNames());
+      std::cerr << "sdfc: error: -W" << w << ": "
+                << (name.empty() ? "expected -Wno-NAME or -Werror"
+                                 : "no warning is named '" + name + "'")
+                << (near.empty() ? "" : "; did you mean '-Wno-" + near + "'?") << " (warnings: " << list
+                << ")\n";
+      out.exit_code = kExitUsage;
+      return out;
+    }
+    diags.disableWarning(name);
+  }
   std::unique_ptr<SourceFile> file = readSceneFile(cl.input);
   if (!file) {
     out.exit_code = kExitIo;
@@ -63,12 +87,12 @@ LoadedScene loadScene(const CommandLine& cl, Diagnostics& diags, bool emit, bool
   out.compiled = emit ? compileSource(cl.input, std::move(file->text), options, diags)
                       : checkSource(cl.input, std::move(file->text), options, diags);
   if (cl.diagnostics_format == "json") {
-    std::cerr << diags.formatJson();
+    std::cerr << diags.formatJson(cl.error_limit);
   } else {
-    std::cerr << diags.format(isatty(STDERR_FILENO));
+    std::cerr << diags.format(isatty(STDERR_FILENO), cl.error_limit);
   }
-  const bool warnings = diags.all().size() > static_cast<size_t>(diags.errorCount());
-  if (diags.hasErrors() || (cl.werror && warnings) || !out.compiled.scene.root)
+  const bool warnings = diags.warningCount() > 0;
+  if (diags.hasErrors() || (werror && warnings) || !out.compiled.scene.root)
     out.exit_code = kExitScene;
   return out;
 }
@@ -98,6 +122,16 @@ bool checkTimeOption(double time, const char* option) {
   std::cerr << "sdfc: error: " << option << " must be a finite number within float32's range (|t| <= "
             << std::numeric_limits<float>::max() << "), got " << time << "\n";
   return false;
+}
+
+bool checkImageExtension(const std::string& path) {
+  try {
+    imageFormatFromPath(path);
+    return true;
+  } catch (const std::exception& e) {
+    std::cerr << "sdfc: error: -o '" << path << "': " << e.what() << "\n";
+    return false;
+  }
 }
 
 std::unique_ptr<SourceFile> readSceneFile(const std::string& path) {

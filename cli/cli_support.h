@@ -39,6 +39,10 @@ CLI::Validator numberIn(double lo, double hi, bool open_low = false);
 // number. Prints the error and returns false when it is not.
 bool checkTimeOption(double time, const char* option = "--time");
 
+// -o's image extension (.png, .exr, .pfm): prints a usage error and returns
+// false for any other.
+bool checkImageExtension(const std::string& path);
+
 // Reads the scene file; on failure prints why (missing, unreadable, a
 // directory) and returns nullptr.
 std::unique_ptr<SourceFile> readSceneFile(const std::string& path);

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "commands.h"
+#include "cli_support.h"
 #include "image_io.h"
 #include "progress.h"
 #include "shard_merge.h"
@@ -43,7 +44,7 @@ void refuseOutputOverInput(const CommandLine& cl, const farm::ShardSet& set) {
 }  // namespace
 
 int runMerge(const CommandLine& cl) {
-  imageFormatFromPath(cl.output);  // the extension, before any work
+  if (!checkImageExtension(cl.output)) return kExitUsage;  // the extension, before any work
   int first = farm::kNoFrame, last = farm::kNoFrame;
   farm::ShardSet set;
   farm::MergeStats stats;

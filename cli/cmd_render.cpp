@@ -38,6 +38,29 @@ uint32_t viewId(const std::string& v) {
 
 constexpr double kMaxFrames = 100000;
 
+// What to write instead of the old --frames A-B:step (times in seconds).
+std::string framesHint(const std::string& text) {
+  std::smatch m;
+  const std::string number = R"([-+]?[0-9.]+(?:[eE][-+]?[0-9]+)?)";
+  std::optional<double> a, b, step;
+  if (std::regex_match(text, m, std::regex("(" + number + ")-(" + number + "):(" + number + ")"))) {
+    a = parsePlainNumber(m[1]);
+    b = parsePlainNumber(m[2]);
+    step = parsePlainNumber(m[3]);
+  }
+  if (a && b && step && *step > 0 && *b >= *a) {
+    const double fps = 1 / *step, first = *a * fps, last = *b * fps;
+    auto whole = [](double x) { return std::fabs(x - std::round(x)) < 1e-6 && std::fabs(x) < 1e6; };
+    if (whole(first) && whole(last) && first >= 0) {
+      char hint[160];
+      std::snprintf(hint, sizeof hint, "for times %s to %s every %s s write --frames %.0f-%.0f --fps %.9g",
+                    m[1].str().c_str(), m[2].str().c_str(), m[3].str().c_str(), first, last, fps);
+      return hint;
+    }
+  }
+  return "e.g. --frames 0-47 --fps 24 renders 2 s (--time T renders one instant)";
+}
+
 }  // namespace
 
 LoadedScene compileForDevice(const CommandLine& cl, const VulkanContext& context,
@@ -148,38 +171,42 @@ int runRender(const CommandLine& cl) {
     }
     return runRenderShard(cl, o);
   }
-  // Frame sequence: A-B:step over time. The count is decided (and limited)
-  // before any list is built or any work starts.
+  // Frame sequence: frame numbers A-B at --fps (time = frame / fps), the
+  // same meaning as with --shards and `farm submit`. The count is decided
+  // (and limited) before any list is built or any work starts.
   std::vector<double> times = {cl.time};
+  std::vector<int> frame_numbers;  // empty: a still, written to -o as it is
   if (!cl.frames.empty()) {
-    std::smatch m;
-    const std::string number = R"([-+]?[0-9.]+(?:[eE][-+]?[0-9]+)?)";
-    const std::regex pattern("(" + number + ")-(" + number + "):(" + number + ")");
-    std::optional<double> a, b, step;
-    if (std::regex_match(cl.frames, m, pattern)) {
-      a = parsePlainNumber(m[1]);
-      b = parsePlainNumber(m[2]);
-      step = parsePlainNumber(m[3]);
-    }
-    if (!a || !b || !step || *step <= 0 || *b < *a) {
-      std::cerr << "sdfc: error: --frames expects A-B:step with A <= B and step > 0, e.g. 0-2:0.1\n";
+    if (cl.frames.find(':') != std::string::npos) {
+      std::cerr << "sdfc: error: --frames takes frame numbers A-B at --fps (default 24), not "
+                   "times A-B:step; " << framesHint(cl.frames) << "\n";
       return kExitUsage;
     }
-    const double count = std::floor((*b - *a) / *step + 1e-9) + 1;
+    std::pair<int, int> range;
+    try {
+      range = farm::parseFrameRange(cl.frames);
+    } catch (const std::exception& e) {
+      std::cerr << "sdfc: error: " << e.what() << "\n";
+      return kExitUsage;
+    }
+    const double count = static_cast<double>(range.second) - range.first + 1;
     if (!(count <= kMaxFrames)) {
       std::cerr << "sdfc: error: --frames " << cl.frames << " gives " << count << " frames; at most "
                 << kMaxFrames << "\n";
       return kExitUsage;
     }
     times.clear();
-    for (int i = 0; i < static_cast<int>(count); ++i) times.push_back(*a + i * *step);
+    for (int frame = range.first; frame <= range.second; ++frame) {
+      frame_numbers.push_back(frame);
+      times.push_back(frame / cl.fps);
+    }
   }
   // Beauty renders are denoised by default: nlr's weights fade with the
   // estimated variance, so a converged pixel is left as it is (docs/denoise.md).
   const auto denoiser = parseDenoiser(cl.denoiser.empty() ? "nlr" : cl.denoiser);
-  // Check the output's extension and directory before any work.
-  imageFormatFromPath(cl.output);
-  checkWritablePath(times.size() > 1 ? farm::framePath(cl.output, 0) : cl.output);
+  // Check the output's extension (a usage error) and directory before any work.
+  if (!checkImageExtension(cl.output)) return kExitUsage;
+  checkWritablePath(frame_numbers.empty() ? cl.output : farm::framePath(cl.output, frame_numbers[0]));
 
   // The driver's pipeline cache beside the SPIR-V cache (runtime/pipeline_cache.h).
   if (!cl.no_cache) setPipelineCacheDirectory(sdfcCacheDirectory());
@@ -362,7 +389,7 @@ int runRender(const CommandLine& cl) {
     timings.add("readback" + frame, out.readback_seconds, "(staging buffer to the sums and images)");
     if (!denoised.empty()) timings.add("denoise" + frame, secondsSince(denoise_start));
     const FloatImage& image = denoised.empty() ? out.color : denoised;
-    const std::string path = times.size() > 1 ? farm::framePath(cl.output, static_cast<int>(f)) : cl.output;
+    const std::string path = frame_numbers.empty() ? cl.output : farm::framePath(cl.output, frame_numbers[f]);
     const auto encode_start = std::chrono::steady_clock::now();
     if (o.view != gpu::kViewBeauty && imageFormatFromPath(path) == ImageFormat::Png) {
       // A debug view's PNG: raw depths and counts mapped into a range a display

@@ -27,6 +27,13 @@ void registerCommands(CLI::App& app, CommandLine& cl) {
     sub->add_option("--diagnostics-format", cl.diagnostics_format, "text or json")
         ->check(CLI::IsMember({"text", "json"}));
     sub->add_flag("--Werror", cl.werror, "treat warnings as errors");
+    sub->add_option("-W", cl.warning_options,
+                    "-Wno-NAME turns the warning NAME off (its name is shown as [-WNAME]; "
+                    "docs/language.md lists them), -Werror as --Werror")
+        ->allow_extra_args(false);
+    sub->add_option("--error-limit", cl.error_limit,
+                    "stop printing after this many errors (default 20; 0 prints every one)")
+        ->check(CLI::Range(0, 1 << 30));
     sub->add_option("--instance-threshold", cl.instance_threshold,
                     "copies of one shape in a union from which they become data + a hierarchy "
                     "(default 32; 0 = always inline code)")
@@ -132,8 +139,8 @@ void registerCommands(CLI::App& app, CommandLine& cl) {
       ->check(CLI::IsMember({"beauty", "normal", "steps", "depth", "albedo", "iterations"}));
   render->add_option("--time", cl.time, "scene time in seconds");
   render->add_option("--frames", cl.frames,
-                     "A-B:step, a frame sequence over time; the output name gets a frame number "
-                     "(with --shards: frame numbers A-B at --fps)");
+                     "A-B: render frames A..B at --fps (time = frame / fps); the output name gets "
+                     "the frame number");
   render->add_option("--shards", cl.shards,
                      "render one shard of a job cut into this many sample ranges per image; "
                      "-o is then the shard directory (docs/farm.md)")
@@ -142,7 +149,7 @@ void registerCommands(CLI::App& app, CommandLine& cl) {
                      "which shard: 0 .. frames * shards - 1 (a Slurm array index or "
                      "JOB_COMPLETION_INDEX)")
       ->check(CLI::Range(0, 1 << 30));
-  render->add_option("--fps", cl.fps, "frames per second for --frames A-B with --shards (default 24)")
+  render->add_option("--fps", cl.fps, "frames per second of --frames (default 24)")
       ->check(numberIn(0.001, 1e6));
   render->add_option("--seed", cl.seed, "random seed");
   render->add_option("--device", cl.device, "Vulkan device index (see `sdfc devices`)");

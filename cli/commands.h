@@ -24,6 +24,8 @@ struct CommandLine {
   std::vector<std::string> defines;  // -D name=value
   std::string diagnostics_format = "text";
   bool werror = false;
+  std::vector<std::string> warning_options;  // -W values: no-NAME, error
+  int error_limit = 20;                       // --error-limit (diag/diagnostics.h kDefaultErrorLimit)
   // compile
   std::string emit = "glsl";
   bool line_directives = false;

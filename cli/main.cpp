@@ -11,10 +11,13 @@
 #include <iostream>
 
 #include "commands.h"
+#include "usage_errors.h"
 #include "driver_select.h"
 #include "stage_timings.h"
 #include "view_loop.h"
 #include "vk_check.h"
+
+extern const char* const kSdfcRevision;  // revision.cpp, written at build time
 
 int main(int argc, char** argv) {
   using namespace sdfc;
@@ -23,7 +26,8 @@ int main(int argc, char** argv) {
   // The version line also names the Vulkan driver a render would use by default
   // (SDFC_DRIVER or auto; --driver on the same command line is not seen here).
   app.set_version_flag("--version", [] {
-    return std::string("sdfc ") + kSdfcVersion + "\ndriver: " + selectedDriver().reason;
+    return std::string("sdfc ") + kSdfcVersion + "\ncommit: " + kSdfcRevision +
+           "\ndriver: " + selectedDriver().reason;
   });
   app.require_subcommand(1);
   // Accepted before or after the subcommand (fallthrough hands it up to here).
@@ -44,7 +48,7 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    app.exit(e);
+    std::cerr << "sdfc: error: " << usageErrorText(app, e, argc, argv) << "\n";
     return kExitUsage;
   }
   try {

@@ -53,6 +53,7 @@ json publishDiagnostics(const Analysis& a) {
                  {"severity", d.severity == Severity::Error ? 1 : d.severity == Severity::Warning ? 2 : 3},
                  {"source", "sdfc"},
                  {"message", elsewhere ? "in '" + d.range.file->path + "': " + d.message : d.message}};
+    if (!d.name.empty()) item["code"] = d.name;  // the warning's name, as in [-Wname]
     if (!d.notes.empty() || elsewhere) {
       json related = json::array();
       if (elsewhere) related.push_back({{"location", a.location(d.range)}, {"message", d.message}});

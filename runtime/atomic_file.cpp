@@ -64,8 +64,13 @@ void checkWritablePath(const std::string& path) {
   if (::stat(path.c_str(), &st) == 0 && S_ISDIR(st.st_mode))
     throw FileWriteError("cannot write '" + path + "': it is a directory");
   const std::string dir = directoryOf(path);
-  if (::stat(dir.c_str(), &st) != 0)
+  if (::stat(dir.c_str(), &st) != 0) {
+    // sdfc creates no folders (a mistyped -o would leave one behind): say which is missing.
+    if (errno == ENOENT)
+      throw FileWriteError("cannot write '" + path + "': the folder '" + dir +
+                           "' does not exist (sdfc creates no folders: mkdir -p '" + dir + "' first)");
     throw FileWriteError("cannot write '" + path + "': directory '" + dir + "': " + reason(errno));
+  }
   if (!S_ISDIR(st.st_mode))
     throw FileWriteError("cannot write '" + path + "': '" + dir + "' is not a directory");
   if (::access(dir.c_str(), W_OK | X_OK) != 0)

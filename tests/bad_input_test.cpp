@@ -1,8 +1,10 @@
 // Issue 18: bad input that once slipped through. Scene files live in
-// fuzz/regressions/issue18_*.sdf, each headed by what it must give:
+// fuzz/regressions/issue18_*.sdf (and issue29_*.sdf: one mistake, one
+// message), each headed by what it must give:
 //   // expect: error: <text>        the diagnostics contain "error: <text>"
 //   // expect-at: <file:l:c: ...>  the diagnostics contain this (path "t.sdf")
 //   // expect-count: N             exactly N errors
+//   // expect-warnings: N          exactly N warnings (after `// sdfc: allow(...)`)
 //   // expect: compiles            no errors, and the scene compiles to SPIR-V
 // Writers: the checked, unique-temporary writer (runtime/atomic_file.h).
 // The command line's exit codes are in tests/cli_bad_input_test.sh.
@@ -37,6 +39,7 @@ std::string readAll(const fs::path& p) {
 struct Expectations {
   std::vector<std::string> contains;
   int error_count = -1;
+  int warning_count = -1;
   bool compiles = false;
 };
 
@@ -51,6 +54,7 @@ Expectations expectationsOf(const std::string& text) {
     else if (line.rfind("expect: ", 0) == 0) e.contains.push_back(line.substr(8));
     else if (line.rfind("expect-at: ", 0) == 0) e.contains.push_back(line.substr(11));
     else if (line.rfind("expect-count: ", 0) == 0) e.error_count = std::stoi(line.substr(14));
+    else if (line.rfind("expect-warnings: ", 0) == 0) e.warning_count = std::stoi(line.substr(17));
     pos = end + 1;
   }
   return e;
@@ -59,7 +63,8 @@ Expectations expectationsOf(const std::string& text) {
 TEST(BadInput, Issue18RegressionsGiveTheirDiagnosticOrCompile) {
   int files = 0;
   for (const auto& entry : fs::directory_iterator(fs::path(SDFC_SOURCE_DIR) / "fuzz/regressions")) {
-    if (entry.path().filename().string().rfind("issue18_", 0) != 0) continue;
+    const std::string name = entry.path().filename().string();
+    if (name.rfind("issue18_", 0) != 0 && name.rfind("issue29_", 0) != 0) continue;
     SCOPED_TRACE(entry.path().string());
     ++files;
     const std::string text = readAll(entry.path());
@@ -72,6 +77,7 @@ TEST(BadInput, Issue18RegressionsGiveTheirDiagnosticOrCompile) {
     if (want.error_count >= 0) {
       EXPECT_EQ(diags.errorCount(), want.error_count) << out;
     }
+    if (want.warning_count >= 0) EXPECT_EQ(diags.warningCount(), want.warning_count) << out;
     if (want.compiles) {
       EXPECT_FALSE(diags.hasErrors()) << out;
       EXPECT_TRUE(compiled.ok && !compiled.spirv.empty()) << out;
@@ -79,7 +85,7 @@ TEST(BadInput, Issue18RegressionsGiveTheirDiagnosticOrCompile) {
     // A checked scene always compiles: no internal error may reach the user.
     EXPECT_EQ(out.find("internal error"), std::string::npos) << out;
   }
-  EXPECT_GE(files, 15);
+  EXPECT_GE(files, 23);
 }
 
 std::string diagnosticsFor(const std::string& text, const CheckOptions& check = {}) {

@@ -47,7 +47,7 @@ TEST(Checker, NamesAndDefinitions) {
        "t.sdf:1:24: error: unknown name 'rr'; did you mean 'r'?\n"
        "scene { sphere(radius: rr) }\n"
        "                       ^~\n"
-       "t.sdf:2:5: warning: 'r' is never used\n"
+       "t.sdf:2:5: warning: 'r' is never used [-Wunused]\n"
        "let r = 1\n"
        "    ^\n"},
       {"let a = b\nlet b = a\nscene { sphere(radius: a) }\n",
@@ -189,7 +189,7 @@ TEST(Checker, Values) {
        "scene { sphere(radius: sqrt(-1)) }\n"
        "                       ^~~~~~~~\n"},
       {"scene { sphere(radius: 1 + sin(time)) }\n",
-       "t.sdf:1:24: warning: 'radius' of 'sphere' may reach 0 over time; it must stay positive\n"
+       "t.sdf:1:24: warning: 'radius' of 'sphere' may reach 0 over time; it must stay positive [-Wtime-range]\n"
        "scene { sphere(radius: 1 + sin(time)) }\n"
        "                       ^~~~~~~~~~~~~\n"},
       {"scene { menger(level: time) }\n",
@@ -222,7 +222,7 @@ TEST(Checker, SettingsAndMaterials) {
        "render(spp: 1.5)\n"
        "            ^~~\n"},
       {"render(spp: 4)\nrender(spp: 8)\nscene { sphere(radius: 1) }\n",
-       "t.sdf:2:1: warning: 'render' is set again; the last one wins\n"
+       "t.sdf:2:1: warning: 'render' is set again; the last one wins [-Wsetting-again]\n"
        "render(spp: 8)\n"
        "^~~~~~\n"},
       {"scene { camera(fov: 30) }\n",
@@ -267,31 +267,31 @@ TEST(Checker, SettingsAndMaterials) {
 TEST(Checker, Warnings) {
   expectPinned({
       {"let unused = 3\nscene { sphere(radius: 1) }\n",
-       "t.sdf:1:5: warning: 'unused' is never used\n"
+       "t.sdf:1:5: warning: 'unused' is never used [-Wunused]\n"
        "let unused = 3\n"
        "    ^~~~~~\n"},
       {"let m = diffuse()\nscene { sphere(radius: 1) }\n",
-       "t.sdf:1:9: warning: material 'm' is never used by a shape\n"
+       "t.sdf:1:9: warning: material 'm' is never used by a shape [-Wunused]\n"
        "let m = diffuse()\n"
        "        ^~~~~~~~~\n"},
       {"scene { scale([1, 2, 1]) { sphere(radius: 1) } }\n",
-       "t.sdf:1:9: warning: non-uniform 'scale' gives a distance bound, not an exact distance (marching takes smaller steps)\n"
+       "t.sdf:1:9: warning: non-uniform 'scale' gives a distance bound, not an exact distance (marching takes smaller steps) [-Wbound]\n"
        "scene { scale([1, 2, 1]) { sphere(radius: 1) } }\n"
        "        ^~~~~\n"},
       {"scene { union(smooth: 0.2) { sphere(radius: 1) box(size: [1, 1, 1]) } }\n",
-       "t.sdf:1:9: warning: smooth 'union' gives a distance bound, not an exact distance (marching takes smaller steps near it)\n"
+       "t.sdf:1:9: warning: smooth 'union' gives a distance bound, not an exact distance (marching takes smaller steps near it) [-Wbound]\n"
        "scene { union(smooth: 0.2) { sphere(radius: 1) box(size: [1, 1, 1]) } }\n"
        "        ^~~~~\n"},
       {"scene { morph(t: 0.5) { sphere(radius: 1) box(size: [1, 1, 1]) } }\n",
-       "t.sdf:1:9: warning: 'morph' gives a distance bound, not an exact distance\n"
+       "t.sdf:1:9: warning: 'morph' gives a distance bound, not an exact distance [-Wbound]\n"
        "scene { morph(t: 0.5) { sphere(radius: 1) box(size: [1, 1, 1]) } }\n"
        "        ^~~~~\n"},
       {"scene { subtract { sphere(radius: 1) } }\n",
-       "t.sdf:1:9: warning: 'subtract' with one shape subtracts nothing\n"
+       "t.sdf:1:9: warning: 'subtract' with one shape subtracts nothing [-Wsubtract-nothing]\n"
        "scene { subtract { sphere(radius: 1) } }\n"
        "        ^~~~~~~~~~~~~~~~~~~~~~~~~~~~~~\n"},
       {"scene { torus(major: 0.2, minor: 0.5) }\n",
-       "t.sdf:1:9: warning: torus 'minor' > 'major' makes a spindle torus; its distance is only a bound near the axis\n"
+       "t.sdf:1:9: warning: torus 'minor' > 'major' makes a spindle torus; its distance is only a bound near the axis [-Wbound]\n"
        "scene { torus(major: 0.2, minor: 0.5) }\n"
        "        ^~~~~~~~~~~~~~~~~~~~~~~~~~~~~\n"},
   });

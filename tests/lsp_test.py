@@ -232,6 +232,16 @@ for n, path in enumerate(files):
         if "error" in r and r["error"]["code"] not in (-32602, -32803):
             bad.append((os.path.basename(path), r["error"]))
 check("fuzz inputs answered", not bad and c.proc.poll() is None, bad[:3])
+
+# Issue 29: `// sdfc: allow(...)` is honoured as by `sdfc check`; a warning's name is its code.
+u = "file:///tmp/lsp_test/allow.sdf"
+allow = ("scene {\n  // sdfc: allow(bound)\n  union(smooth: 0.1) { sphere(radius: 1) box(size: 1) }\n"
+         "  union(smooth: 0.2) { sphere(radius: 1) box(size: 1) }\n}\n")
+c.notify("textDocument/didOpen", {"textDocument": {"uri": u, "languageId": "sdf", "version": 1, "text": allow}})
+_, d = c.wait_notification("textDocument/publishDiagnostics", lambda m: m["params"]["uri"] == u)
+warnings = [x for x in d["params"]["diagnostics"] if x["severity"] == 2]
+check("allow pragma in the editor", len(warnings) == 1 and warnings[0]["range"]["start"]["line"] == 3 and
+      warnings[0].get("code") == "bound", warnings)
 c.request("shutdown")
 c.notify("exit")
 check("fuzz session exits cleanly", c.close() == 0)

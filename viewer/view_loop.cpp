@@ -193,7 +193,7 @@ class Viewer : public InputHandler {
   RateMeter rate_;
   FrameSplit split_;
   Status status_;
-  Clock::time_point last_title_{};
+  Clock::time_point last_title_{}, last_frame_end_{};  // the frame split's wait
   std::optional<Clock::time_point> played_until_;  // when time_ last advanced while playing
   double last_frame_ms_ = 0;
 
@@ -371,6 +371,7 @@ bool Viewer::drawFrame() {
   if (kernel == renderers_.end()) {
     // This view's kernel is not built yet: ask once, keep the last image meanwhile.
     if (variants_requested_.insert(view_).second) compiler_->requestVariant(active_->compiled, view_);
+    last_frame_end_ = Clock::now();
     return false;
   }
   Renderer& renderer = *kernel->second;
@@ -416,6 +417,7 @@ bool Viewer::drawFrame() {
   status_.target_spp = target;
   ++frames_still_;
   if (acc_->samples_done >= target && !reload_unpresented_ && !redisplay_) {
+    last_frame_end_ = Clock::now();
     return false;  // converged: nothing new to show
   }
   if (acc_->samples_done < target) renderer.addPass(*acc_, 1);
@@ -440,6 +442,7 @@ bool Viewer::drawFrame() {
   const auto frame_end = Clock::now();
   last_frame_ms_ = msBetween(frame_start, frame_end);
   rate_.add(last_frame_ms_ / 1000, 1);
+  last_frame_end_ = frame_end;
   if (moving) {  // adapt the preview resolution to keep the view interactive
     if (last_frame_ms_ > kPreviewSlowMs && preview_scale_ < kMaxPreviewScale) ++preview_scale_;
     if (last_frame_ms_ < kPreviewFastMs && preview_scale_ > kMinPreviewScale) --preview_scale_;

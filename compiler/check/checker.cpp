@@ -1,6 +1,10 @@
 #include "check/checker.h"
 
 #include <algorithm>
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <unistd.h>
 #include <cmath>
 #include <limits>
 #include <functional>
@@ -138,7 +142,7 @@ class Checker {
       } else {
         Value v = evalExpr(e);
         if (v.type != Value::Type::Error)
-          diags_->error(e.range, std::string("a statement cannot be ") + typeName(v.type) +
+          diags_->error(e.range, std::string("a statement cannot be ") + reported(v) +
                                     " on its own; did you mean to put it in 'scene { ... }' or "
                                     "bind it with 'let'?");
       }
@@ -151,7 +155,7 @@ class Checker {
       Binding& b = bindings_[name];
       if (b.parametric()) {
         // Its body is checked at each call, with the call's arguments.
-        if (!b.used && !b.imported) diags_->warning(b.statement->name_range, "'" + name + "' is never used");
+        if (!b.used && !b.imported) diags_->warning(b.statement->name_range, "unused", "'" + name + "' is never used");
         continue;
       }
       if (b.imported && !b.used) continue;  // a library's unused parts are not checked here
@@ -159,12 +163,12 @@ class Checker {
       // An unused material gets its own warning below.
       // A definition with errors has been reported already: one mistake, one message.
       if (!b.used && !b.imported && b.value.type != Value::Type::Material && b.value.type != Value::Type::Error)
-        diags_->warning(b.statement->name_range, "'" + name + "' is never used");
+        diags_->warning(b.statement->name_range, "unused", "'" + name + "' is never used");
     }
     scene_.imported_sources = imports_.files;
     for (size_t i = 0; i < scene_.materials.size(); ++i)
       if (!material_used_[i] && !fromImport(scene_.materials[i].range))
-        diags_->warning(scene_.materials[i].range,
+        diags_->warning(scene_.materials[i].range, "unused",
                        "material '" + scene_.materials[i].name + "' is never used by a shape");
     return std::move(scene_);
   }
@@ -256,6 +260,13 @@ class Checker {
   // Warnings inside a body, reported once however many calls expand it.
   std::set<std::tuple<const SourceFile*, size_t, std::string>> body_warnings_;
 
+  // A value named in a type error: a material there was meant to be used, so
+  // it gets no "never used" warning on top (one mistake, one message).
+  const char* reported(const Value& v) {
+    if (v.type == Value::Type::Material) material_used_[v.material] = true;
+    return typeName(v.type);
+  }
+
   // ---- names -------------------------------------------------------------
 
   // Definitions resolve recursively (a `let` using another resolves it
@@ -295,7 +306,7 @@ class Checker {
     if (define != options_.defines.end()) {
       if (v.type != Value::Type::Number && v.type != Value::Type::Error) {
         diags_->error(s.name_range, "-D " + name + " gives a number, but '" + name + "' is " +
-                                       typeName(v.type));
+                                       reported(v));
       } else {
         v.type = Value::Type::Number;
         v.number = ir::constant(define->second);
@@ -378,6 +389,7 @@ class Checker {
         return {};
       case ast::ExprKind::Name: return lookupName(e);
       case ast::ExprKind::Vector: {
+        if (e.reported) return {};  // the parser reported it
         Value v;
         v.type = Value::Type::Vector;
         v.range = e.range;
@@ -386,7 +398,7 @@ class Checker {
           if (x.type == Value::Type::Error) return {};
           if (x.type != Value::Type::Number) {
             diags_->error(x.range, std::string("a vector element must be a number, not ") +
-                                      typeName(x.type));
+                                      reported(x));
             return {};
           }
           v.vector.push_back(x.number);
@@ -410,7 +422,7 @@ class Checker {
           return a;
         }
         if (a.type != Value::Type::Error)
-          diags_->error(e.range, std::string("cannot negate ") + typeName(a.type));
+          diags_->error(e.range, std::string("cannot negate ") + reported(a));
         return {};
       }
       case ast::ExprKind::Binary: return evalBinary(e);
@@ -430,7 +442,7 @@ class Checker {
         const size_t index = e.name.size() == 1 ? kFields.find(e.name[0]) : std::string::npos;
         if (a.type != Value::Type::Vector || index == std::string::npos ||
             index >= a.vector.size()) {
-          diags_->error(e.name_range, "no component '" + e.name + "' in " + typeName(a.type));
+          diags_->error(e.name_range, "no component '" + e.name + "' in " + reported(a));
           return {};
         }
         return number(a.vector[index], e.range);
@@ -463,7 +475,7 @@ class Checker {
           return std::nullopt;
         }
         if (d.lo <= 0 && d.hi >= 0)
-          diags_->warning(e.operands[1]->range, "the divisor ranges over " + rangeText(d) +
+          diags_->warning(e.operands[1]->range, "time-range", "the divisor ranges over " + rangeText(d) +
                                                    " over time; where it is 0 the value is not finite");
       }
       return r;
@@ -492,8 +504,8 @@ class Checker {
       }
       return v;
     }
-    diags_->error(e.range, std::string("cannot apply '") + op + "' to " + typeName(a.type) +
-                              " and " + typeName(b.type));
+    diags_->error(e.range, std::string("cannot apply '") + op + "' to " + reported(a) +
+                              " and " + reported(b));
     return {};
   }
 
@@ -756,7 +768,7 @@ class Checker {
       Value v = evalExpr(*a.value);
       if (v.type == Value::Type::Error) return {};
       if (v.type != Value::Type::Number) {
-        diags_->error(v.range, "'" + e.name + "' expects numbers, not " + typeName(v.type));
+        diags_->error(v.range, "'" + e.name + "' expects numbers, not " + reported(v));
         return {};
       }
       args.push_back(v.number);
@@ -799,7 +811,7 @@ class Checker {
         diags_->error(e.range, "'" + e.name + "' is not finite at any time: " + what);
         return false;
       }
-      diags_->warning(e.range, "'" + e.name + "' is not finite for some times: " + what);
+      diags_->warning(e.range, "time-range", "'" + e.name + "' is not finite for some times: " + what);
       return true;
     };
     if (e.name == "sqrt") {
@@ -843,7 +855,7 @@ class Checker {
       return false;
     }
     if (r.hi > kFloatMax || r.lo < -kFloatMax)
-      diags_->warning(range, what + " ranges over " + rangeText(r) +
+      diags_->warning(range, "time-range", what + " ranges over " + rangeText(r) +
                                 " over time; where it is beyond " + fmt(kFloatMax) +
                                 " the shader's float32 value is infinite");
     return true;
@@ -864,8 +876,13 @@ class Checker {
     out.values.resize(specs.size());
     size_t next_positional = 0;
     bool seen_named = false;
+    size_t extra_positional = 0;
+    const ast::Argument* first_extra = nullptr;
     for (const ast::Argument& a : e.arguments) {
       Value v = evalExpr(*a.value);
+      // A material given to a call with errors was still meant for it: no
+      // "never used" warning on top of the error.
+      if (a.name == "material" && v.type == Value::Type::Material) material_used_[v.material] = true;
       if (v.type == Value::Type::Error) {
         out.ok = false;
         continue;
@@ -877,9 +894,8 @@ class Checker {
           continue;
         }
         if (next_positional >= specs.size()) {
-          diags_->error(a.value->range, "'" + e.name + "' takes at most " +
-                                           std::to_string(specs.size()) + " positional argument" +
-                                           (specs.size() == 1 ? "" : "s"));
+          // One error for all the extra ones, at the first.
+          if (extra_positional++ == 0) first_extra = &a;
           out.ok = false;
           continue;
         }
@@ -913,6 +929,11 @@ class Checker {
       }
       out.values[index] = v;
     }
+    if (first_extra)
+      diags_->error(first_extra->value->range, "'" + e.name + "' takes at most " +
+                                                  std::to_string(specs.size()) + " positional argument" +
+                                                  (specs.size() == 1 ? "" : "s") + ", got " +
+                                                  std::to_string(specs.size() + extra_positional));
     for (size_t i = 0; i < specs.size(); ++i) {
       if (out.values[i] || !specs[i].required) continue;
       if (!out.ok) continue;  // an argument failed: it may have been this one
@@ -932,7 +953,7 @@ class Checker {
                                 "' must be a 3-vector like [x, y, z], not " +
                                 (v.type == Value::Type::Vector
                                      ? "a " + std::to_string(v.vector.size()) + "-vector"
-                                     : std::string(typeName(v.type))));
+                                     : std::string(reported(v))));
       return std::nullopt;
     }
     return ir::Vec3{v.vector[0], v.vector[1], v.vector[2]};
@@ -960,7 +981,7 @@ class Checker {
           return false;
         }
         if (!s.isConst() && r.lo <= 0)
-          diags_->warning(range, what + " may reach " + fmt(r.lo) + " over time; it must stay positive");
+          diags_->warning(range, "time-range", what + " may reach " + fmt(r.lo) + " over time; it must stay positive");
         return true;
       case ValueRule::NonNegative:
         if (s.isConst() && !(s.value >= 0)) {
@@ -975,7 +996,7 @@ class Checker {
   std::optional<Scalar> numberArg(const Value& v, const ArgSpec& spec, const std::string& callee) {
     if (v.type != Value::Type::Number) {
       diags_->error(v.range, "'" + std::string(spec.name) + "' of '" + callee + "' must be a number, not " +
-                                typeName(v.type));
+                                reported(v));
       return std::nullopt;
     }
     if (!checkTimeAllowed(v, spec, callee)) return std::nullopt;
@@ -1021,7 +1042,7 @@ class Checker {
     if (!args.material) return -1;
     const Value& m = *args.material;
     if (m.type != Value::Type::Material) {
-      diags_->error(m.range, std::string("'material' must be a material, not ") + typeName(m.type));
+      diags_->error(m.range, std::string("'material' must be a material, not ") + reported(m));
       return -1;
     }
     material_used_[m.material] = true;
@@ -1050,7 +1071,7 @@ class Checker {
     for (size_t i = 0; i < specs.size(); ++i) {
       const ParamSpec& p = info.params[i];
       if (!args.values[i]) {
-        if (!ok) return {};
+        if (!ok) continue;  // the other arguments are still checked: all errors in one run
         if (p.type == ParamType::Vector) {
           for (int c = 0; c < 3; ++c) node->args.push_back(ir::constant(p.default_value[c]));
         } else {
@@ -1111,7 +1132,7 @@ class Checker {
         return true;
       case PrimitiveKind::Torus:
         if (c(1) > c(0))
-          diags_->warning(e.range, "torus 'minor' > 'major' makes a spindle torus; its distance "
+          diags_->warning(e.range, "bound", "torus 'minor' > 'major' makes a spindle torus; its distance "
                                   "is only a bound near the axis");
         return true;
       default: return true;
@@ -1131,7 +1152,7 @@ class Checker {
       if (v.type == Value::Type::Error) { ok = false; continue; }
       if (v.type != Value::Type::Shape) {
         diags_->error(v.range, std::string("'") + e.name + "' expects shapes in its block, not " +
-                                  typeName(v.type));
+                                  reported(v));
         ok = false;
         continue;
       }
@@ -1171,11 +1192,11 @@ class Checker {
         if (!s) return {};
         node->smooth = *s;
         if (!s->isConst() || s->value > 0)
-          diags_->warning(e.name_range, "smooth '" + name + "' gives a distance bound, not an "
+          diags_->warning(e.name_range, "bound", "smooth '" + name + "' gives a distance bound, not an "
                                        "exact distance (marching takes smaller steps near it)");
       }
       if (name == "subtract" && children.size() < 2)
-        diags_->warning(e.range, "'subtract' with one shape subtracts nothing");
+        diags_->warning(e.range, "subtract-nothing", "'subtract' with one shape subtracts nothing");
       node->children = children;
       return shapeValue(node, e.range);
     }
@@ -1188,7 +1209,7 @@ class Checker {
       node->kind = ir::NodeKind::Morph;
       node->amount = *morph_t;
       node->children = children;
-      diags_->warning(e.name_range, "'morph' gives a distance bound, not an exact distance");
+      diags_->warning(e.name_range, "bound", "'morph' gives a distance bound, not an exact distance");
       return shapeValue(node, e.range);
     }
     node->children = {single()};
@@ -1211,7 +1232,7 @@ class Checker {
         if (!v) return {};
         node->kind = ir::NodeKind::ScaleNonUniform;
         node->vec = *v;
-        diags_->warning(e.name_range, "non-uniform 'scale' gives a distance bound, not an exact "
+        diags_->warning(e.name_range, "bound", "non-uniform 'scale' gives a distance bound, not an exact "
                                      "distance (marching takes smaller steps)");
       }
     } else if (name == "reflect") {
@@ -1280,7 +1301,15 @@ class Checker {
       const std::string path = resolveBesides(name.range.file ? name.range.file->path : source_.path, name.name);
       PointFile file = readPointFile(path);
       if (!file.readable) {
-        diags_->error(name.range, "cannot read '" + path + "': " + file.unreadable_reason);
+        // Why, and where it looked: the path is relative to the scene's folder.
+        const std::string reason = !file.unreadable_reason.empty() ? file.unreadable_reason
+                                   : ::access(path.c_str(), R_OK) != 0 ? std::strerror(errno)
+                                   : std::filesystem::is_directory(path) ? "it is a directory"
+                                                                         : "it cannot be opened";
+        std::error_code ignored;
+        const std::string tried = std::filesystem::absolute(path, ignored).lexically_normal().string();
+        diags_->error(name.range, "cannot read '" + name.name + "': " + reason + " (looked for '" +
+                                     tried + "')");
         return false;
       }
       if (file.bad_rows > 0) {
@@ -1304,6 +1333,7 @@ class Checker {
       rows = std::move(file.rows);
       return true;
     }
+    if (arg.reported) return false;  // the parser reported it
     if (arg.kind != ast::ExprKind::Vector) {
       diags_->error(arg.range, "'positions' of 'instances' must be a list [[x, y, z], ...] or "
                               "file(\"points.csv\")");
@@ -1369,7 +1399,7 @@ class Checker {
       Value v = evalExpr(*c);
       if (v.type == Value::Type::Error) { ok = false; continue; }
       if (v.type != Value::Type::Shape) {
-        diags_->error(v.range, std::string("'instances' expects shapes in its block, not ") + typeName(v.type));
+        diags_->error(v.range, std::string("'instances' expects shapes in its block, not ") + reported(v));
         ok = false;
         continue;
       }
@@ -1497,8 +1527,7 @@ class Checker {
 
   Value evalMaterial(const ast::Expr& e, const BuiltinSignature& sig) {
     if (e.has_block) diags_->error(e.range, "'" + e.name + "' is a material and takes no block");
-    BoundArgs args = bindArguments(e, sig.args, false);
-    if (!args.ok) return {};
+    BoundArgs args = bindArguments(e, sig.args, false);  // a failed one: the others are still checked
     ir::Material m;
     m.range = e.range;
     auto vec = [&](size_t i, dvec3 fallback) -> std::optional<dvec3> {
@@ -1515,7 +1544,7 @@ class Checker {
     };
     auto checkUnit = [&](size_t i, const dvec3& c) {
       if (args.values[i] && (c.x > 1 || c.y > 1 || c.z > 1))
-        diags_->warning(args.values[i]->range, "'" + std::string(sig.args[i].name) +
+        diags_->warning(args.values[i]->range, "energy", "'" + std::string(sig.args[i].name) +
                                                   "' above 1 reflects more light than arrives "
                                                   "(energy is not conserved)");
     };
@@ -1555,6 +1584,7 @@ class Checker {
       m.emission = ir::constantVec(*color * *strength);
       m.albedo = ir::constantVec(dvec3(0));
     }
+    if (!args.ok) return {};
     if (m.emission.x.expr == nullptr && m.model != ir::MaterialModel::Emissive)
       m.emission = ir::constantVec(dvec3(0));
     Value v;
@@ -1579,7 +1609,7 @@ class Checker {
       Value v = evalExpr(*c);
       if (v.type == Value::Type::Error) continue;
       if (v.type != Value::Type::Shape) {
-        diags_->error(v.range, std::string("the scene holds shapes, not ") + typeName(v.type));
+        diags_->error(v.range, std::string("the scene holds shapes, not ") + reported(v));
         continue;
       }
       children.push_back(v.shape);
@@ -1599,9 +1629,8 @@ class Checker {
     const BuiltinSignature& sig = *findBuiltin(e.name);
     if (e.has_block) diags_->error(e.range, "'" + e.name + "' takes no block");
     if (e.name != "light" && !seen_settings_.insert(e.name).second)
-      diags_->warning(e.name_range, "'" + e.name + "' is set again; the last one wins");
-    BoundArgs args = bindArguments(e, sig.args, false);
-    if (!args.ok) return;
+      diags_->warning(e.name_range, "setting-again", "'" + e.name + "' is set again; the last one wins");
+    BoundArgs args = bindArguments(e, sig.args, false);  // a failed one: the others are still checked
     auto vec = [&](size_t i) -> std::optional<dvec3> {
       if (!args.values[i]) return std::nullopt;
       auto v = vectorArg(*args.values[i], sig.args[i], e.name);

@@ -10,6 +10,7 @@
 #include "spirv/glsl_to_spirv.h"
 #include "spirv/spirv_cache.h"
 #include "syntax/parser.h"
+#include "syntax/pragmas.h"
 
 namespace sdfc {
 namespace {
@@ -63,7 +64,9 @@ CompiledScene frontEnd(const std::string& path, std::string text, const CompileO
   CompiledScene out;
   out.source = std::make_unique<SourceFile>(path, std::move(text));
   auto t0 = std::chrono::steady_clock::now();
-  ast::File ast = parse(*out.source, diags);
+  std::vector<Comment> comments;
+  ast::File ast = parse(*out.source, diags, &comments);
+  applyWarningPragmas(ast, *out.source, comments, diags);
   out.times.parse = secondsSince(t0);
   t0 = std::chrono::steady_clock::now();
   out.scene = check(ast, *out.source, diags, options.check);

@@ -217,7 +217,7 @@ class Analyzer {
         cells_evaluated *= 3;
         n.exact = false;
         if (repeatReach(n, a) > cell[a] * 1.5)
-          diags_.warning(n.range, "the repeated shape reaches more than one cell beyond its own "
+          diags_.warning(n.range, "repeat-reach", "the repeated shape reaches more than one cell beyond its own "
                                   "along axis " + std::string(1, "xyz"[a]) +
                                   "; only neighbouring cells are checked, so its distance may be "
                                   "too large (use a larger cell)");

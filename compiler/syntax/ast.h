@@ -35,6 +35,7 @@ struct Expr {
   // formatter keeps the parentheses; `range` itself never includes them.
   SourceRange paren_range;
   bool bad_name = false;            // Name, Call: already reported (non-ASCII name)
+  bool reported = false;            // Vector: a syntax error inside was reported; the checker is silent
   int height = 1;                   // levels of this tree (later stages recurse that deep)
 };
 

@@ -18,8 +18,14 @@ class Parser {
     ast::File file;
     while (!at(TokenKind::EndOfFile)) {
       const size_t before = pos_;
+      const int errors_before = diags_.errorCount();
       if (auto stmt = parseStatement()) file.statements.push_back(std::move(*stmt));
       if (pos_ == before) advance();  // always make progress
+      // After an error, tokens that cannot start a statement are skipped
+      // quietly: 100,000 stray '}' are one mistake, not 100,000.
+      if (diags_.errorCount() > errors_before)
+        while (!at(TokenKind::EndOfFile) && !at(TokenKind::Identifier) && !at(TokenKind::KeywordLet))
+          advance();
     }
     return file;
   }
@@ -355,6 +361,27 @@ class Parser {
           } while (accept(TokenKind::Comma));
         }
         const Token& close = peek();
+        if (!at(TokenKind::RightBracket) && !at(TokenKind::EndOfFile) && !abandoned_ &&
+            !at(TokenKind::Invalid) && e->operands.back()->kind != ast::ExprKind::Error) {
+          // "[1 1 1]": one error, and the vector is skipped whole, so neither
+          // the call around it nor the checker reports it again.
+          diags_.error(peek().range, "expected ',' or ']' in the vector, found " + describe(peek()));
+          int depth = 0;
+          while (!at(TokenKind::EndOfFile)) {
+            if (at(TokenKind::LeftBracket)) ++depth;
+            if (at(TokenKind::RightBracket) && depth-- == 0) break;
+            if (depth == 0 && (at(TokenKind::RightParen) || at(TokenKind::RightBrace) ||
+                               at(TokenKind::LeftBrace)))
+              break;
+            advance();
+          }
+          e->range = t.range.to(peek().range);
+          accept(TokenKind::RightBracket);
+          // Not an Error node: the statement around it parsed on, so nothing
+          // after it is skipped.
+          e->reported = true;
+          return e;
+        }
         expect(TokenKind::RightBracket, "to close the vector");
         e->range = t.range.to(close.range);
         if (e->operands.empty() && !abandoned_) diags_.error(e->range, "a vector needs at least one element");

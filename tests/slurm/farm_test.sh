@@ -54,8 +54,8 @@ still)
   echo "still: 8 shards merged bit-identical to the single render; resubmitting the finished job queues nothing"
   ;;
 animation)
-  # fps 4: frame times 0, 0.25, ... are exact, as are the --frames A-B:step times.
-  "$sdfc" render "$morph" --size 64x36 --spp 64 --frames 0-1.25:0.25 --denoise none -o "$work/single.exr" -q
+  # fps 4: frame times 0, 0.25, ... are exact; --frames means the same frames for render and farm.
+  "$sdfc" render "$morph" --size 64x36 --spp 64 --frames 0-5 --fps 4 --denoise none -o "$work/single.exr" -q
   video=()
   command -v ffmpeg >/dev/null && video=(--video "$work/job/anim.mp4")
   "$sdfc" farm submit "$morph" --size 64x36 --spp 64 --frames 0-5 --fps 4 --shards 2 -o "$work/job" "${video[@]}"
