@@ -1201,12 +1201,6 @@ vec3 tracePath(vec3 ro, vec3 rd, int max_bounces, bool record_aov) {
 }
 
 
-// Blue -> cyan -> green -> yellow -> red for x in [0, 1].
-vec3 heatMap(float x) {
-  x = clamp(x, 0.0, 1.0);
-  return clamp(vec3(4.0 * x - 2.0, min(4.0 * x, 4.0 - 4.0 * x), 2.0 - 4.0 * x), 0.0, 1.0);
-}
-
 // The path tracer's main: beauty, iterations, or (SDFC_ALL_VIEWS) every view
 // chosen at run time by the push constants' view field.
 void main() {
@@ -1253,7 +1247,8 @@ void main() {
     out_albedo_steps = aov_as / float(max(count, 1));
   }
   if (frame.view == kViewNormal) color = g_aov_normal * 0.5 + 0.5;
-  if (frame.view == kViewSteps) color = heatMap(float(g_aov_steps) / float(kSceneMaxSteps));
+  // Raw counts and distances: the runtime maps them for display (runtime/debug_view.h).
+  if (frame.view == kViewSteps) color = vec3(float(g_aov_steps));
   if (frame.view == kViewDepth) color = vec3(g_aov_dist);
   if (frame.view == kViewAlbedo) color = g_aov_albedo;
   if (frame.view == kViewIterations) color = vec3(float(g_loop_iterations), 0.0, 0.0);
