@@ -138,7 +138,7 @@ TEST_F(Imports, Diagnostics) {
                 "DIR/clash.sdf:2:5: note: 'stone' is defined here\n"
                 "let stone = diffuse(albedo: [1, 0, 0])\n"
                 "    ^~~~~\n"
-                "DIR/clash.sdf:2:13: warning: material 'stone' is never used by a shape\n"
+                "DIR/clash.sdf:2:13: warning: material 'stone' is never used by a shape [-Wunused]\n"
                 "let stone = diffuse(albedo: [1, 0, 0])\n"
                 "            ^~~~~~~~~~~~~~~~~~~~~~~~~~\n");
   write("more.sdf", "let tower = sphere(radius: 1)\n");

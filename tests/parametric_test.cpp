@@ -296,7 +296,7 @@ TEST(Parametric, Diagnostics) {
                 "let f(sphere, x, x) = box(size: [1, 1, 1])\n"
                 "                 ^\n");
   // Never used.
-  expectPinned(post + "scene { sphere(radius: 1) }\n", "t.sdf:1:5: warning: 'post' is never used\n"
+  expectPinned(post + "scene { sphere(radius: 1) }\n", "t.sdf:1:5: warning: 'post' is never used [-Wunused]\n"
                 "let post(h, r: 0.2) = cylinder(radius: r, height: h)\n"
                 "    ^~~~\n");
 }

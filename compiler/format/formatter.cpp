@@ -372,8 +372,23 @@ class Printer {
     ensureNewline();
   }
 
+  // A callee as written; `parts.tower` in its three tokens, so a comment
+  // between them stays where it was.
+  void callee(const ast::Expr& e) {
+    const size_t split = e.name.find('.');
+    if (split == std::string::npos) {
+      write(e.name, e.name_range.begin, e.name_range.end);
+      return;
+    }
+    const size_t alias_end = e.name_range.begin + split;
+    write(e.name.substr(0, split), e.name_range.begin, alias_end);
+    const size_t dot = nextToken(alias_end);
+    write(".", dot, dot + 1);
+    write(e.name.substr(split + 1), nextToken(dot + 1), e.name_range.end);
+  }
+
   void call(const ast::Expr& e) {
-    write(e.name, e.name_range.begin, e.name_range.end);
+    callee(e);
     const size_t open = nextToken(e.name_range.end);
     if (open < src_.size() && src_[open] == '(') {  // "union() { ... }" keeps its "()"
       size_t close = open + 1;
