@@ -117,6 +117,21 @@ CLI::Validator numberIn(double lo, double hi, bool open_low) {
       "NUMBER in " + range.str());
 }
 
+CLI::Validator wholeNumberIn(long long lo, long long hi) {
+  std::ostringstream range;
+  range << lo << " to " << hi;
+  return CLI::Validator(
+      [lo, hi, range = range.str()](std::string& text) {
+        static const std::regex kWhole(R"([-+]?[0-9]{1,18})");
+        if (std::regex_match(text, kWhole)) {
+          const long long value = std::stoll(text);
+          if (value >= lo && value <= hi) return std::string();
+        }
+        return "expects a whole number from " + range + ", got '" + text + "'";
+      },
+      "WHOLE NUMBER from " + range.str());
+}
+
 bool checkTimeOption(double time, const char* option) {
   if (std::isfinite(time) && std::fabs(time) <= std::numeric_limits<float>::max()) return true;
   std::cerr << "sdfc: error: " << option << " must be a finite number within float32's range (|t| <= "

@@ -34,6 +34,8 @@ std::optional<double> parsePlainNumber(const std::string& text);
 // within [lo, hi] (above lo when open_low). CLI::Range alone lets "nan"
 // through, since every comparison with NaN is false.
 CLI::Validator numberIn(double lo, double hi, bool open_low = false);
+// A whole-number option: plain decimal digits within [lo, hi] (not 1.5, 1e3, inf).
+CLI::Validator wholeNumberIn(long long lo, long long hi);
 
 // Usage checks shared by render, view, eval, mesh and farm submit: --time must be a float32
 // number. Prints the error and returns false when it is not.

@@ -33,11 +33,11 @@ void registerCommands(CLI::App& app, CommandLine& cl) {
         ->allow_extra_args(false);
     sub->add_option("--error-limit", cl.error_limit,
                     "stop printing after this many errors (default 20; 0 prints every one)")
-        ->check(CLI::Range(0, 1 << 30));
+        ->check(wholeNumberIn(0, 1 << 30));
     sub->add_option("--instance-threshold", cl.instance_threshold,
                     "copies of one shape in a union from which they become data + a hierarchy "
                     "(default 32; 0 = always inline code)")
-        ->check(CLI::Range(0, 1 << 30));
+        ->check(wholeNumberIn(0, 1 << 30));
     sub->callback([&cl, sub] { cl.command = sub->get_name(); });
   };
   auto emit_flags = [&](CLI::App* sub) {
@@ -82,17 +82,17 @@ void registerCommands(CLI::App& app, CommandLine& cl) {
   compile->add_option("--timings", cl.timings,
                       "compile N more times in this process and print the median stage times "
                       "(the first compile also pays glslang's one-time set-up)")
-      ->check(CLI::Range(1, 1000));
+      ->check(wholeNumberIn(1, 1000));
   emit_flags(compile);
 
   CLI::App* render = app.add_subcommand("render", "path-trace the scene to an image");
   common(render);
   render->add_option("-o,--output", cl.output, "image: .png, .exr or .pfm")->required();
   render->add_option("--size", cl.size, "WxH, e.g. 640x360");
-  render->add_option("--spp", cl.spp, "samples per pixel")->check(CLI::Range(1, 1 << 20));
-  render->add_option("--bounces", cl.bounces, "maximum path length")->check(CLI::Range(0, 64));
+  render->add_option("--spp", cl.spp, "samples per pixel")->check(wholeNumberIn(1, 1 << 20));
+  render->add_option("--bounces", cl.bounces, "maximum path length")->check(wholeNumberIn(0, 64));
   render->add_option("--light-samples", cl.light_samples, "light samples per vertex")
-      ->check(CLI::Range(0, 16));
+      ->check(wholeNumberIn(0, 16));
   render->add_option("--denoise", cl.denoiser,
                      "none | bilateral | atrous | svgf | nlm | nlr (default nlr: it leaves converged "
                      "pixels as they are; none for reference images)")
@@ -120,7 +120,7 @@ void registerCommands(CLI::App& app, CommandLine& cl) {
                      "--adaptive: a pixel's samples at most this many times the first phase's")
       ->check(numberIn(1.0, 1024.0));
   render->add_option("--adaptive-block", cl.adaptive_block, "--adaptive: counts per NxN block")
-      ->check(CLI::Range(1, 256));
+      ->check(wholeNumberIn(1, 256));
   render->add_option("--adaptive-power", cl.adaptive_power,
                      "--adaptive: extra samples proportional to the estimate to this power")
       ->check(numberIn(0.0, 4.0));
@@ -144,11 +144,11 @@ void registerCommands(CLI::App& app, CommandLine& cl) {
   render->add_option("--shards", cl.shards,
                      "render one shard of a job cut into this many sample ranges per image; "
                      "-o is then the shard directory (docs/farm.md)")
-      ->check(CLI::Range(1, 1 << 20));
+      ->check(wholeNumberIn(1, 1 << 20));
   render->add_option("--shard-index", cl.shard_index,
                      "which shard: 0 .. frames * shards - 1 (a Slurm array index or "
                      "JOB_COMPLETION_INDEX)")
-      ->check(CLI::Range(0, 1 << 30));
+      ->check(wholeNumberIn(0, 1 << 30));
   render->add_option("--fps", cl.fps, "frames per second of --frames (default 24)")
       ->check(numberIn(0.001, 1e6));
   render->add_option("--seed", cl.seed, "random seed");
@@ -174,10 +174,10 @@ void registerCommands(CLI::App& app, CommandLine& cl) {
   common(view);
   view->add_option("--size", cl.size, "window size WxH (default: the scene's render size)");
   view->add_option("--spp", cl.spp, "samples to accumulate while still (default: the scene's)")
-      ->check(CLI::Range(1, 1 << 20));
-  view->add_option("--bounces", cl.bounces, "maximum path length")->check(CLI::Range(0, 64));
+      ->check(wholeNumberIn(1, 1 << 20));
+  view->add_option("--bounces", cl.bounces, "maximum path length")->check(wholeNumberIn(0, 64));
   view->add_option("--light-samples", cl.light_samples, "light samples per vertex")
-      ->check(CLI::Range(0, 16));
+      ->check(wholeNumberIn(0, 16));
   view->add_option("--view", cl.view, "first view: beauty | normal | steps | depth | albedo")
       ->check(CLI::IsMember({"beauty", "normal", "steps", "depth", "albedo"}));
   view->add_option("--denoise", cl.denoiser, "none | atrous (start with the denoiser on)")
@@ -212,7 +212,7 @@ void registerCommands(CLI::App& app, CommandLine& cl) {
   common(mesh);
   mesh->add_option("-o,--output", cl.output, "mesh file")->required();
   mesh->add_option("--resolution", cl.resolution, "cells along the longest side")
-      ->check(CLI::Range(4, 1024));
+      ->check(wholeNumberIn(4, 1024));
   mesh->add_option("--voxel-size", cl.voxel_size, "cell size (overrides --resolution)")
       ->check(numberIn(0, std::numeric_limits<float>::max(), /*open_low=*/true));
   mesh->add_option("--box", cl.box, "x0,y0,z0,x1,y1,z1: region for infinite scenes");
@@ -235,13 +235,13 @@ void registerCommands(CLI::App& app, CommandLine& cl) {
       "submit", "check the scene, then submit a shard array and a dependent merge job");
   common(submit);
   submit->add_option("-o,--output", cl.output, "job directory on the shared file system")->required();
-  submit->add_option("--spp", cl.spp, "samples per pixel")->check(CLI::Range(1, 1 << 20));
-  submit->add_option("--shards", cl.shards, "shards per image (sample ranges)")->check(CLI::Range(1, 1 << 16));
+  submit->add_option("--spp", cl.spp, "samples per pixel")->check(wholeNumberIn(1, 1 << 20));
+  submit->add_option("--shards", cl.shards, "shards per image (sample ranges)")->check(wholeNumberIn(1, 1 << 16));
   submit->add_option("--frames", cl.frames, "A-B: render frames A..B (time = frame / fps)");
   submit->add_option("--fps", cl.fps, "frames per second (default 24)")->check(numberIn(0.001, 1e6));
   submit->add_option("--size", cl.size, "WxH");
-  submit->add_option("--bounces", cl.bounces, "maximum path length")->check(CLI::Range(0, 64));
-  submit->add_option("--light-samples", cl.light_samples, "light samples per vertex")->check(CLI::Range(0, 16));
+  submit->add_option("--bounces", cl.bounces, "maximum path length")->check(wholeNumberIn(0, 64));
+  submit->add_option("--light-samples", cl.light_samples, "light samples per vertex")->check(wholeNumberIn(0, 16));
   submit->add_option("--time", cl.time, "scene time of a still");
   submit->add_option("--seed", cl.seed, "random seed");
   submit->add_option("--video", cl.video, "encode the frames with ffmpeg into this file (animations)");
@@ -250,9 +250,9 @@ void registerCommands(CLI::App& app, CommandLine& cl) {
   submit->add_option("--time-limit", cl.time_limit, "sbatch --time per shard, e.g. 2:00:00");
   submit->add_option("--sbatch-arg", cl.sbatch_args, "any further sbatch option, repeatable");
   submit->add_option("--retries", cl.retries, "re-runs of a failed shard inside its job (default 1)")
-      ->check(CLI::Range(0, 100));
+      ->check(wholeNumberIn(0, 100));
   submit->add_option("--max-running", cl.max_running, "at most this many shards at once (--array %N)")
-      ->check(CLI::Range(0, 1 << 20));
+      ->check(wholeNumberIn(0, 1 << 20));
   submit->add_flag("--dry-run", cl.dry_run, "write the job scripts, print the sbatch commands, submit nothing");
   submit->add_flag("--bounds", cl.force_bounds, "as `sdfc render --bounds`");
   emit_flags(submit);

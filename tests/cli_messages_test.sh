@@ -36,7 +36,7 @@ expect 2 "^sdfc: error: .* needs a command: check, compile, render" -- "$sdfc"
 expect 2 "^sdfc: error: unknown option '--sppp' for 'sdfc render'; did you mean '--spp'\?" -- "$sdfc" render "$scene" --sppp 3 -o "$work/x.png"
 expect 2 "^sdfc: error: unknown option '--daignostics-format' for 'sdfc check'; did you mean '--diagnostics-format'\?" -- "$sdfc" check "$scene" --daignostics-format=json
 expect 2 "^sdfc: error: Could not convert: --time = abc; see 'sdfc render --help'" -- "$sdfc" render "$scene" --time abc -o "$work/x.png"
-expect 2 "^sdfc: error: --spp: Value 0 not in range" -- "$sdfc" render "$scene" --spp 0 -o "$work/x.png"
+expect 2 "^sdfc: error: --spp: expects a whole number from 1 to 1048576, got '0'" -- "$sdfc" render "$scene" --spp 0 -o "$work/x.png"
 # A file type sdfc cannot write is a usage error (2), as documented; a missing
 # folder is a file error (4) that says so (sdfc creates no folders).
 expect 2 "^sdfc: error: -o '.*x.jpg': unknown image extension '.jpg'" -- "$sdfc" render "$scene" -o "$work/x.jpg"
