@@ -26,11 +26,12 @@ cache=${SDFC_FRESH_CACHE:-/var/cache/sdfc}
 suite=bookworm
 tarball="$cache/fresh-root-$suite-minbase.tar"
 
-# The commands, read from the README's quick start so the two cannot drift.
+# The commands, read from the README's quick start (its first code block) so
+# the two cannot drift.
 mapfile -t commands < <(awk '
   /^## Quick start/ { in_section = 1; next }
   in_section && /^## / { exit }
-  in_section && /^```/ { in_block = !in_block; next }
+  in_section && /^```/ { if (in_block) exit; in_block = 1; next }
   in_section && in_block && NF { sub(/[ \t]*#.*/, ""); print }
 ' README.md)
 if [ ${#commands[@]} -ne 2 ]; then
