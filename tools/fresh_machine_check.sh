@@ -54,7 +54,8 @@ if [ ! -s "$tarball" ]; then
   sources=/etc/apt/sources.list.d/debian.sources
   [ -f "$sources" ] || sources=/etc/apt/sources.list
   echo "fresh_machine_check: building a bare Debian 12 root ($tarball)"
-  mmdebstrap --quiet --variant=minbase "$suite" "$tarball.part" "$sources"
+  # --format: the temporary name ends in .part, which mmdebstrap would take for a directory.
+  mmdebstrap --quiet --variant=minbase --format=tar "$suite" "$tarball.part" "$sources"
   mv "$tarball.part" "$tarball"
 fi
 
