@@ -9,21 +9,7 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 failures=0
 
-# expect CODE PATTERN -- command...: exit code CODE and stderr matching
-# PATTERN ("" for any stderr).
-expect() {
-  local code=$1 pattern=$2
-  shift 3
-  "$@" >"$work/out" 2>"$work/err"
-  local got=$?
-  if [ "$got" -ne "$code" ] || { [ -n "$pattern" ] && ! grep -Eq -- "$pattern" "$work/err"; }; then
-    echo "FAIL: $* -> exit $got (want $code), stderr:" >&2
-    cat "$work/err" >&2
-    failures=$((failures + 1))
-  else
-    echo "ok: $*"
-  fi
-}
+. "$root/tests/cli_expect.sh"
 
 scene=$root/examples/morph.sdf
 printf 'let r = 1\nscene { sphere(radius: r) }\n' >"$work/r.sdf"

@@ -9,22 +9,7 @@ work=$(mktemp -d "${TMPDIR:-/tmp}/sdfc messages.XXXXXX")  # a space in every pat
 trap 'rm -rf "$work"' EXIT
 failures=0
 
-# expect CODE PATTERN -- command...: exit code CODE and stderr matching
-# PATTERN (an extended regex; "" for any stderr).
-expect() {
-  local code=$1 pattern=$2
-  shift 3
-  "$@" >"$work/out" 2>"$work/err"
-  local got=$?
-  if [ "$got" -ne "$code" ] || { [ -n "$pattern" ] && ! grep -Eq -- "$pattern" "$work/err"; }; then
-    echo "FAIL: $* -> exit $got (want $code), stderr:" >&2
-    head -c 2000 "$work/err" >&2
-    failures=$((failures + 1))
-  else
-    echo "ok: $*"
-  fi
-}
-fail() { echo "FAIL: $*" >&2; failures=$((failures + 1)); }
+. "$root/tests/cli_expect.sh"
 
 scene=$root/examples/morph.sdf
 printf 'scene { union(smooth: 0.1) { sphere(radius: 1) box(size: 1) } }\n' >"$work/smooth.sdf"
