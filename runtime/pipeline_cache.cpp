@@ -1,5 +1,7 @@
 #include "pipeline_cache.h"
 
+#include "spirv/spirv_cache.h"
+
 #include <unistd.h>
 #include <sys/stat.h>
 
@@ -46,25 +48,6 @@ bool headerMatches(const VulkanContext& context, const unsigned char* data, size
   return fields[0] >= 32 && fields[1] == VK_PIPELINE_CACHE_HEADER_VERSION_ONE &&
          fields[2] == p.vendorID && fields[3] == p.deviceID &&
          std::memcmp(data + 16, p.pipelineCacheUUID, VK_UUID_SIZE) == 0;
-}
-
-void writeAtomically(const std::string& path, const std::string& bytes) {
-  std::error_code ec;
-  std::filesystem::create_directories(std::filesystem::path(path).parent_path(), ec);
-  if (ec) return;
-  std::string temp = path + ".XXXXXX";
-  const int fd = mkstemp(temp.data());
-  if (fd < 0) return;
-  size_t done = 0;
-  while (done < bytes.size()) {
-    const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) break;
-    done += size_t(n);
-  }
-  fchmod(fd, 0644);
-  const bool ok = ::close(fd) == 0 && done == bytes.size();
-  if (!ok || std::rename(temp.c_str(), path.c_str()) != 0) ::unlink(temp.c_str());
 }
 
 }  // namespace
@@ -140,7 +123,7 @@ void closePipelineCache(const VulkanContext& context, PipelineCacheFile& file) {
       appendU64(bytes, data.size());
       appendU64(bytes, fnv1a(data.data(), data.size()));
       bytes += data;
-      writeAtomically(file.path, bytes);
+      writeCacheFile(file.path, bytes);
     }
   }
   vkDestroyPipelineCache(context.device, file.cache, nullptr);

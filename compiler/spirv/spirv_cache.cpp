@@ -117,17 +117,10 @@ std::optional<std::vector<std::uint32_t>> loadCachedSpirv(const std::string& key
   return words;
 }
 
-void storeCachedSpirv(const std::string& key, const std::vector<std::uint32_t>& words) {
-  const std::string path = spirvCachePath(key);
-  if (path.empty() || key.size() != kKeyDigits || words.empty()) return;
+void writeCacheFile(const std::string& path, const std::string& bytes) {
   std::error_code ec;
   std::filesystem::create_directories(std::filesystem::path(path).parent_path(), ec);
   if (ec) return;
-  std::string bytes(kMagic, sizeof kMagic);
-  bytes += key;
-  appendU64(bytes, words.size());
-  appendU64(bytes, fnv1a(words.data(), words.size() * 4));
-  bytes.append(reinterpret_cast<const char*>(words.data()), words.size() * 4);
   // A unique temporary beside the entry, renamed over it: a reader sees the old
   // entry, the new one or none, never part of one.
   std::string temp = path + ".XXXXXX";
@@ -143,6 +136,17 @@ void storeCachedSpirv(const std::string& key, const std::vector<std::uint32_t>& 
   fchmod(fd, 0644);
   const bool ok = ::close(fd) == 0 && done == bytes.size();
   if (!ok || std::rename(temp.c_str(), path.c_str()) != 0) ::unlink(temp.c_str());
+}
+
+void storeCachedSpirv(const std::string& key, const std::vector<std::uint32_t>& words) {
+  const std::string path = spirvCachePath(key);
+  if (path.empty() || key.size() != kKeyDigits || words.empty()) return;
+  std::string bytes(kMagic, sizeof kMagic);
+  bytes += key;
+  appendU64(bytes, words.size());
+  appendU64(bytes, fnv1a(words.data(), words.size() * 4));
+  bytes.append(reinterpret_cast<const char*>(words.data()), words.size() * 4);
+  writeCacheFile(path, bytes);
 }
 
 SpirvResult cachedGlslToSpirv(const std::string& source, ShaderStage stage, const std::string& name,

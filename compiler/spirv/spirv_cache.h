@@ -28,6 +28,10 @@ std::string spirvCacheKey(const std::string& glsl, const std::string& options);
 std::optional<std::vector<std::uint32_t>> loadCachedSpirv(const std::string& key);
 // Stores validated `words` under `key` (temporary + rename); failures are ignored.
 void storeCachedSpirv(const std::string& key, const std::vector<std::uint32_t>& words);
+// Writes a cache file (SPIR-V here, the Vulkan pipeline cache beside it) best
+// effort: a temporary beside it renamed over it, parent folders made; any
+// failure leaves the old file or none, and says nothing (a cache is optional).
+void writeCacheFile(const std::string& path, const std::string& bytes);
 // The entry's path (for tests and messages).
 std::string spirvCachePath(const std::string& key);
 
