@@ -4,7 +4,13 @@
 # this machine (and CI's) already has packages a user's lacks and a green CI
 # here once hid a missing install step.
 #
-#   tools/fresh_machine_check.sh [--keep]
+#   tools/fresh_machine_check.sh [--keep] [--copy-in PATH]... [--then CMD]...
+#
+# --then CMD runs one more command in the same root after the README's two
+# (CI runs its other suites there, on the build the quick start made, instead
+# of building again on this machine); --copy-in PATH copies a file or folder of
+# this machine into the root first, at the same path (CI's Node.js 20, which
+# Debian 12 lacks, for the VS Code extension). Neither touches the quick start.
 #
 # Builds the root with mmdebstrap (cached as a tarball in $SDFC_FRESH_CACHE; the
 # bare root only, never its installed packages), copies a clean clone of HEAD
@@ -16,7 +22,17 @@ cd "$(dirname "$0")/.."
 repo=$(pwd)
 
 keep=0
-[ "${1:-}" = "--keep" ] && keep=1
+copy_in=()
+then_commands=()
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --keep) keep=1 ;;
+    --copy-in) copy_in+=("${2:?--copy-in needs a path}"); shift ;;
+    --then) then_commands+=("${2:?--then needs a command}"); shift ;;
+    *) echo "fresh_machine_check: unknown option '$1'" >&2; exit 2 ;;
+  esac
+  shift
+done
 if [ "$(id -u)" -ne 0 ]; then
   echo "fresh_machine_check: needs root (it builds a Debian root and chroots into it)" >&2
   exit 2
@@ -74,8 +90,8 @@ cp /etc/resolv.conf "$root/etc/resolv.conf" 2>/dev/null || true
 # A clean clone of what is committed, as a user would have it.
 git clone --quiet --no-hardlinks "$repo" "$root/root/sdfc"
 
-status=0
-for cmd in "${commands[@]}"; do
+run_in_root() {
+  local cmd=$1 start rc wall
   echo "fresh_machine_check: \$ $cmd"
   start=$(date +%s.%N)
   set +e
@@ -96,14 +112,23 @@ for cmd in "${commands[@]}"; do
   set -e
   wall=$(awk -v a="$start" -v b="$(date +%s.%N)" 'BEGIN { print b - a }')
   printf 'fresh_machine_check: "%s" exited %d after %.0f s\n' "$cmd" "$rc" "$wall"
-  if [ "$rc" -ne 0 ]; then
-    status=1
-    break
-  fi
+  return "$rc"
+}
+
+status=0
+for cmd in "${commands[@]}"; do
+  run_in_root "$cmd" || { status=1; break; }
 done
 
 if [ "$status" -eq 0 ]; then
   echo "fresh_machine_check: passed: the README's commands work on a bare Debian 12 root"
+  for path in "${copy_in[@]}"; do
+    cp -a --parents "$path" "$root"
+  done
+  for cmd in "${then_commands[@]}"; do
+    run_in_root "$cmd" || { status=1; break; }
+  done
+  [ "$status" -eq 0 ] || echo "fresh_machine_check: FAILED (a --then command)" >&2
 else
   echo "fresh_machine_check: FAILED" >&2
 fi
