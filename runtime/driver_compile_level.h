@@ -1,8 +1,8 @@
 // Lavapipe compiles the kernel with LLVM at its first draw (docs/caches.md);
 // for a render of few samples that compile costs more than the optimised
 // kernel saves. GALLIVM_PERF=nopt skips LLVM's optimisation passes: the
-// compile takes 0.4x as long, the passes 1.4-2x, the image is bit-identical
-// (all examples, both drivers; bench/results/fixed_costs.md, "first draw").
+// compile takes 0.4-0.55x as long, the passes 1.3-1.8x, the image is
+// bit-identical (all examples, both drivers; bench/results/fixed_costs.md).
 #pragma once
 #include <cstdint>
 
