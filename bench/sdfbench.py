@@ -51,6 +51,9 @@ def render(sdfc, scene, output, flags, env=None):
     cmd = [sdfc, "render", scene, "-o", output] + flags
     # Compile figures are glslang's, not a SPIR-V cache hit (docs/caches.md).
     env = dict(os.environ if env is None else env, SDFC_NO_CACHE="1")
+    # Sampling figures are the optimised kernel's: an empty GALLIVM_PERF stops
+    # small renders compiling unoptimised (docs/caches.md, "The first draw").
+    env.setdefault("GALLIVM_PERF", "")
     with tempfile.TemporaryFile("w+") as err:
         start = time.perf_counter()
         proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=err, env=env)

@@ -21,6 +21,7 @@
 #include "stage_timings.h"
 #include "shard_plan.h"
 #include "driver_select.h"
+#include "driver_compile_level.h"
 #include "farm_support.h"
 #include "cli_support.h"
 
@@ -240,6 +241,13 @@ int runRender(const CommandLine& cl) {
   // usual one) meanwhile, and emitted again if the device turns out not to be one.
   double device_seconds = 0;
   selectedDriver();  // sets the loader's variables here: setenv beside getenv is unsafe
+  // A render of few samples: lavapipe's LLVM without its optimisation passes
+  // (driver_compile_level.h). Decided from the command line only: the scene's
+  // own render() settings are not read yet.
+  const bool quick_compile =
+      o.width && o.height && (o.spp || o.view != gpu::kViewBeauty) &&
+      chooseQuickDriverCompile(uint64_t(*o.width) * uint64_t(*o.height) *
+                               uint64_t(o.view == gpu::kViewBeauty ? *o.spp : 1) * times.size());
   std::future<void> device = std::async(std::launch::async, [&] {
     const auto start = std::chrono::steady_clock::now();
     scoped_context.emplace(context_options);
@@ -298,7 +306,8 @@ int runRender(const CommandLine& cl) {
   if (!quiet) std::cerr << "sdfc: compiling the kernel (first draw)... " << std::flush;
   const double kernel_seconds = renderer.compileKernel(o.view);
   if (!quiet) std::cerr << "done in " << formatSeconds(kernel_seconds) << "\n";
-  timings.add("first draw (driver's kernel compile)", kernel_seconds);
+  timings.add("first draw (driver's kernel compile)", kernel_seconds,
+              quick_compile ? "(LLVM unoptimised: a render of few samples)" : "");
   for (size_t f = 0; f < times.size(); ++f) {
     o.time = times[f];
     RenderSettings settings = renderSettingsFor(compiled, o);

@@ -49,9 +49,13 @@ std::string manifestLibrary(const std::string& manifest) {
 }
 
 // The system's driver manifests except its own lavapipe, so a GPU stays
-// visible next to the bundled CPU driver (the loader's default folders).
+// visible next to the bundled CPU driver (the loader's default folders); none
+// on a machine without a GPU device node: the loader loads every listed driver
+// at instance creation (radeon, intel, hasvk: 10 ms of CPU, each finding no
+// device; bench/results/fixed_costs.md).
 std::vector<std::string> systemManifestsExceptLavapipe() {
   std::vector<std::string> result;
+  if (!hasGpuDeviceNode()) return result;
   for (const char* dir : {"/etc/vulkan/icd.d", "/usr/local/share/vulkan/icd.d",
                           "/usr/share/vulkan/icd.d"}) {
     DIR* d = opendir(dir);
@@ -66,6 +70,23 @@ std::vector<std::string> systemManifestsExceptLavapipe() {
   }
   return result;
 }
+
+}  // namespace
+
+bool hasGpuDeviceNode(const std::string& dev) {
+  // DRM render nodes (Mesa's GPU drivers, virtio), NVIDIA's own driver, WSL's dxg.
+  if (DIR* d = opendir((dev + "/dri").c_str())) {
+    bool found = false;
+    while (const dirent* entry = readdir(d))
+      if (std::string(entry->d_name).rfind("renderD", 0) == 0) found = true;
+    closedir(d);
+    if (found) return true;
+  }
+  return access((dev + "/nvidiactl").c_str(), F_OK) == 0 ||
+         access((dev + "/dxg").c_str(), F_OK) == 0;
+}
+
+namespace {
 
 std::mutex g_mutex;
 bool g_selected = false;

@@ -31,6 +31,11 @@ DriverChoice driverChoiceFromEnv();
 // <exe dir>/../lavapipe-25/lvp_icd.x86_64.json, then the configured build dir.
 std::string bundledDriverManifest();
 
+// Whether `dev` (normally /dev) has a node a GPU driver opens: a DRM render
+// node, NVIDIA's nvidiactl or WSL's dxg. Without one the bundled lavapipe is
+// the only driver listed for the loader (GPU drivers would find nothing).
+bool hasGpuDeviceNode(const std::string& dev = "/dev");
+
 // Applies `choice` once per process (later calls return the first result):
 // sets or clears VK_DRIVER_FILES / VK_ICD_FILENAMES and preloads the bundled
 // libdrm. Throws RuntimeError when Bundled is asked for and absent. Must run

@@ -1,9 +1,9 @@
 #include "image_io.h"
 
 #include "atomic_file.h"
+#include "png_encode.h"
 
 #include <stb_image.h>
-#include <stb_image_write.h>
 #include <tinyexr.h>
 
 #include <algorithm>
@@ -89,14 +89,11 @@ std::string encodeImage(ImageFormat format, const FloatImage& image, const ToneM
   switch (format) {
     case ImageFormat::Png: {
       const std::vector<uint8_t> bytes = toSrgb8(image, tone_map);
-      std::string out;
-      auto append = [](void* context, void* data, int size) {
-        static_cast<std::string*>(context)->append(static_cast<const char*>(data), size_t(size));
-      };
-      if (!stbi_write_png_to_func(append, &out, int(image.width), int(image.height), 3, bytes.data(),
-                                  int(image.width) * 3))
-        throw ImageIoError("cannot encode PNG");
-      return out;
+      try {
+        return encodePng(bytes.data(), image.width, image.height);
+      } catch (const std::runtime_error& error) {
+        throw ImageIoError(error.what());
+      }
     }
     case ImageFormat::Exr: {
       // One float plane per channel, B G R as tinyexr's SaveEXR orders them.

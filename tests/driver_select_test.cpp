@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <cstdlib>
+#include <unistd.h>
 #include <string>
 
 #include "driver_select.h"
@@ -93,6 +95,25 @@ TEST(DriverSelect, CommandLineReportsAndOverrides) {
   }
   runCommand(env + kSdfc + " --driver mesa25 devices 2>/dev/null", status);
   EXPECT_NE(status, 0);
+}
+
+// A machine without a GPU device node lists the bundled lavapipe alone: the
+// loader would load (and the instance pay for) every GPU driver listed.
+TEST(DriverSelect, NoGpuDriversListedWithoutAGpuNode) {
+  const std::string dir = testing::TempDir() + "sdfc_dev_" + std::to_string(::getpid());
+  ASSERT_EQ(std::system(("mkdir -p '" + dir + "/dri' && touch '" + dir + "/dri/card0'").c_str()), 0);
+  EXPECT_FALSE(hasGpuDeviceNode(dir));  // a card node without a render node: display only
+  ASSERT_EQ(std::system(("touch '" + dir + "/dri/renderD128'").c_str()), 0);
+  EXPECT_TRUE(hasGpuDeviceNode(dir));
+  ASSERT_EQ(std::system(("rm -r '" + dir + "/dri' && touch '" + dir + "/nvidiactl'").c_str()), 0);
+  EXPECT_TRUE(hasGpuDeviceNode(dir));
+  std::system(("rm -r '" + dir + "'").c_str());
+
+  const DriverSelection& s = selectedDriver();
+  const char* files = std::getenv("VK_DRIVER_FILES");
+  if (!s.bundled || hasGpuDeviceNode()) GTEST_SKIP() << "not the bundled driver on a machine without a GPU";
+  ASSERT_NE(files, nullptr);
+  EXPECT_EQ(std::string(files), s.icd);
 }
 
 }  // namespace

@@ -17,7 +17,7 @@ packages=(
   # Vulkan, lavapipe (the CPU device), validation layers for the tests
   libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers
   # libraries
-  libglm-dev libtinygltf-dev nlohmann-json3-dev libstb-dev libtinyexr-dev libcli11-dev
+  libglm-dev libtinygltf-dev nlohmann-json3-dev libstb-dev libtinyexr-dev libcli11-dev zlib1g-dev
   # tests, benchmark smoke run, fuzzing
   libgtest-dev python3-numpy python3-matplotlib clang
   # libFuzzer's and the sanitizers' runtimes (clang alone does not bring them)
