@@ -8,6 +8,7 @@
 #include "spirv/spirv_cache.h"
 
 #include "cli_support.h"
+#include "error_overlay.h"
 #include "vk_check.h"
 
 namespace sdfc::view {
@@ -107,7 +108,9 @@ std::unique_ptr<BuiltScene> BackgroundCompiler::buildReload(uint32_t view) {
     if (watcher_) watcher_->watchAlso(imports);
   }
   if (loaded.exit_code != kExitOk) {
-    built->error = loaded.exit_code == kExitIo ? "cannot read the file" : "the scene has errors";
+    built->error = firstErrorText(diags);
+    if (built->error.empty())
+      built->error = loaded.exit_code == kExitIo ? "cannot read the file" : "the scene has errors";
     return built;
   }
   auto compiled = std::make_shared<CompiledScene>(std::move(loaded.compiled));

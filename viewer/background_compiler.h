@@ -33,7 +33,9 @@ struct BuiltScene {
   uint32_t view = 0;  // the view `renderer`'s kernel draws (gpu::kView*)
   std::shared_ptr<const CompiledScene> compiled;
   std::unique_ptr<Renderer> renderer;
-  std::string error;  // a short reason for the title bar
+  // Why it failed, for the title bar and the image's overlay: the first error
+  // ("scene.sdf:7:3: message", error_overlay.h), or a short reason.
+  std::string error;
   Clock::time_point requested, finished;
   double compile_seconds = 0, pipeline_seconds = 0;
   // How long the build waited, after pipeline creation, for the SPIR-V

@@ -69,6 +69,13 @@ std::vector<ScriptCommand> loadScript(const std::string& path) {
     c.rest = line.substr(std::min(line.size(), line.find_first_not_of(" \t", after)));
     while (!c.rest.empty() && (c.rest.back() == '\r' || c.rest.back() == ' ')) c.rest.pop_back();
     for (std::string w; words >> w;) c.args.push_back(w);
+    // A path is the rest of the line, spaces and all; quotes around it are dropped.
+    if ((c.verb == "save" || c.verb == "write-file") && !c.rest.empty()) {
+      std::string path = c.rest;
+      if (path.size() >= 2 && (path[0] == '"' || path[0] == '\'') && path.back() == path[0])
+        path = path.substr(1, path.size() - 2);
+      c.args = {path};
+    }
     const auto it = verbs().find(c.verb);
     if (it == verbs().end()) fail("unknown command '" + c.verb + "'");
     if (c.args.size() < it->second.min || c.args.size() > it->second.max)

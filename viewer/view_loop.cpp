@@ -21,6 +21,7 @@
 #include "cli_support.h"
 #include "debug_view.h"
 #include "denoise.h"
+#include "error_overlay.h"
 #include "file_watcher.h"
 #include "image_io.h"
 #include "scene_render.h"
@@ -318,6 +319,7 @@ void Viewer::swapIn(std::unique_ptr<BuiltScene> built) {
                std::to_string(int(msBetween(built->requested, built->finished))) + " ms");
     } else if (!built->ok) {
       error_ = built->error;
+      redisplay_ = true;
       updateTitle(true);
     }
     return;
@@ -327,6 +329,8 @@ void Viewer::swapIn(std::unique_ptr<BuiltScene> built) {
     error_ = built->error;
     std::fprintf(stderr, "sdfc: the scene did not compile; still showing the last good one\n");
     reload_unpresented_ = false;
+    redisplay_ = true;  // the last image again, with the error drawn on it
+    if (!active_) presentBlack();  // no image yet: the error on black
     updateTitle(true);
     logEvent("reload error; title: " + titleFor(status_));
     return;
@@ -430,11 +434,13 @@ bool Viewer::drawFrame() {
     displayed_ = debugViewForDisplay(
         view_, displayed_, debugViewBudget(uint32_t(compiled.emitted.limits.max_steps), acc_->settings));
   rgb_ = toSrgb8(displayed_, view_ == gpu::kViewBeauty ? tone_ : ToneMap{0.0f, ToneCurve::Clamp});
-  const std::vector<uint8_t>* shown = &rgb_;
+  std::vector<uint8_t>* shown = &rgb_;
   if (key.scale > 1) {
     upscale(rgb_, displayed_.width, displayed_.height, key.scale, width_, height_, upscaled_);
     shown = &upscaled_;
   }
+  // The last save's error over the image (both buffers are made again each frame).
+  drawErrorOverlay(*shown, width_, height_, error_);
   const auto shaded = Clock::now();
   swapchain_->present(shown->data(), width_, height_);
   ++frames_;
@@ -524,6 +530,7 @@ bool Viewer::followWindowSize() {
 
 void Viewer::presentBlack() {
   rgb_.assign(size_t(width_) * height_ * 3, 0);
+  drawErrorOverlay(rgb_, width_, height_, error_);
   swapchain_->present(rgb_.data(), width_, height_);
 }
 
