@@ -175,11 +175,14 @@ int runExport(const CommandLine& cl) {
   }
   const size_t max_vec4s = size_t(kEsDataWidth) * size_t(cl.max_data_rows);
   if (vec4s > max_vec4s) {
-    std::cerr << "sdfc: error: the scene's instance data is " << vec4s << " vec4 ("
-              << num(double(data.size()) * 4 / (1 << 20)) << " MiB); a WebGL2 page holds at most "
+    char mib[32];
+    std::snprintf(mib, sizeof mib, "%.1f", double(data.size()) * 4 / (1 << 20));
+    std::cerr << "sdfc: error: the scene's instance data is " << vec4s << " vec4 (" << mib
+              << " MiB); a WebGL2 page holds at most "
               << max_vec4s << " (a " << kEsDataWidth << " x " << cl.max_data_rows
-              << " RGBA32F texture, the largest every browser must take); the export would have to cut "
-                 "it, so nothing was written\n";
+              << " RGBA32F texture; every browser takes " << kEsMaxDataRows
+              << " rows, --max-data-rows sets more); the export would have to cut it, so nothing "
+                 "was written\n";
     return kExitScene;
   }
 

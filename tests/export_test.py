@@ -57,6 +57,10 @@ def instance_scene(path, count, seed=1):
                 "    sphere(radius: 0.25, material: diffuse(albedo: [0.8, 0.4, 0.2]))\n  }\n}\n" % points)
 
 
+def castle_sdf():
+    return os.path.join(ROOT, "examples", "castle.sdf")
+
+
 def files_part(sdfc, tmp):
     for scene in EXAMPLES:
         name = os.path.basename(scene)[:-4]
@@ -97,6 +101,17 @@ def files_part(sdfc, tmp):
           "a scene over the data texture is refused, exit 1 (%d: %s)" % (r.returncode, r.stderr.strip()[:120]))
     r = run([sdfc, "export", big, "-o", out, "-q"])
     check(r.returncode == 0, "the same scene fits the default 2048 rows")
+
+    bad = os.path.join(tmp, "bad scene.sdf")
+    with open(bad, "w") as f:
+        f.write("scene {\n  sphere(radus: 1)\n}\n")
+    r = run([sdfc, "export", bad, "-o", os.path.join(tmp, "bad.html")])
+    check(r.returncode == 1 and "bad scene.sdf:2:10: error:" in r.stderr and "^" in r.stderr
+          and not os.path.exists(os.path.join(tmp, "bad.html")),
+          "a scene with a mistake: file:line:col, caret, exit 1 (%d)" % r.returncode)
+    r = run([sdfc, "export", castle_sdf(), "-o", os.path.join(tmp, "x.html"), "--target", "webgpu"])
+    check(r.returncode == 2 and r.stderr.startswith("sdfc: error: --target"),
+          "an unknown target is a usage error, exit 2 (%d)" % r.returncode)
 
 
 def chromium():
