@@ -66,8 +66,8 @@ def files_part(sdfc, tmp):
         name = os.path.basename(scene)[:-4]
         page = os.path.join(tmp, name + " page.html")
         r = run([sdfc, "export", scene, "-o", page, "-q"])
-        check(r.returncode == 0 and os.path.getsize(page) > 0, "%s exports as a page (%s)" % (name, r.stderr.strip()))
-        if r.returncode == 0:
+        check(r.returncode == 0 and os.path.exists(page) and os.path.getsize(page) > 0, "%s exports as a page (%s)" % (name, r.stderr.strip()))
+        if os.path.exists(page):
             text = open(page).read()
             # No other file or host: no src/href attribute in a tag, no CSS url(),
             # fetch, XHR or import.
@@ -75,18 +75,19 @@ def files_part(sdfc, tmp):
             check(not outside, "%s's page loads nothing else %s" % (name, outside[:3]))
         toy = os.path.join(tmp, name + ".shadertoy.glsl")
         r = run([sdfc, "export", scene, "-o", toy, "--target", "shadertoy", "-q"])
-        check(r.returncode == 0 and "void mainImage(" in open(toy).read(),
+        check(r.returncode == 0 and os.path.exists(toy) and "void mainImage(" in open(toy).read(),
               "%s exports for Shadertoy (%s)" % (name, r.stderr.strip()))
 
     castle = os.path.join(tmp, "castle page.html")
-    size = os.path.getsize(castle)
+    size = os.path.getsize(castle) if os.path.exists(castle) else 1 << 30
     check(size < 200_000, "the castle's page is under 200 KB (%d bytes)" % size)
 
     inst = os.path.join(tmp, "instances.sdf")
     instance_scene(inst, 300)
     r = run([sdfc, "export", inst, "-o", os.path.join(tmp, "instances.html"), "-q"])
     check(r.returncode == 0, "a scene with instances exports (%s)" % r.stderr.strip())
-    check('"data": "' in open(os.path.join(tmp, "instances.html")).read(), "its data is in the page")
+    html = os.path.join(tmp, "instances.html")
+    check(os.path.exists(html) and '"data": "' in open(html).read(), "its data is in the page")
     r = run([sdfc, "export", inst, "-o", os.path.join(tmp, "instances.glsl"), "--target", "shadertoy"])
     check(r.returncode == 1 and "sdfc: error:" in r.stderr and "Shadertoy" in r.stderr
           and not os.path.exists(os.path.join(tmp, "instances.glsl")),
