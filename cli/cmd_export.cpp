@@ -11,6 +11,7 @@
 #include "commands.h"
 #include "emit/embedded_sources.h"
 #include "emit/glsl_es.h"
+#include "camera.h"
 #include "camera_inside.h"
 #include "image_io.h"
 #include "scene_render.h"
@@ -90,24 +91,35 @@ std::string stem(const std::string& path) {
 // The Shadertoy tab's entry point: the scene's camera orbited by the mouse
 // (x: yaw, y: pitch, as `sdfc view`'s left drag), the normal view sRGB-encoded
 // as `sdfc render --view normal` writes its PNG.
+std::string glslVec4(const glm::vec4& v) {
+  return "vec4(" + glslFloat(v.x) + ", " + glslFloat(v.y) + ", " + glslFloat(v.z) + ", " + glslFloat(v.w) + ")";
+}
+
 std::string shadertoyMain(const CameraDesc& c, const RenderSettings& s) {
+  // The file's camera as makeFrameParams computes it in float, so the still image
+  // is render's to the last bit of every ray.
+  const gpu::FrameParams f = makeFrameParams(c, s.width, s.height, s.time);
   std::ostringstream o;
   o << "\n// ---- Shadertoy entry point (sdfc export --target shadertoy) ----\n"
        "void mainImage(out vec4 fragColor, in vec2 fragCoord) {\n"
-       "  vec3 eye = " << glslVec(c.position) << ", target = " << glslVec(c.target)
-    << ", up = " << glslVec(c.up) << ";\n"
-       "  vec3 offset = eye - target;\n"
-       "  float yaw = iMouse.z > 0.0 ? -(iMouse.x - iResolution.x * 0.5) * 0.005 : 0.0;\n"
-       "  float pitch = iMouse.z > 0.0 ? (iMouse.y - iResolution.y * 0.5) * 0.005 : 0.0;\n"
-       "  float r = length(offset), el = clamp(asin(offset.y / r) + pitch, -1.55, 1.55);\n"
-       "  float az = atan(offset.z, offset.x) + yaw;\n"
-       "  eye = target + r * vec3(cos(el) * cos(az), sin(el), cos(el) * sin(az));\n"
-       "  vec3 forward = normalize(target - eye);\n"
-       "  vec3 right = normalize(cross(forward, up));\n"
-       "  frame.cam_origin = vec4(eye, " << glslFloat(std::tan(glm::radians(c.fov_degrees) * 0.5)) << ");\n"
-       "  frame.cam_right = vec4(right, 0.0);\n"
-       "  frame.cam_up = vec4(cross(right, forward), r);\n"
-       "  frame.cam_forward = vec4(forward, " << glslFloat(s.time) << ");\n"
+       "  frame.cam_origin = " << glslVec4(f.cam_origin) << ";\n"
+       "  frame.cam_right = " << glslVec4(f.cam_right) << ";\n"
+       "  frame.cam_up = " << glslVec4(f.cam_up) << ";\n"
+       "  frame.cam_forward = " << glslVec4(f.cam_forward) << ";\n"
+       "  if (iMouse.z > 0.0) {  // dragging: orbit around the target\n"
+       "    vec3 target = " << glslVec(c.target) << ", up = " << glslVec(c.up) << ";\n"
+       "    vec3 offset = frame.cam_origin.xyz - target;\n"
+       "    float r = length(offset);\n"
+       "    float yaw = -(iMouse.x - iResolution.x * 0.5) * 0.005;\n"
+       "    float pitch = (iMouse.y - iResolution.y * 0.5) * 0.005;\n"
+       "    float el = clamp(asin(offset.y / r) + pitch, -1.55, 1.55), az = atan(offset.z, offset.x) + yaw;\n"
+       "    vec3 eye = target + r * vec3(cos(el) * cos(az), sin(el), cos(el) * sin(az));\n"
+       "    vec3 forward = normalize(target - eye), right = normalize(cross(forward, up));\n"
+       "    frame.cam_origin.xyz = eye;\n"
+       "    frame.cam_right.xyz = right;\n"
+       "    frame.cam_up.xyz = cross(right, forward);\n"
+       "    frame.cam_forward.xyz = forward;\n"
+       "  }\n"
        "  frame.width = uint(iResolution.x);\n"
        "  frame.height = uint(iResolution.y);\n"
        "  frame.sample_base = 0u;\n"

@@ -122,9 +122,39 @@ def chromium():
     return None
 
 
-def browse(page, views, spp, tmp):
+# What Shadertoy wraps an image tab's code in: its uniforms before, a main after.
+SHADERTOY_HARNESS = """<!DOCTYPE html><html><body><canvas id="c" width="@W@" height="@H@"></canvas>
+<pre id="sdfc-result" hidden></pre><script>
+const code = @CODE@;
+const gl = document.getElementById("c").getContext("webgl2", { preserveDrawingBuffer: true });
+const fs = "#version 300 es\\nprecision highp float;\\nprecision highp int;\\nprecision highp sampler2D;\\n" +
+  "uniform vec3 iResolution;\\nuniform float iTime;\\nuniform float iTimeDelta;\\nuniform int iFrame;\\n" +
+  "uniform vec4 iMouse;\\nuniform vec4 iDate;\\nuniform sampler2D iChannel0;\\n" + code +
+  "\\nout vec4 shadertoy_out;\\nvoid main() { mainImage(shadertoy_out, gl_FragCoord.xy); }\\n";
+const p = gl.createProgram();
+for (const [type, text] of [[gl.VERTEX_SHADER, "#version 300 es\\nvoid main() { vec2 p = vec2(gl_VertexID & 1, " +
+    "gl_VertexID >> 1) * 4.0 - 1.0; gl_Position = vec4(p, 0.0, 1.0); }\\n"], [gl.FRAGMENT_SHADER, fs]]) {
+  const s = gl.createShader(type); gl.shaderSource(s, text); gl.compileShader(s); gl.attachShader(p, s);
+  if (!gl.getShaderParameter(s, gl.COMPILE_STATUS)) console.error(gl.getShaderInfoLog(s));
+}
+gl.linkProgram(p);
+gl.useProgram(p);
+gl.uniform3f(gl.getUniformLocation(p, "iResolution"), @W@, @H@, 1);
+gl.bindVertexArray(gl.createVertexArray());
+gl.drawArrays(gl.TRIANGLES, 0, 3);
+const rgba = new Uint8Array(@W@ * @H@ * 4);
+gl.readPixels(0, 0, @W@, @H@, gl.RGBA, gl.UNSIGNED_BYTE, rgba);
+let binary = "";
+for (let i = 0; i < rgba.length; i += 0x8000) binary += String.fromCharCode(...rgba.subarray(i, i + 0x8000));
+document.getElementById("sdfc-result").textContent = JSON.stringify({ width: @W@, height: @H@,
+  views: { normal: { rgba: btoa(binary) } } });
+</script></body></html>
+"""
+
+
+def browse(page, views, spp, tmp, url=None):
     """The page's #test result and Chromium's console lines."""
-    url = "file://" + page.replace(" ", "%20") + "#test&views=%s&spp=%d" % (",".join(views), spp)
+    url = url or "file://" + page.replace(" ", "%20") + "#test&views=%s&spp=%d" % (",".join(views), spp)
     r = run([chromium(), "--headless", "--no-sandbox", "--no-first-run",
              "--user-data-dir=" + os.path.join(tmp, "profile"), "--use-gl=angle", "--use-angle=swiftshader",
              "--enable-unsafe-swiftshader", "--enable-logging=stderr", "--v=0", "--dump-dom", url],
@@ -185,6 +215,29 @@ def browser_part(sdfc, tmp):
                   "pixels by more than 24" % (name, SPP, mean, far * 100))
 
 
+def shadertoy_part(sdfc, tmp):
+    """The castle's Shadertoy code in Shadertoy's wrapper: the normal view of render."""
+    castle = castle_sdf()
+    toy = os.path.join(tmp, "castle.shadertoy.glsl")
+    # --size: the kernel's pixel cone (march stopping band) is that of render's size.
+    r = run([sdfc, "export", castle, "-o", toy, "--target", "shadertoy", "--size", "%dx%d" % SIZE, "-q"])
+    check(r.returncode == 0, "the castle exports for Shadertoy")
+    w, h = SIZE
+    harness = os.path.join(tmp, "shadertoy harness.html")
+    code = json.dumps(open(toy).read()).replace("</", "<\\/")
+    with open(harness, "w") as f:
+        f.write(SHADERTOY_HARNESS.replace("@W@", str(w)).replace("@H@", str(h)).replace("@CODE@", code))
+    result, console = browse(None, None, 0, tmp, url="file://" + harness.replace(" ", "%20"))
+    check(result is not None and not console, "the Shadertoy code runs in its wrapper %s" % console[:2])
+    if result is None:
+        return
+    # The scene's camera at the render's aspect: the same rays as render --view normal.
+    diff = np.abs(image(result, "normal") - rendered(sdfc, castle, tmp, "--view", "normal")).max(axis=-1)
+    share = float((diff > 3).mean())
+    check(share <= 0.01, "Shadertoy normal view: %.2f%% of pixels more than 3 codes from render's (max %d)"
+          % (share * 100, diff.max()))
+
+
 def main():
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--sdfc", default=os.path.join(ROOT, "build", "cli", "sdfc"))
@@ -195,6 +248,7 @@ def main():
             files_part(a.sdfc, tmp)
         if a.part in (None, "browser"):
             browser_part(a.sdfc, tmp)
+            shadertoy_part(a.sdfc, tmp)
     if failures:
         print("%d failed" % len(failures))
         return 1
