@@ -154,7 +154,8 @@ document.getElementById("sdfc-result").textContent = JSON.stringify({ width: @W@
 
 def browse(page, views, spp, tmp, url=None):
     """The page's #test result and Chromium's console lines."""
-    url = url or "file://" + page.replace(" ", "%20") + "#test&views=%s&spp=%d" % (",".join(views), spp)
+    # preview: the first beauty image at half size first, as a user's page draws it.
+    url = url or "file://" + page.replace(" ", "%20") + "#test&preview&views=%s&spp=%d" % (",".join(views), spp)
     r = run([chromium(), "--headless", "--no-sandbox", "--no-first-run",
              "--user-data-dir=" + os.path.join(tmp, "profile"), "--use-gl=angle", "--use-angle=swiftshader",
              "--enable-unsafe-swiftshader", "--enable-logging=stderr", "--v=0", "--dump-dom", url],
