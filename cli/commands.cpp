@@ -219,6 +219,35 @@ void registerCommands(CLI::App& app, CommandLine& cl) {
   mesh->add_option("--time", cl.time, "scene time in seconds");
   mesh->add_flag("-q,--quiet", cl.quiet, "no progress output");
 
+  CLI::App* web = app.add_subcommand(
+      "export", "a self-contained web page that path-traces the scene in WebGL2, or Shadertoy code");
+  common(web);
+  web->add_option("-o,--output", cl.output, "the .html page (or .glsl with --target shadertoy)")->required();
+  web->add_option("--target", cl.export_target,
+                  "html (the progressive path tracer, orbit/pan/zoom, views on keys) | shadertoy "
+                  "(the normal view, for an image tab)")
+      ->check(CLI::IsMember({"html", "shadertoy"}));
+  web->add_option("--size", cl.size, "the page's image WxH (default: the scene's render size)");
+  web->add_option("--spp", cl.spp, "samples the page accumulates (default: the scene's)")
+      ->check(wholeNumberIn(1, 1 << 20));
+  web->add_option("--bounces", cl.bounces, "maximum path length")->check(wholeNumberIn(0, 64));
+  web->add_option("--light-samples", cl.light_samples, "light samples per vertex")
+      ->check(wholeNumberIn(0, 16));
+  web->add_option("--time", cl.time, "scene time in seconds");
+  web->add_option("--seed", cl.seed, "random seed");
+  web->add_option("--exposure", cl.exposure, "exposure in stops")
+      ->check(numberIn(-kMaxExposureStops, kMaxExposureStops));
+  web->add_option("--tonemap", cl.tonemap, "tone curve: neutral (default) | aces | linear (clamp)")
+      ->check(CLI::IsMember({"neutral", "aces", "linear"}));
+  web->add_flag("--aces", cl.aces, "the same as --tonemap aces");
+  web->add_option("--max-data-rows", cl.max_data_rows,
+                  "rows of the 2048-wide texture the instances' data travels in (default 2048, "
+                  "the size WebGL2 guarantees; more refuses fewer scenes but fails on some browsers)")
+      ->check(wholeNumberIn(1, 16384));
+  web->add_flag("--bounds", cl.force_bounds, "keep bounding-volume checks (for GPUs)");
+  web->add_flag("-q,--quiet", cl.quiet, "no summary");
+  emit_flags(web);
+
   CLI::App* merge = app.add_subcommand(
       "merge", "merge render shards into images, exactly (refuses shards that do not belong together)");
   merge->add_option("shards", cl.inputs, "shard directories or shard_*.exr files")->required();
@@ -282,6 +311,7 @@ int runCommand(const CommandLine& cl) {
   if (cl.command == "render") return runRender(cl);
   if (cl.command == "eval") return runEval(cl);
   if (cl.command == "mesh") return runMesh(cl);
+  if (cl.command == "export") return runExport(cl);
   if (cl.command == "devices") return runDevices(cl);
   if (cl.command == "merge") return runMerge(cl);
   if (cl.command == "farm") return runFarm(cl);

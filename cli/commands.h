@@ -93,6 +93,9 @@ struct CommandLine {
   int resolution = 128;
   double voxel_size = 0;
   std::string box;
+  // export
+  std::string export_target = "html";
+  int max_data_rows = 2048;  // the scene-data texture's rows (emit/glsl_es.h kEsMaxDataRows)
   // fmt
   bool check_format = false;
   bool write_in_place = false;
@@ -107,6 +110,7 @@ int runCompile(const CommandLine& cl);
 int runRender(const CommandLine& cl);
 int runEval(const CommandLine& cl);
 int runMesh(const CommandLine& cl);
+int runExport(const CommandLine& cl);
 int runDevices(const CommandLine& cl);
 int runMerge(const CommandLine& cl);
 int runFarm(const CommandLine& cl);

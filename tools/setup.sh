@@ -29,6 +29,8 @@ packages=(
   # sdfc view: the window (GLFW), and its tests under Xvfb with an X screenshot (xwd)
   # and a real key press (XTEST, tests/view_quit_test.py)
   libglfw3-dev xvfb xauth x11-apps libxtst6
+  # sdfc export's tests: the exported page in headless Chromium (SwiftShader's WebGL2)
+  chromium
 )
 
 say() { echo "setup: $*"; }
