@@ -142,7 +142,7 @@ TEST(ColorField, NoiseIsTheDocumentedGradientNoise) {
     lo = std::min(lo, v);
     hi = std::max(hi, v);
     mean += v / n;
-    const double fbm = (naiveNoise(2 * p) + 0.5 * naiveNoise(4 * p) + 0.25 * naiveNoise(8 * p)) / 1.75;
+    const double fbm = (naiveNoise(2.0 * p) + 0.5 * naiveNoise(4.0 * p) + 0.25 * naiveNoise(8.0 * p)) / 1.75;
     expectColour(f, p, std::clamp(0.5 + 0.5 * fbm, 0.0, 1.0));
   }
   EXPECT_GT(lo, -1.1);
