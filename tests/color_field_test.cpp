@@ -267,14 +267,15 @@ TEST(ColorField, BadFieldsAreErrors) {
   };
   for (const Case& k : cases) {
     SCOPED_TRACE(k.text);
-    Diagnostics diags;
-    checkText(std::string(k.text) + "\nscene { sphere(radius: 1, material: m) }", diags);
+    Diagnostics diags;  // its diagnostics point into the scene's source: keep it
+    const CompiledScene c = checkText(std::string(k.text) + "\nscene { sphere(radius: 1, material: m) }", diags);
     EXPECT_TRUE(diags.hasErrors());
     EXPECT_NE(diags.format().find(k.message), std::string::npos) << diags.format();
   }
   // Above 1 is the usual energy warning, not an error.
   Diagnostics diags;
-  checkText("let m = diffuse(albedo: checker([2, 0, 0], 1))\nscene { sphere(radius: 1, material: m) }", diags);
+  const CompiledScene c =
+      checkText("let m = diffuse(albedo: checker([2, 0, 0], 1))\nscene { sphere(radius: 1, material: m) }", diags);
   EXPECT_FALSE(diags.hasErrors()) << diags.format();
   EXPECT_NE(diags.format().find("above 1"), std::string::npos) << diags.format();
 }
