@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include "cli_support.h"
+#include "eval/color_field.h"
 #include "eval/evaluator.h"
 #include "spirv/glsl_to_spirv.h"
 #include "driver_select.h"
@@ -206,7 +207,7 @@ void registerCommands(CLI::App& app, CommandLine& cl) {
   eval->add_option("--points", cl.points, "file of points (default: stdin)");
   eval->add_option("--time", cl.time, "scene time in seconds");
   eval->add_flag("--gradient", cl.gradient, "also print the gradient");
-  eval->add_flag("--material", cl.material, "also print the material name");
+  eval->add_flag("--material", cl.material, "also print the material name and its colour at the point");
 
   CLI::App* mesh = app.add_subcommand("mesh", "export a triangle mesh (.glb, .gltf or .stl)");
   common(mesh);
@@ -431,6 +432,13 @@ int runEval(const CommandLine& cl) {
         if (name.empty()) name = "material" + std::to_string(r.material);
       }
       std::printf(" %s", name.c_str());
+      // The colour at p (a field's value there; else the constant).
+      if (r.material >= 0) {
+        const glm::dvec3 g = evaluator.gradient(p);
+        const glm::dvec3 n = glm::length(g) > 0 ? glm::normalize(g) : glm::dvec3(0, 1, 0);
+        const glm::dvec3 c = materialColor(scene.materials[r.material], p + scene.origin, n, cl.time);
+        std::printf(" %.12g %.12g %.12g", c.x, c.y, c.z);
+      }
     }
     std::printf("\n");
   }

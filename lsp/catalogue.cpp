@@ -99,12 +99,16 @@ std::vector<CalleeDoc> build() {
   for (const BuiltinSignature& s : builtinSignatures()) {
     const CalleeKind kind = s.category == BuiltinCategory::Operator   ? CalleeKind::Operator
                             : s.category == BuiltinCategory::Material ? CalleeKind::Material
+                            : s.category == BuiltinCategory::Field    ? CalleeKind::Field
                                                                       : CalleeKind::Setting;
     CalleeDoc c{s.name, kind, s.summary, {}, true};
     for (const ArgSpec& a : s.args) {
       ParamDoc d;
       d.name = a.name;
-      d.type = a.type == ArgType::Number ? "number" : a.type == ArgType::Vector3 ? "vector" : "number or vector";
+      d.type = a.type == ArgType::Number    ? "number"
+               : a.type == ArgType::Vector3 ? "vector"
+               : a.type == ArgType::Colour  ? "colour or colour field"
+                                            : "number or vector";
       d.rule = a.rule == ValueRule::Positive ? "> 0" : a.rule == ValueRule::NonNegative ? ">= 0" : "";
       if (a.nonzero) d.rule = "non-zero";
       d.required = a.required;
@@ -153,6 +157,7 @@ const char* kindName(CalleeKind kind) {
     case CalleeKind::Definition: return "definition";
     case CalleeKind::Operator: return "operator";
     case CalleeKind::Material: return "material";
+    case CalleeKind::Field: return "colour field";
     case CalleeKind::Setting: return "setting";
     case CalleeKind::Math: return "math function";
     case CalleeKind::Scene: return "scene";

@@ -17,7 +17,7 @@ struct ParamDoc {
   std::string label() const;  // `radius: number = 1`
 };
 
-enum class CalleeKind { Primitive, Operator, Material, Setting, Math, Scene, Definition };
+enum class CalleeKind { Primitive, Operator, Material, Field, Setting, Math, Scene, Definition };
 
 struct CalleeDoc {
   std::string name;

@@ -111,7 +111,8 @@ void addLets(const Analysis& a, json& out, size_t offset) {
 void addCallees(json& out, bool shapes, bool values, bool settings) {
   for (const CalleeDoc& c : callees()) {
     const bool shape = c.kind == CalleeKind::Primitive || c.kind == CalleeKind::Operator;
-    const bool value = c.kind == CalleeKind::Math || c.kind == CalleeKind::Material;
+    const bool value = c.kind == CalleeKind::Math || c.kind == CalleeKind::Material ||
+                       c.kind == CalleeKind::Field;
     const bool setting = c.kind == CalleeKind::Setting || c.kind == CalleeKind::Scene;
     if ((shape && shapes) || (value && values) || (setting && settings))
       out.push_back(item(c.name, c.kind == CalleeKind::Scene ? kModule : kFunction, c.signature(), "2",

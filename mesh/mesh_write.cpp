@@ -10,6 +10,8 @@
 
 #include <tiny_gltf.h>
 
+#include "eval/color_field.h"
+
 namespace sdfc {
 namespace {
 
@@ -124,8 +126,16 @@ std::string encodeGltf(const TriangleMesh& mesh, const ir::Scene& scene, bool bi
   tinygltf::Mesh gmesh;
   gmesh.name = "scene";
   for (const auto& [material, tris] : by_material) {
+    // A colour field becomes the vertices' colours (COLOR_0, which glTF
+    // multiplies with the base colour, then white). An emitter's field stays
+    // its mean: glTF has no per-vertex emission.
+    const ir::Material* fielded = material >= 0 && scene.materials[size_t(material)].field &&
+                                          scene.materials[size_t(material)].model != ir::MaterialModel::Emissive
+                                      ? &scene.materials[size_t(material)]
+                                      : nullptr;
     if (material >= 0) {
       model.materials.push_back(gltfMaterial(scene.materials[size_t(material)], time, model.extensionsUsed));
+      if (fielded) model.materials.back().pbrMetallicRoughness.baseColorFactor = {1.0, 1.0, 1.0, 1.0};
     } else {
       ir::Material grey;
       grey.name = "default";
@@ -133,12 +143,16 @@ std::string encodeGltf(const TriangleMesh& mesh, const ir::Scene& scene, bool bi
       model.materials.push_back(gltfMaterial(grey, time, model.extensionsUsed));
     }
     // This primitive's own vertices: shared where smooth, split at creases.
-    std::vector<float> positions, normals;
+    std::vector<float> positions, normals, colors;
     std::vector<uint32_t> indices;
     std::map<uint32_t, uint32_t> shared;
     auto emit = [&](const dvec3& p, const dvec3& n) {
       positions.insert(positions.end(), {float(p.x), float(p.y), float(p.z)});
       normals.insert(normals.end(), {float(n.x), float(n.y), float(n.z)});
+      if (fielded) {
+        const dvec3 c = materialColor(*fielded, p + scene.origin, n, time);
+        colors.insert(colors.end(), {float(c.x), float(c.y), float(c.z)});
+      }
       return uint32_t(positions.size() / 3 - 1);
     };
     for (size_t t : tris) {
@@ -173,6 +187,10 @@ std::string encodeGltf(const TriangleMesh& mesh, const ir::Scene& scene, bool bi
     prim.attributes["NORMAL"] = addAccessor(
         model, addView(model, normals.data(), normals.size() * 4, TINYGLTF_TARGET_ARRAY_BUFFER),
         TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, count);
+    if (fielded)
+      prim.attributes["COLOR_0"] = addAccessor(
+          model, addView(model, colors.data(), colors.size() * 4, TINYGLTF_TARGET_ARRAY_BUFFER),
+          TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, count);
     prim.indices = addAccessor(
         model, addView(model, indices.data(), indices.size() * 4, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER),
         TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, TINYGLTF_TYPE_SCALAR, indices.size());

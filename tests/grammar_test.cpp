@@ -183,6 +183,7 @@ TEST(Grammar, EbnfListsExactlyTheCatalogue) {
       {"PRIMITIVE", primitiveNames()},
       {"OPERATOR", builtinNames(BuiltinCategory::Operator)},
       {"MATERIAL", builtinNames(BuiltinCategory::Material)},
+      {"FIELD", builtinNames(BuiltinCategory::Field)},
       {"SETTING", builtinNames(BuiltinCategory::Setting)},
       {"MATH_FUNCTION", mathNames()},
       {"NAME_CONSTANT", {"time", "pi"}},
@@ -333,6 +334,7 @@ TEST(Grammar, TextMateListsExactlyTheCatalogue) {
   EXPECT_EQ(lists["support.function.primitive.sdf"], primitiveNames());
   EXPECT_EQ(lists["support.function.operator.sdf"], builtinNames(BuiltinCategory::Operator));
   EXPECT_EQ(lists["support.type.material.sdf"], builtinNames(BuiltinCategory::Material));
+  EXPECT_EQ(lists["support.function.field.sdf"], builtinNames(BuiltinCategory::Field));
   EXPECT_EQ(lists["support.function.setting.sdf"], builtinNames(BuiltinCategory::Setting));
   EXPECT_EQ(lists["support.function.math.sdf"], mathNames());
   EXPECT_EQ(lists["constant.language.sdf"], (NameSet{"time", "pi"}));
@@ -384,6 +386,7 @@ TEST(Grammar, TextMateHighlightsEachKindOfToken) {
   for (const std::string& n : primitiveNames()) expectScope(n, "support.function.primitive.sdf");
   for (const std::string& n : builtinNames(BuiltinCategory::Operator)) expectScope(n, "support.function.operator.sdf");
   for (const std::string& n : builtinNames(BuiltinCategory::Material)) expectScope(n, "support.type.material.sdf");
+  for (const std::string& n : builtinNames(BuiltinCategory::Field)) expectScope(n, "support.function.field.sdf");
   for (const std::string& n : builtinNames(BuiltinCategory::Setting)) expectScope(n, "support.function.setting.sdf");
   for (const std::string& n : mathNames()) expectScope(n, "support.function.math.sdf");
   // A user name that merely starts like a built-in is not one.
@@ -425,7 +428,8 @@ TEST(Grammar, EveryDocExampleChecksWithoutErrors) {
   ASSERT_GE(snippets.size(), 10u) << "docs/language.md lost its ```sdf examples";
   for (const Snippet& s : snippets) {
     Diagnostics diags;
-    const std::string name = "language.md:" + std::to_string(s.line);
+    // Named by its real folder: a texture's path is relative to it.
+    const std::string name = std::string(SDFC_SOURCE_DIR) + "/docs/language.md:" + std::to_string(s.line);
     CompiledScene compiled = checkSource(name, s.text, CompileOptions{}, diags);
     EXPECT_FALSE(diags.hasErrors()) << "the example at docs/language.md line " << s.line
                                     << " does not check:\n" << diags.format() << s.text;

@@ -2,6 +2,7 @@
 // embedded .gltf, binary STL, and writing through a temporary file.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -148,6 +149,56 @@ TEST(MeshExport, SceneWithoutMaterialsGetsTheRenderersGrey) {
                                           unsigned(bytes.size())));
   ASSERT_EQ(model.materials.size(), 1u);
   expectColour(model.materials[0].pbrMetallicRoughness.baseColorFactor, {0.75, 0.75, 0.75, 1});
+}
+
+// Colour fields become vertex colours (issue 33): COLOR_0 at every vertex is
+// the field there, and the material's base colour is white (glTF multiplies).
+TEST(MeshExport, ColourFieldsAreVertexColours) {
+  Fixture f = meshed(R"(
+let band = diffuse(albedo: gradient([0.1, 0.2, 0.9], [0.9, 0.6, 0.1], from: -0.5, to: 0.5))
+let clay = diffuse(albedo: [0.8, 0.3, 0.25])
+scene {
+  sphere(radius: 0.5, material: band)
+  translate([1.5, 0, 0]) { sphere(radius: 0.5, material: clay) }
+}
+)");
+  const std::string bytes = encodeMesh(f.mesh, f.compiled.scene, MeshFormat::Glb);
+  tinygltf::TinyGLTF loader;
+  tinygltf::Model model;
+  std::string err, warn;
+  ASSERT_TRUE(loader.LoadBinaryFromMemory(&model, &err, &warn, reinterpret_cast<const unsigned char*>(bytes.data()),
+                                          unsigned(bytes.size())))
+      << err;
+  int checked = 0;
+  for (const tinygltf::Primitive& p : model.meshes[0].primitives) {
+    const tinygltf::Material& m = model.materials[size_t(p.material)];
+    if (m.name == "clay") {
+      EXPECT_EQ(p.attributes.count("COLOR_0"), 0u);  // constant colours stay material factors
+      expectColour(m.pbrMetallicRoughness.baseColorFactor, {0.8, 0.3, 0.25, 1});
+      continue;
+    }
+    ASSERT_EQ(m.name, "band");
+    expectColour(m.pbrMetallicRoughness.baseColorFactor, {1, 1, 1, 1});
+    ASSERT_EQ(p.attributes.count("COLOR_0"), 1u);
+    const tinygltf::Accessor& pos = model.accessors[size_t(p.attributes.at("POSITION"))];
+    const tinygltf::Accessor& col = model.accessors[size_t(p.attributes.at("COLOR_0"))];
+    ASSERT_EQ(col.count, pos.count);
+    ASSERT_EQ(col.type, TINYGLTF_TYPE_VEC3);
+    auto floats = [&](const tinygltf::Accessor& a) {
+      const tinygltf::BufferView& v = model.bufferViews[size_t(a.bufferView)];
+      return reinterpret_cast<const float*>(model.buffers[0].data.data() + v.byteOffset + a.byteOffset);
+    };
+    const float* xyz = floats(pos);
+    const float* rgb = floats(col);
+    for (size_t i = 0; i < pos.count; ++i) {
+      const double t = std::clamp(double(xyz[i * 3 + 1]) + 0.5, 0.0, 1.0);
+      EXPECT_NEAR(rgb[i * 3 + 0], 0.1 + 0.8 * t, 1e-6);
+      EXPECT_NEAR(rgb[i * 3 + 1], 0.2 + 0.4 * t, 1e-6);
+      EXPECT_NEAR(rgb[i * 3 + 2], 0.9 - 0.8 * t, 1e-6);
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 100);
 }
 
 TEST(MeshExport, BinaryStlHasEveryTriangle) {

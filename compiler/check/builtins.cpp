@@ -11,6 +11,16 @@ ArgSpec colour(const char* name) {
   return {name, ArgType::Vector3, ValueRule::NonNegative, kOptional, kConstant};
 }
 
+// A material's colour: constant, or a colour field.
+ArgSpec surfaceColour(const char* name) {
+  return {name, ArgType::Colour, ValueRule::NonNegative, kOptional, kConstant};
+}
+
+// The two colours a field blends between: they may vary with time.
+ArgSpec fieldColour(const char* name) {
+  return {name, ArgType::Vector3, ValueRule::NonNegative, kRequired, kTime};
+}
+
 }  // namespace
 
 const std::vector<BuiltinSignature>& builtinSignatures() {
@@ -58,17 +68,39 @@ const std::vector<BuiltinSignature>& builtinSignatures() {
        {{"thickness", ArgType::Number, ValueRule::Positive, kRequired, kTime}},
        "a wall of `thickness` centred on the surface"},
       // Materials.
-      {"diffuse", BuiltinCategory::Material, {colour("albedo")}, "Lambertian"},
-      {"mirror", BuiltinCategory::Material, {colour("tint")}, "perfect specular reflection"},
+      {"diffuse", BuiltinCategory::Material, {surfaceColour("albedo")}, "Lambertian"},
+      {"mirror", BuiltinCategory::Material, {surfaceColour("tint")}, "perfect specular reflection"},
       {"glass", BuiltinCategory::Material,
-       {{"ior", ArgType::Number, ValueRule::Positive, kOptional, kConstant}, colour("tint")},
+       {{"ior", ArgType::Number, ValueRule::Positive, kOptional, kConstant}, surfaceColour("tint")},
        "dielectric with Fresnel reflection and refraction"},
       {"emissive", BuiltinCategory::Material,
-       {colour("color"), {"strength", ArgType::Number, ValueRule::NonNegative, kOptional, kConstant}},
+       {surfaceColour("color"), {"strength", ArgType::Number, ValueRule::NonNegative, kOptional, kConstant}},
        "emits color * strength"},
       {"metal", BuiltinCategory::Material,
-       {colour("albedo"), {"roughness", ArgType::Number, ValueRule::NonNegative, kOptional, kConstant}},
+       {surfaceColour("albedo"), {"roughness", ArgType::Number, ValueRule::NonNegative, kOptional, kConstant}},
        "GGX microfacet conductor"},
+      // Colour fields (a material's colour varying with the world point).
+      {"checker", BuiltinCategory::Field,
+       {fieldColour("a"), fieldColour("b"), {"size", ArgType::Number, ValueRule::Positive, kOptional, kTime}},
+       "a 3D checkerboard of cubes of side size: a, then b"},
+      {"stripes", BuiltinCategory::Field,
+       {fieldColour("a"), fieldColour("b"), {"axis", ArgType::Vector3, ValueRule::Any, kOptional, kConstant, true},
+        {"period", ArgType::Number, ValueRule::Positive, kOptional, kTime}},
+       "bands across axis: a for the first half of each period, then b"},
+      {"gradient", BuiltinCategory::Field,
+       {fieldColour("a"), fieldColour("b"), {"axis", ArgType::Vector3, ValueRule::Any, kOptional, kConstant, true},
+        {"from", ArgType::Number, ValueRule::Any, kOptional, kTime},
+        {"to", ArgType::Number, ValueRule::Any, kOptional, kTime}},
+       "a at from along axis, b at to, linear between"},
+      {"noise", BuiltinCategory::Field,
+       {fieldColour("a"), fieldColour("b"), {"scale", ArgType::Number, ValueRule::Positive, kOptional, kTime},
+        {"octaves", ArgType::Number, ValueRule::Positive, kOptional, kConstant}},
+       "gradient noise of frequency scale, octaves 1 to 8, from a to b"},
+      {"texture", BuiltinCategory::Field,
+       {{"file", ArgType::Any, ValueRule::Any, kRequired, kConstant},
+        {"projection", ArgType::Any, ValueRule::Any, kOptional, kConstant},
+        {"size", ArgType::Number, ValueRule::Positive, kOptional, kTime}},
+       "a PNG or EXR image on the three axis planes blended by the normal (triplanar), repeating every size"},
       // Settings (statements).
       {"camera", BuiltinCategory::Setting,
        {{"position", ArgType::Vector3, ValueRule::Any, kOptional, kConstant},

@@ -8,7 +8,9 @@
 
 namespace sdfc {
 
-enum class ArgType { Number, Vector3, Any };
+// Colour: a 3-vector (or a number for a grey), or a colour field where a
+// material takes it.
+enum class ArgType { Number, Vector3, Colour, Any };
 enum class ValueRule { Any, Positive, NonNegative };
 
 struct ArgSpec {
@@ -20,7 +22,7 @@ struct ArgSpec {
   bool nonzero = false;  // vectors: the zero vector is rejected
 };
 
-enum class BuiltinCategory { Operator, Material, Setting };
+enum class BuiltinCategory { Operator, Material, Field, Setting };
 
 struct BuiltinSignature {
   const char* name;

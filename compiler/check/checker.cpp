@@ -17,6 +17,7 @@
 #include "check/builtins.h"
 #include "check/imports.h"
 #include "check/parametric.h"
+#include "check/image_file.h"
 #include "check/point_file.h"
 
 namespace sdfc {
@@ -27,11 +28,12 @@ using ir::Scalar;
 
 // A checked value. Errors propagate as Type::Error without further messages.
 struct Value {
-  enum class Type { Error, Number, Vector, Shape, Material } type = Type::Error;
+  enum class Type { Error, Number, Vector, Shape, Material, Field } type = Type::Error;
   Scalar number;
   std::vector<Scalar> vector;
   ir::NodeRef shape;
   int material = -1;
+  std::shared_ptr<const ir::ColorField> field;
   SourceRange range;
 };
 
@@ -41,6 +43,7 @@ const char* typeName(Value::Type t) {
     case Value::Type::Vector: return "a vector";
     case Value::Type::Shape: return "a shape";
     case Value::Type::Material: return "a material";
+    case Value::Type::Field: return "a colour field";
     case Value::Type::Error: return "an error";
   }
   return "a value";
@@ -535,6 +538,7 @@ class Checker {
       switch (sig->category) {
         case BuiltinCategory::Operator: return evalOperator(e, *sig);
         case BuiltinCategory::Material: return evalMaterial(e, *sig);
+        case BuiltinCategory::Field: return evalField(e, *sig);
         case BuiltinCategory::Setting:
           diags_->error(e.name_range, "'" + e.name + "' is a setting; write it as a statement on "
                                                     "its own line");
@@ -585,6 +589,7 @@ class Checker {
       }
       case Value::Type::Shape: std::snprintf(buf, sizeof buf, "s%p", static_cast<const void*>(v.shape.get())); return buf;
       case Value::Type::Material: return "m" + std::to_string(v.material);
+      case Value::Type::Field: std::snprintf(buf, sizeof buf, "f%p", static_cast<const void*>(v.field.get())); return buf;
       case Value::Type::Error: return "e";
     }
     return "?";
@@ -945,7 +950,7 @@ class Checker {
 
   // Converts and validates one argument against its spec.
   std::optional<ir::Vec3> asVec3(const Value& v, const ArgSpec& spec, const std::string& callee) {
-    if (v.type == Value::Type::Number && spec.type == ArgType::Vector3) {
+    if (v.type == Value::Type::Number && (spec.type == ArgType::Vector3 || spec.type == ArgType::Colour)) {
       return ir::Vec3{v.number, v.number, v.number};  // a number stands for a uniform vector
     }
     if (v.type != Value::Type::Vector || (v.vector.size() != 3)) {
@@ -1532,6 +1537,23 @@ class Checker {
     m.range = e.range;
     auto vec = [&](size_t i, dvec3 fallback) -> std::optional<dvec3> {
       if (!args.values[i]) return fallback;
+      if (args.values[i]->type == Value::Type::Field && sig.args[i].type == ArgType::Colour) {
+        // The constant colour stands for the field where one colour is
+        // needed (the IR dump, mesh materials): the mean of its two colours.
+        m.field = args.values[i]->field;
+        if (m.field->kind == ir::FieldKind::Texture) {  // the image's mean
+          const std::vector<float>& rgb = m.field->image->rgb;
+          dvec3 sum(0);
+          for (size_t t = 0; t + 2 < rgb.size(); t += 3) sum += dvec3(rgb[t], rgb[t + 1], rgb[t + 2]);
+          return sum / std::max(1.0, double(rgb.size() / 3));
+        }
+        const dvec3 a = m.field->a.value(), b = m.field->b.value();
+        if (e.name != "emissive" && std::max({a.x, a.y, a.z, b.x, b.y, b.z}) > 1)
+          diags_->warning(args.values[i]->range, "energy", "'" + std::string(sig.args[i].name) +
+                                                              "' above 1 reflects more light than arrives "
+                                                              "(energy is not conserved)");
+        return (a + b) * 0.5;
+      }
       auto v = vectorArg(*args.values[i], sig.args[i], e.name);
       if (!v) return std::nullopt;
       return v->value();
@@ -1551,7 +1573,7 @@ class Checker {
     if (e.name == "diffuse" || e.name == "mirror" || e.name == "metal") {
       auto a = vec(0, dvec3(0.8));
       if (!a) return {};
-      checkUnit(0, *a);
+      if (!m.field) checkUnit(0, *a);
       m.model = e.name == "diffuse" ? ir::MaterialModel::Diffuse
               : e.name == "mirror" ? ir::MaterialModel::Mirror : ir::MaterialModel::Metal;
       m.albedo = ir::constantVec(*a);
@@ -1572,7 +1594,7 @@ class Checker {
         diags_->error(args.values[0]->range, "'ior' of 'glass' must be in [1, 4], got " + fmt(*ior));
         return {};
       }
-      checkUnit(1, *tint);
+      if (!m.field) checkUnit(1, *tint);
       m.model = ir::MaterialModel::Glass;
       m.ior = *ior;
       m.albedo = ir::constantVec(*tint);
@@ -1583,6 +1605,7 @@ class Checker {
       m.model = ir::MaterialModel::Emissive;
       m.emission = ir::constantVec(*color * *strength);
       m.albedo = ir::constantVec(dvec3(0));
+      m.field_scale = *strength;
     }
     if (!args.ok) return {};
     if (m.emission.x.expr == nullptr && m.model != ir::MaterialModel::Emissive)
@@ -1593,6 +1616,170 @@ class Checker {
     v.range = e.range;
     scene_.materials.push_back(m);
     material_used_.push_back(false);
+    return v;
+  }
+
+  // texture(file: "wood.png", projection: triplanar, size: 1): its file is a
+  // string and its projection a name, neither a value of the language, so
+  // they are read from the syntax (as instances' positions are).
+  Value evalTexture(const ast::Expr& e, const BuiltinSignature& sig) {
+    bool ok = true;
+    if (e.has_block) {
+      diags_->error(e.range, "'texture' is a colour field and takes no block");
+      ok = false;
+    }
+    const ast::Argument* given[3] = {nullptr, nullptr, nullptr};
+    size_t positional = 0;
+    bool seen_named = false;
+    for (const ast::Argument& a : e.arguments) {
+      size_t index = sig.args.size();
+      if (a.name.empty()) {
+        if (seen_named) {
+          diags_->error(a.value->range, "positional argument after a named one");
+          ok = false;
+          continue;
+        }
+        index = positional++;
+        if (index >= sig.args.size()) {
+          diags_->error(a.value->range, "'texture' takes at most 3 positional arguments");
+          ok = false;
+          continue;
+        }
+      } else {
+        seen_named = true;
+        for (size_t i = 0; i < sig.args.size(); ++i)
+          if (a.name == sig.args[i].name) index = i;
+        if (index == sig.args.size()) {
+          std::string message = "'texture' has no parameter '" + a.name + "'";
+          const std::string near = nearestName(a.name, {"file", "projection", "size"});
+          if (!near.empty()) message += "; did you mean '" + near + "'?";
+          diags_->error(a.name_range, message);
+          ok = false;
+          continue;
+        }
+      }
+      if (given[index]) {
+        diags_->error(a.name.empty() ? a.value->range : a.name_range, "'" + std::string(sig.args[index].name) + "' is given twice");
+        ok = false;
+        continue;
+      }
+      given[index] = &a;
+    }
+    auto f = std::make_shared<ir::ColorField>();
+    f->kind = ir::FieldKind::Texture;
+    f->range = e.range;
+    f->size = ir::constant(1);
+    if (given[1]) {
+      const ast::Expr& p = *given[1]->value;
+      if (p.kind != ast::ExprKind::Name || p.name != "triplanar") {
+        diags_->error(p.range, "'projection' of 'texture' must be 'triplanar' (the only projection so far)");
+        ok = false;
+      }
+    }
+    if (given[2]) {
+      auto size = numberArg(evalExpr(*given[2]->value), sig.args[2], "texture");
+      if (!size) ok = false;
+      else f->size = *size;
+    }
+    if (!given[0]) {
+      if (ok) diags_->error(e.range, "'texture' needs 'file', as in texture(file: \"wood.png\")");
+      return {};
+    }
+    const ast::Expr& name = *given[0]->value;
+    if (name.kind != ast::ExprKind::String) {
+      diags_->error(name.range, "'file' of 'texture' must be a string naming a PNG or EXR image, as in "
+                                "texture(file: \"wood.png\")");
+      return {};
+    }
+    if (!ok) return {};
+    const std::string path = resolveBesides(name.range.file ? name.range.file->path : source_.path, name.name);
+    ImageFile image = readImageFile(path);
+    if (!image.image) {
+      std::error_code ignored;
+      const std::string tried = std::filesystem::absolute(path, ignored).lexically_normal().string();
+      diags_->error(name.range, "cannot read '" + name.name + "': " + image.reason + " (looked for '" + tried + "')");
+      return {};
+    }
+    f->image = std::move(image.image);
+    Value v;
+    v.type = Value::Type::Field;
+    v.field = f;
+    v.range = e.range;
+    return v;
+  }
+
+  // A colour field: checker, stripes, gradient, noise or texture (ir::ColorField).
+  Value evalField(const ast::Expr& e, const BuiltinSignature& sig) {
+    if (e.name == "texture") return evalTexture(e, sig);
+    if (e.has_block) diags_->error(e.range, "'" + e.name + "' is a colour field and takes no block");
+    BoundArgs args = bindArguments(e, sig.args, false);
+    if (!args.ok) return {};
+    auto f = std::make_shared<ir::ColorField>();
+    f->range = e.range;
+    f->kind = e.name == "checker" ? ir::FieldKind::Checker
+            : e.name == "stripes" ? ir::FieldKind::Stripes
+            : e.name == "gradient" ? ir::FieldKind::Gradient : ir::FieldKind::Noise;
+    auto a = vectorArg(*args.values[0], sig.args[0], e.name);
+    auto b = vectorArg(*args.values[1], sig.args[1], e.name);
+    if (!a || !b) return {};
+    f->a = *a;
+    f->b = *b;
+    auto num = [&](size_t i, double fallback) -> std::optional<Scalar> {
+      if (i >= sig.args.size() || !args.values[i]) return ir::constant(fallback);
+      return numberArg(*args.values[i], sig.args[i], e.name);
+    };
+    if (f->kind == ir::FieldKind::Stripes || f->kind == ir::FieldKind::Gradient) {
+      if (args.values[2]) {
+        auto axis = vectorArg(*args.values[2], sig.args[2], e.name);
+        if (!axis) return {};
+        f->axis = glm::normalize(axis->value());
+      } else {
+        f->axis = f->kind == ir::FieldKind::Stripes ? dvec3(1, 0, 0) : dvec3(0, 1, 0);
+      }
+    }
+    switch (f->kind) {
+      case ir::FieldKind::Checker: {
+        auto size = num(2, 1);
+        if (!size) return {};
+        f->size = *size;
+        break;
+      }
+      case ir::FieldKind::Stripes: {
+        auto period = num(3, 1);
+        if (!period) return {};
+        f->size = *period;
+        break;
+      }
+      case ir::FieldKind::Gradient: {
+        auto from = num(3, 0), to = num(4, 1);
+        if (!from || !to) return {};
+        if (from->isConst() && to->isConst() && from->value == to->value) {
+          diags_->error(args.values[4] ? args.values[4]->range : e.range,
+                        "'from' and 'to' of 'gradient' must differ, both are " + fmt(from->value));
+          return {};
+        }
+        f->from = *from;
+        f->to = *to;
+        break;
+      }
+      case ir::FieldKind::Noise: {
+        auto scale = num(2, 1), octaves = num(3, 4);
+        if (!scale || !octaves) return {};
+        const double n = octaves->value;
+        if (n != std::floor(n) || n < 1 || n > 8) {
+          diags_->error(args.values[3]->range, "'octaves' of 'noise' must be a whole number from 1 to 8, got " + fmt(n));
+          return {};
+        }
+        f->size = *scale;
+        f->octaves = static_cast<int>(n);
+        break;
+      }
+      case ir::FieldKind::Texture: break;  // evalTexture
+    }
+    Value v;
+    v.type = Value::Type::Field;
+    v.field = f;
+    v.range = e.range;
     return v;
   }
 

@@ -12,6 +12,7 @@ ParamUse useOfSpec(ArgType type) {
   switch (type) {
     case ArgType::Number: return ParamUse::Number;
     case ArgType::Vector3: return ParamUse::Numeric;  // a number stands for a uniform vector
+    case ArgType::Colour:  // a colour or a colour field
     case ArgType::Any: return ParamUse::Unknown;
   }
   return ParamUse::Unknown;

@@ -8,6 +8,7 @@
 #include <optional>
 #include <sstream>
 
+#include "emit/color_field_glsl.h"
 #include "emit/embedded_sources.h"
 #include "emit/feature_filter.h"
 
@@ -24,6 +25,8 @@ std::string glslFloat(double v) {
 }
 
 namespace {
+
+std::vector<bool> usedMaterials(const ir::Scene& scene, bool& unassigned);
 
 using glm::dvec3;
 
@@ -254,6 +257,10 @@ class SceneWriter {
     }
     lights(out);
     if (hasAnalyticPlanes()) analyticSurfaces(out);
+    {
+      bool unassigned = false;
+      texture_bases_ = appendTextureData(scene_, usedMaterials(scene_, unassigned), data_);
+    }
     if (!data_.empty()) {
       out << "\n// Instance hierarchies and records (the runtime binds the compiler's scene data).\n";
       out << "layout(std430, set = 0, binding = 0) readonly buffer SdfcSceneData { vec4 sd_data[]; };\n";
@@ -424,6 +431,7 @@ class SceneWriter {
   };
   std::map<const ir::Node*, InstanceLayout> instance_layouts_;
   std::vector<float> data_;
+  std::map<const ir::TextureImage*, size_t> texture_bases_;  // where each texture's texels start
 
  public:
   std::vector<float> takeData() { return std::move(data_); }
@@ -1468,6 +1476,8 @@ class SceneWriter {
       out << "  if (id == " << i << ") return " << literal(scene_.materials[i]) << ";  // "
           << scene_.materials[i].name << "\n";
     out << "  return " << literal(scene_.materials[0]) << ";  // " << scene_.materials[0].name << "\n}\n";
+    bool unassigned = false;
+    emitFieldMaterials(scene_, usedMaterials(scene_, unassigned), texture_bases_, out);
   }
 
   void sky(std::ostringstream& out) {
@@ -1481,11 +1491,10 @@ class SceneWriter {
   }
 };
 
-// Which material models and lights occur, as SDFC_* macro names.
-std::set<std::string> sceneFeatures(const ir::Scene& scene, const EmitOptions& options) {
-  std::set<std::string> f;
+// Which materials some primitive shows, and whether a primitive has none.
+std::vector<bool> usedMaterials(const ir::Scene& scene, bool& unassigned) {
   std::vector<bool> used(scene.materials.size(), false);
-  bool unassigned = false;
+  unassigned = false;
   std::function<void(const ir::Node&, int)> walk = [&](const ir::Node& n, int inherited) {
     const int m = n.material >= 0 ? n.material : inherited;
     if (n.kind == ir::NodeKind::Primitive) {
@@ -1496,7 +1505,16 @@ std::set<std::string> sceneFeatures(const ir::Scene& scene, const EmitOptions& o
   };
   if (scene.root) walk(*scene.root, -1);
   if (unassigned && !scene.materials.empty()) used[0] = true;  // sdMaterialId falls back to 0
+  return used;
+}
+
+// Which material models and lights occur, as SDFC_* macro names.
+std::set<std::string> sceneFeatures(const ir::Scene& scene, const EmitOptions& options) {
+  std::set<std::string> f;
+  bool unassigned = false;
+  const std::vector<bool> used = usedMaterials(scene, unassigned);
   if (unassigned && scene.materials.empty()) f.insert("SDFC_HAS_DIFFUSE");
+  addFieldFeatures(scene, used, f);
   static const char* kNames[] = {"SDFC_HAS_DIFFUSE", "SDFC_HAS_MIRROR", "SDFC_HAS_GLASS",
                                  "SDFC_HAS_EMISSIVE", "SDFC_HAS_METAL"};
   for (size_t i = 0; i < used.size(); ++i)

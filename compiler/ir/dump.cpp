@@ -50,7 +50,36 @@ const char* modelName(MaterialModel m) {
   return "?";
 }
 
+std::string fieldText(const ColorField& f) {
+  std::ostringstream out;
+  out << fieldKindName(f.kind) << "(" << f.a.text() << ", " << f.b.text();
+  switch (f.kind) {
+    case FieldKind::Checker: out << ", size: " << f.size.text(); break;
+    case FieldKind::Stripes: out << ", axis: " << vec(f.axis) << ", period: " << f.size.text(); break;
+    case FieldKind::Gradient:
+      out << ", axis: " << vec(f.axis) << ", from: " << f.from.text() << ", to: " << f.to.text();
+      break;
+    case FieldKind::Noise: out << ", scale: " << f.size.text() << ", octaves: " << f.octaves; break;
+    case FieldKind::Texture:
+      return "texture(file: " + f.image->path + " " + std::to_string(f.image->width) + "x" +
+             std::to_string(f.image->height) + ", projection: triplanar, size: " + f.size.text() + ")";
+  }
+  out << ")";
+  return out.str();
+}
+
 }  // namespace
+
+const char* fieldKindName(FieldKind kind) {
+  switch (kind) {
+    case FieldKind::Checker: return "checker";
+    case FieldKind::Stripes: return "stripes";
+    case FieldKind::Gradient: return "gradient";
+    case FieldKind::Noise: return "noise";
+    case FieldKind::Texture: return "texture";
+  }
+  return "?";
+}
 
 std::string Vec3::glsl() const {
   if (isConst() && x.value == y.value && y.value == z.value) return "vec3(" + x.glsl() + ")";
@@ -167,6 +196,7 @@ std::string dump(const Scene& s) {
         << " albedo=" << vec(m.albedo.value()) << " emission=" << vec(m.emission.value());
     if (m.model == MaterialModel::Glass) out << " ior=" << num(m.ior);
     if (m.model == MaterialModel::Metal) out << " roughness=" << num(m.roughness);
+    if (m.field) out << " field=" << fieldText(*m.field) << (m.field_scale != 1 ? " * " + num(m.field_scale) : "");
     out << "\n";
   }
   if (s.uses_time) out << "uses time\n";

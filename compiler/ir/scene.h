@@ -99,6 +99,39 @@ inline bool isSphereCloud(const InstanceSet& set, const Node& templ) {
 
 enum class MaterialModel { Diffuse = 0, Mirror = 1, Glass = 2, Emissive = 3, Metal = 4 };
 
+// A colour that varies over the surface, of the world point (docs/language.md,
+// "Colour fields"): mix(a, b, t) with t in [0, 1] from one closed form per
+// kind. The evaluator (eval/color_field.cpp) computes it in float64, the
+// emitter in GLSL; noise is the gradient noise of eval/noise.cpp and
+// emit/kernel/noise.glsl.
+enum class FieldKind { Checker = 0, Stripes = 1, Gradient = 2, Noise = 3, Texture = 4 };
+
+// An image read at check time for texture(file: ...): linear RGB, float32
+// (what the shader reads), rows from the top.
+struct TextureImage {
+  std::string path;
+  int width = 0, height = 0;
+  std::vector<float> rgb;  // width * height * 3
+};
+
+struct ColorField {
+  FieldKind kind = FieldKind::Checker;
+  SourceRange range;
+  Vec3 a, b;
+  // Stripes, gradient: the unit direction the colour changes along.
+  glm::dvec3 axis{0, 1, 0};
+  // Checker: cell size. Stripes: period. Noise: frequency (cycles per unit).
+  Scalar size;
+  // Gradient: where t is 0 and where it is 1 along the axis.
+  Scalar from, to;
+  // Noise: octaves of the fractal sum, 1 to 8.
+  int octaves = 4;
+  // Texture: the image, repeated every `size` units, projected on the three
+  // axis planes and blended by the normal (triplanar).
+  std::shared_ptr<const TextureImage> image;
+};
+const char* fieldKindName(FieldKind kind);
+
 struct Material {
   std::string name;
   SourceRange range;
@@ -107,6 +140,10 @@ struct Material {
   Vec3 emission;  // emissive: colour * strength
   double ior = 1.5;
   double roughness = 0;  // metal: GGX alpha
+  // Set when the colour (albedo, tint, or emissive colour) is a field; it then
+  // stands for `albedo`, or for `emission` / field_scale (the strength).
+  std::shared_ptr<const ColorField> field;
+  double field_scale = 1;
 };
 
 struct Camera {

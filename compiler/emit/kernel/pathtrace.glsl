@@ -738,7 +738,11 @@ vec3 tracePath(vec3 ro, vec3 rd, int max_bounces, bool record_aov) {
       if (g_plane_hit >= 0) {
         int analytic_material;
         n = sdAnalyticNormal(g_plane_hit, p, analytic_material);
+#ifdef SDFC_HAS_FIELDS
+        m = sdMaterialAt(analytic_material, p, n);
+#else
         m = sdMaterial(analytic_material);
+#endif
       } else
 #endif
       {
@@ -748,7 +752,11 @@ vec3 tracePath(vec3 ro, vec3 rd, int max_bounces, bool record_aov) {
         countEvent(0);
 #endif
         n = surfaceNormal(p, rd, t, surface_material);
+#ifdef SDFC_HAS_FIELDS
+        m = sdMaterialAt(surface_material, p, n);
+#else
         m = sdMaterial(surface_material);
+#endif
       }
       if (record_aov && depth == 0) {
         g_aov_normal = n;
@@ -1012,7 +1020,11 @@ void main() {
       normal = surfaceNormal(ro + rd * t, rd, t, material);
     }
 #ifdef SDFC_VIEW_ALBEDO
+#ifdef SDFC_HAS_FIELDS
+    albedo = sdMaterialAt(material, ro + rd * t, normal).albedo;
+#else
     albedo = sdMaterial(material).albedo;
+#endif
 #endif
 #endif
   }

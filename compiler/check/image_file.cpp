@@ -1,0 +1,103 @@
+#include "check/image_file.h"
+
+#include <stb_image.h>
+#include <tinyexr.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+
+namespace sdfc {
+namespace {
+
+// The sRGB EOTF (IEC 61966-2-1).
+float srgbToLinear(float v) { return v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f); }
+
+std::string lowerExtension(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return ext;
+}
+
+std::string tooLarge(int w, int h) {
+  return "it is " + std::to_string(w) + " x " + std::to_string(h) + " texels; at most " +
+         std::to_string(kMaxTexturePixels) + " (2048 x 2048) fit the shader's scene data";
+}
+
+}  // namespace
+
+ImageFile readImageFile(const std::string& path) {
+  ImageFile out;
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) {
+    out.reason = std::filesystem::exists(path, ec) ? "it is not a regular file" : "no such file";
+    return out;
+  }
+  auto image = std::make_shared<ir::TextureImage>();
+  image->path = path;
+  if (lowerExtension(path) == ".exr") {
+    EXRVersion version;
+    EXRHeader header;
+    // The size from the header first: a huge image is refused undecoded.
+    if (ParseEXRVersionFromFile(&version, path.c_str()) != TINYEXR_SUCCESS) {
+      out.reason = "it is not an EXR file";
+      return out;
+    }
+    InitEXRHeader(&header);
+    const char* err = nullptr;
+    if (ParseEXRHeaderFromFile(&header, &version, path.c_str(), &err) != TINYEXR_SUCCESS) {
+      out.reason = err ? err : "its EXR header cannot be read";
+      FreeEXRErrorMessage(err);
+      return out;
+    }
+    const int w = header.data_window.max_x - header.data_window.min_x + 1;
+    const int h = header.data_window.max_y - header.data_window.min_y + 1;
+    FreeEXRHeader(&header);
+    if (size_t(w) * size_t(h) > kMaxTexturePixels) {
+      out.reason = tooLarge(w, h);
+      return out;
+    }
+    float* rgba = nullptr;
+    int width = 0, height = 0;
+    if (LoadEXR(&rgba, &width, &height, path.c_str(), &err) != TINYEXR_SUCCESS) {
+      out.reason = err ? err : "it cannot be decoded";
+      FreeEXRErrorMessage(err);
+      return out;
+    }
+    image->width = width;
+    image->height = height;
+    image->rgb.resize(size_t(width) * height * 3);
+    for (size_t i = 0; i < size_t(width) * height; ++i)
+      for (int c = 0; c < 3; ++c) {
+        const float v = rgba[i * 4 + c];
+        image->rgb[i * 3 + c] = std::isfinite(v) ? std::max(v, 0.0f) : 0.0f;  // no NaN or negative colour
+      }
+    std::free(rgba);
+  } else {
+    int w = 0, h = 0, channels = 0;
+    if (!stbi_info(path.c_str(), &w, &h, &channels)) {
+      out.reason = std::string("it is not an image stb_image reads (") + stbi_failure_reason() + ")";
+      return out;
+    }
+    if (size_t(w) * size_t(h) > kMaxTexturePixels) {
+      out.reason = tooLarge(w, h);
+      return out;
+    }
+    unsigned char* data = stbi_load(path.c_str(), &w, &h, &channels, 3);
+    if (!data) {
+      out.reason = std::string("it cannot be decoded (") + stbi_failure_reason() + ")";
+      return out;
+    }
+    image->width = w;
+    image->height = h;
+    image->rgb.resize(size_t(w) * h * 3);
+    for (size_t i = 0; i < image->rgb.size(); ++i) image->rgb[i] = srgbToLinear(data[i] / 255.0f);
+    stbi_image_free(data);
+  }
+  out.image = std::move(image);
+  return out;
+}
+
+}  // namespace sdfc

@@ -1,0 +1,25 @@
+// Gradient noise, the float64 twin of emit/kernel/noise.glsl: one definition
+// for every feature that needs noise (colour fields now, `displace` later).
+//
+// Definition (Perlin's improved noise, with a different hash): the lattice
+// corner c = floor(p) (integers) gets the gradient g = G[h(c) mod 12], G being
+// the 12 cube-edge directions (±1, ±1, 0), (±1, 0, ±1), (0, ±1, ±1), and
+// h(x, y, z) = H(x ^ H(y ^ H(z))) on 32-bit two's complement words, where H is
+// the "lowbias32" integer mix: h ^= h >> 16; h *= 0x7feb352d; h ^= h >> 15;
+// h *= 0x846ca68b; h ^= h >> 16. The noise is the trilinear blend of
+// dot(g, p - c) over the 8 corners with weights from the quintic fade
+// 6t^5 - 15t^4 + 10t^3 (Perlin 2002, "Improving noise", SIGGRAPH). It is 0 at
+// every lattice point, continuous with a continuous gradient, and lies in
+// about [-1, 1] (users clamp). The fractal sum of n octaves is
+// sum_{i<n} 0.5^i noise(2^i p) / sum_{i<n} 0.5^i.
+#pragma once
+#include <cstdint>
+#include <glm/glm.hpp>
+
+namespace sdfc {
+
+uint32_t noiseHash(int32_t x, int32_t y, int32_t z);
+double gradientNoise(const glm::dvec3& p);
+double fractalNoise(const glm::dvec3& p, int octaves);
+
+}  // namespace sdfc
