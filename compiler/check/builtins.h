@@ -8,7 +8,7 @@
 
 namespace sdfc {
 
-enum class ArgType { Number, Vector3, Any };
+enum class ArgType { Number, Vector3, Vector2, Any };
 enum class ValueRule { Any, Positive, NonNegative };
 
 struct ArgSpec {
