@@ -79,12 +79,11 @@ TEST(Profiles, ExtrudeAndRevolveEqualThePrimitives) {
 // along its edges, signed by the winding number (not the even-odd rule the
 // compiler uses; the two agree on simple polygons).
 double bruteForcePolygon(const std::vector<dvec2>& v, dvec2 p) {
-  double best = 1e300, winding = 0;
+  double best = 1e300;
   for (size_t i = 0; i < v.size(); ++i) {
     const dvec2 a = v[i], b = v[(i + 1) % v.size()];
     const int steps = 4000;
     for (int k = 0; k <= steps; ++k) best = std::min(best, glm::length(p - (a + (b - a) * (double(k) / steps))));
-    winding += std::atan2(a.x - p.x, a.y - p.y) - std::atan2(b.x - p.x, b.y - p.y);
   }
   // Sum of the angles each edge turns, wrapped per edge.
   double turn = 0;
@@ -92,7 +91,6 @@ double bruteForcePolygon(const std::vector<dvec2>& v, dvec2 p) {
     const dvec2 a = v[i] - p, b = v[(i + 1) % v.size()] - p;
     turn += std::atan2(a.x * b.y - a.y * b.x, glm::dot(a, b));
   }
-  (void)winding;
   return std::fabs(turn) > kPi ? -best : best;
 }
 
@@ -135,11 +133,13 @@ TEST(Profiles, RoundedRectAgainstBruteForce) {
     const dvec2 dir(std::cos(a), std::sin(a));
     const dvec2 centre(dir.x > 0 ? h.x - r : -(h.x - r), dir.y > 0 ? h.y - r : -(h.y - r));
     boundary.push_back(centre + r * dir);
+    // The straight parts stop where the arcs begin.
     const double t = double(k) / 20000;
-    boundary.push_back({-h.x + 2 * h.x * t, h.y});
-    boundary.push_back({-h.x + 2 * h.x * t, -h.y});
-    boundary.push_back({h.x, -h.y + 2 * h.y * t});
-    boundary.push_back({-h.x, -h.y + 2 * h.y * t});
+    const dvec2 in = h - r;
+    boundary.push_back({-in.x + 2 * in.x * t, h.y});
+    boundary.push_back({-in.x + 2 * in.x * t, -h.y});
+    boundary.push_back({h.x, -in.y + 2 * in.y * t});
+    boundary.push_back({-h.x, -in.y + 2 * in.y * t});
   }
   for (const dvec3& p : randomPoints(200, 1.3, 3)) {
     double best = 1e300;
@@ -173,7 +173,9 @@ TEST(Profiles, RevolveAcrossTheAxisIsABoundAndWarns) {
     }
     // The axis segment where the two discs overlap bounds nothing (inside both).
     inside = glm::length(dvec2(rr - 0.2, p.y)) < 0.5;
-    if (!inside) EXPECT_LE(c.distance(p), best + 1e-3);
+    if (!inside) {
+      EXPECT_LE(c.distance(p), best + 1e-3);
+    }
   }
   // Offset 0 with a symmetric profile is exact and silent.
   compile("revolve { translate([0, 0.3]) { hexagon(radius: 0.5) } }", &messages);
@@ -201,9 +203,13 @@ TEST(Profiles, Diagnostics) {
        "scene { extrude(depth: 1) { union { circle(radius: 1) sphere(radius: 1) } } }\n"
        "                                                      ^~~~~~~~~~~~~~~~~\n"},
       {"scene { repeat(cell: [2, 0, 0]) { rect(size: [1, 1]) } }\n",
-       "t.sdf:1:36: error: 'repeat' does not take a 2D profile; extrude or revolve it first\n"
+       "t.sdf:1:35: error: 'repeat' does not take a 2D profile; extrude or revolve it first\n"
        "scene { repeat(cell: [2, 0, 0]) { rect(size: [1, 1]) } }\n"
-       "                                   ^~~~~~~~~~~~~~~~~~\n"},
+       "                                  ^~~~~~~~~~~~~~~~~~\n"},
+      {"scene { instances(positions: [[0, 0, 0]]) { circle(radius: 1) } }\n",
+       "t.sdf:1:45: error: 'instances' expects shapes in its block, not a 2D profile (only extrude and revolve take one)\n"
+       "scene { instances(positions: [[0, 0, 0]]) { circle(radius: 1) } }\n"
+       "                                            ^~~~~~~~~~~~~~~~~\n"},
       {"scene { extrude(depth: 1) { polygon(points: [[0, 0], [1, 0]]) } }\n",
        "t.sdf:1:45: error: a polygon needs at least 3 points, got 2\n"
        "scene { extrude(depth: 1) { polygon(points: [[0, 0], [1, 0]]) } }\n"
@@ -211,13 +217,13 @@ TEST(Profiles, Diagnostics) {
       {"scene { extrude(depth: 1) { polygon([[0, 0], [1, 1], [1, 0], [0, 1]]) } }\n",
        "t.sdf:1:37: error: edges 1 and 3 cross; the polygon must not intersect itself\n"
        "scene { extrude(depth: 1) { polygon([[0, 0], [1, 1], [1, 0], [0, 1]]) } }\n"
-       "                                    ^~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~\n"},
+       "                                    ^~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~\n"},
       {"scene { extrude(depth: 1) { polygon([[0, 0], [1, 0], [0, 0], [0, 1]]) } }\n",
        "t.sdf:1:37: error: points 1 and 3 are the same point\n"
        "scene { extrude(depth: 1) { polygon([[0, 0], [1, 0], [0, 0], [0, 1]]) } }\n"
-       "                                    ^~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~\n"},
+       "                                    ^~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~\n"},
       {"scene { extrude(depth: 1) { polygon([[0, 0], [1, 0], [2, 0]]) } }\n",
-       "t.sdf:1:37: error: the polygon has no area\n"
+       "t.sdf:1:37: error: edges 1 and 3 overlap\n"
        "scene { extrude(depth: 1) { polygon([[0, 0], [1, 0], [2, 0]]) } }\n"
        "                                    ^~~~~~~~~~~~~~~~~~~~~~~~\n"},
       {"scene { extrude(depth: 1) { polygon([[0, 0], [1, 0, 2], [0, 1]]) } }\n",
@@ -227,7 +233,7 @@ TEST(Profiles, Diagnostics) {
       {"scene { extrude(depth: 1) { rect(size: [1, 2], rounding: 0.6) } }\n",
        "t.sdf:1:29: error: rect 'rounding' (0.6) must be at most half the smaller side (0.5)\n"
        "scene { extrude(depth: 1) { rect(size: [1, 2], rounding: 0.6) } }\n"
-       "                            ^~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~\n"},
+       "                            ^~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~\n"},
       {"scene { extrude(depth: 1) { rect(size: [1, 2, 3]) } }\n",
        "t.sdf:1:40: error: 'size' of 'rect' must be a 2-vector like [x, y], not a 3-vector\n"
        "scene { extrude(depth: 1) { rect(size: [1, 2, 3]) } }\n"
@@ -239,12 +245,15 @@ TEST(Profiles, Diagnostics) {
       {"scene { revolve { rotate(axis: [1, 0, 0], degrees: 90) { circle(radius: 1) } } }\n",
        "t.sdf:1:19: error: a 2D profile turns in its plane: rotate it about the z axis (axis: [0, 0, 1]), or rotate the extruded shape\n"
        "scene { revolve { rotate(axis: [1, 0, 0], degrees: 90) { circle(radius: 1) } } }\n"
-       "                  ^~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~\n"},
+       "                  ^~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~\n"},
+      {"scene { twist(rate: 10) { circle(radius: 1) } }\n",
+       "t.sdf:1:27: error: 'twist' does not take a 2D profile; extrude or revolve it first\n"
+       "scene { twist(rate: 10) { circle(radius: 1) } }\n"
+       "                          ^~~~~~~~~~~~~~~~~\n"},
       {"scene { revolve(offset: 0.2) { circle(radius: 0.5) } }\n",
-       "t.sdf:1:9: warning: the profile of 'revolve' reaches across the axis (x < -offset = -0.2); that part is not "
-       "revolved, and the distance is only a bound (move the profile to x >= -offset) [-Wbound]\n"
+       "t.sdf:1:9: warning: the profile of 'revolve' reaches across the axis (x < -offset = -0.2); that part is not revolved, and the distance is only a bound (move the profile to x >= -offset) [-Wbound]\n"
        "scene { revolve(offset: 0.2) { circle(radius: 0.5) } }\n"
-       "        ^~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~\n"},
+       "        ^~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~\n"},
   };
   for (const auto& [input, expected] : cases) {
     const std::string actual = diagnosticsFor(input);

@@ -71,9 +71,6 @@ std::string polygonProblem(const std::vector<dvec2>& v) {
     for (size_t j = i + 1; j < n; ++j)
       if (v[i] == v[j])
         return "points " + std::to_string(i + 1) + " and " + std::to_string(j + 1) + " are the same point";
-  double area = 0;
-  for (size_t i = 0; i < n; ++i) area += cross(v[i], v[(i + 1) % n]);
-  if (std::fabs(area) <= 1e-12 * std::max(1.0, glm::dot(v[0], v[0]))) return "the polygon has no area";
   for (size_t i = 0; i < n; ++i) {
     const dvec2 a = v[i], b = v[(i + 1) % n];
     for (size_t j = i + 1; j < n; ++j) {
@@ -93,6 +90,10 @@ std::string polygonProblem(const std::vector<dvec2>& v) {
                " cross; the polygon must not intersect itself";
     }
   }
+  // Last: a simple polygon has area, unless it is too thin for float64.
+  double area = 0;
+  for (size_t i = 0; i < n; ++i) area += cross(v[i], v[(i + 1) % n]);
+  if (std::fabs(area) <= 1e-12 * std::max(1.0, glm::dot(v[0], v[0]))) return "the polygon has no area";
   return "";
 }
 
