@@ -74,7 +74,10 @@ std::vector<CalleeDoc> build() {
       const ArgSpec a = argSpecOf(p, info);
       ParamDoc d;
       d.name = p.name;
-      d.type = p.type == ParamType::Vector ? "vector" : "number";
+      d.type = p.type == ParamType::Vector    ? "vector"
+               : p.type == ParamType::Vector2 ? "2-vector"
+               : p.type == ParamType::Points  ? "list of [x, y]"
+                                              : "number";
       switch (p.rule) {
         case ParamRule::Positive: d.rule = "> 0"; break;
         case ParamRule::PositiveVector: d.rule = "each > 0"; break;
@@ -85,7 +88,8 @@ std::vector<CalleeDoc> build() {
       if (info.kind == PrimitiveKind::Menger && d.name == "level")
         d.rule = "whole, 0 to " + std::to_string(kMaxMengerLevel);
       if (p.has_default)
-        d.fallback = p.type == ParamType::Vector
+        d.fallback = p.type == ParamType::Vector2 ? "[" + number(p.default_value.x) + ", " + number(p.default_value.y) + "]"
+                     : p.type == ParamType::Vector
                          ? "[" + number(p.default_value.x) + ", " + number(p.default_value.y) + ", " +
                                number(p.default_value.z) + "]"
                          : number(p.default_value.x);
@@ -107,6 +111,7 @@ std::vector<CalleeDoc> build() {
       d.name = a.name;
       d.type = a.type == ArgType::Number    ? "number"
                : a.type == ArgType::Vector3 ? "vector"
+               : a.type == ArgType::Vector2 ? "2-vector"
                : a.type == ArgType::Colour  ? "colour or colour field"
                                             : "number or vector";
       d.rule = a.rule == ValueRule::Positive ? "> 0" : a.rule == ValueRule::NonNegative ? ">= 0" : "";

@@ -29,6 +29,14 @@ std::string whyBound(const ir::Node& n) {
     case ir::NodeKind::Reflect: return "the shape crosses the mirror plane";
     case ir::NodeKind::Repeat: return "the shape crosses its cell, so neighbour cells are checked";
     case ir::NodeKind::Morph: return "a blend of two distance fields is not a distance";
+    case ir::NodeKind::Revolve: return "the profile reaches across the axis (x < -offset)";
+    case ir::NodeKind::Twist: {
+      char buf[160];
+      std::snprintf(buf, sizeof buf, "a twist stretches space by up to %.4g within radius %.4g of the axis; "
+                                     "the distance is divided by that, and outside it is the bounding cylinder's",
+                    n.deform_lipschitz, n.deform_radius);
+      return buf;
+    }
     default: return "a transform of a bound";
   }
 }

@@ -33,6 +33,9 @@ const char* nodeName(const ir::Node& n) {
     case ir::NodeKind::Morph: return "morph";
     case ir::NodeKind::Round: return "round";
     case ir::NodeKind::Shell: return "shell";
+    case ir::NodeKind::Extrude: return "extrude";
+    case ir::NodeKind::Revolve: return "revolve";
+    case ir::NodeKind::Twist: return "twist";
     case ir::NodeKind::Instances: return "instances";
   }
   return "shape";

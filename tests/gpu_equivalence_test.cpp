@@ -70,6 +70,14 @@ std::vector<SceneCase> primitiveScenes() {
       {"round cone", "scene { round_cone(bottom: 0.5, top: 0.2, height: 0.8) }"},
       {"round cone, top larger", "scene { round_cone(bottom: 0.15, top: 0.4, height: 0.6) }"},
       {"ellipsoid", "scene { ellipsoid(radii: [0.9, 0.5, 0.7]) }"},
+      // 2D profiles, as the solids extrude and revolve make of them.
+      {"extruded circle", "scene { extrude(depth: 0.6) { circle(radius: 0.7) } }"},
+      {"extruded rounded rect", "scene { extrude(depth: 1.1) { rect(size: [1.4, 0.8], rounding: 0.2) } }"},
+      {"revolved hexagon", "scene { revolve(offset: 0.6) { hexagon(radius: 0.3) } }"},
+      {"extruded polygon",
+       "scene { extrude(depth: 0.5) { polygon(points: [[0, 0.9], [0.25, 0.3], [0.9, 0.2], [0.35, -0.2], [0.6, -0.8], "
+       "[0, -0.4], [-0.6, -0.8], [-0.35, -0.2], [-0.9, 0.2], [-0.25, 0.3]]) } }"},
+      {"revolved polygon", "scene { revolve { polygon([[0, -0.6], [0.7, -0.6], [0.3, 0], [0.5, 0.6], [0, 0.6]]) } }"},
   };
 }
 
@@ -97,6 +105,12 @@ std::vector<SceneCase> operatorScenes() {
       {"morph", "scene { morph(t: 0.3) { sphere(radius: 0.6) box(size: [1, 1, 1]) } }"},
       {"round", "scene { round(radius: 0.2) { box(size: [1, 0.6, 0.8]) } }"},
       {"round by time", "scene { round(radius: 0.1 + 0.1 * sin(time)) { octahedron(radius: 0.6) } }"},
+      {"profile csg",
+       "scene { revolve(offset: 0.5) { subtract(smooth: 0.05) { union { rect(size: [0.4, 1]) translate([0.2, 0.3]) {\n"
+       "  rotate(axis: [0, 0, 1], degrees: 30) { circle(radius: 0.25) } } } round(radius: 0.02) { hexagon(radius: 0.1) } } } }"},
+      {"profile by time", "scene { extrude(depth: 0.5 + 0.2 * sin(time)) { shell(thickness: 0.1) { circle(radius: 0.6) } } }"},
+      {"twist", "scene { twist(rate: 90) { box(size: [1.2, 1.6, 0.4]) } }"},
+      {"twist by time", "scene { twist(rate: 60 * sin(time)) { translate([0.2, 0, 0]) { hexprism(radius: 0.3, depth: 1) } } }"},
       {"shell", "scene { shell(thickness: 0.1) { subtract { sphere(radius: 0.8) box(size: [2, 0.5, 2]) } } }"},
       {"transform chain",
        "scene { translate([0.2, 0.1, 0]) { rotate(axis: [0, 0, 1], degrees: 30) { scale(1.5) {\n"

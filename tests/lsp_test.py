@@ -145,6 +145,24 @@ r = c.request("textDocument/definition", {**pdoc, "position": pos(ptext, "parts.
 check("definition across files", r and r["uri"].endswith("/parts.sdf") and "%20" in r["uri"] and
       r["range"]["start"] == {"line": 0, "character": 4}, r)
 
+# Profiles and deformations: hover from the catalogue and the analysis, completion.
+xuri = "file:///tmp/lsp_test/profiles.sdf"
+xdoc = {"textDocument": {"uri": xuri}}
+xtext = open(os.path.join(root, "examples", "profiles_and_twist.sdf"), encoding="utf-8").read()
+c.notify("textDocument/didOpen", {"textDocument": {"uri": xuri, "languageId": "sdf", "version": 1, "text": xtext}})
+_, d = c.wait_notification("textDocument/publishDiagnostics", lambda m: m["params"]["uri"] == xuri)
+check("profiles example has no errors", not [x for x in d["params"]["diagnostics"] if x["severity"] == 1], d)
+h = c.request("textDocument/hover", {**xdoc, "position": pos(xtext, "rect(", delta=1)})["result"]
+value = h["contents"]["value"] if h else ""
+check("hover a profile", "2D profile" in value and "size: 2-vector" in value, value)
+h = c.request("textDocument/hover", {**xdoc, "position": pos(xtext, "twist(", delta=1)})["result"]
+value = h["contents"]["value"] if h else ""
+check("hover twist: its stretch", "bound" in value and "stretches space by up to" in value, value)
+probe = xtext + "\nlet probe = extrude(depth: 1) { poly }\n"
+c.notify("textDocument/didChange", {"textDocument": {"uri": xuri, "version": 2}, "contentChanges": [{"text": probe}]})
+items = c.request("textDocument/completion", {**xdoc, "position": pos(probe, "{ poly }", delta=6)})["result"]["items"]
+check("complete a profile", "polygon" in {i["label"] for i in items}, [i["label"] for i in items][:20])
+
 # Symbols and formatting.
 syms = c.request("textDocument/documentSymbol", doc)["result"]
 names = [s["name"] for s in syms]

@@ -67,6 +67,17 @@ const std::vector<BuiltinSignature>& builtinSignatures() {
       {"shell", BuiltinCategory::Operator,
        {{"thickness", ArgType::Number, ValueRule::Positive, kRequired, kTime}},
        "a wall of `thickness` centred on the surface"},
+      // 2D profiles into solids.
+      {"extrude", BuiltinCategory::Operator,
+       {{"depth", ArgType::Number, ValueRule::Positive, kRequired, kTime}},
+       "the block's 2D profile extruded along z over `depth`, centred"},
+      {"revolve", BuiltinCategory::Operator,
+       {{"offset", ArgType::Number, ValueRule::Any, kOptional, kTime}},
+       "the block's 2D profile revolved about the y axis, its x measured from `offset` out"},
+      // Deformations (bounds: the distance is divided by their stretch).
+      {"twist", BuiltinCategory::Operator,
+       {{"rate", ArgType::Number, ValueRule::Any, kRequired, kTime}},
+       "twist about the y axis by `rate` degrees per unit of height (a bound)"},
       // Materials.
       {"diffuse", BuiltinCategory::Material, {surfaceColour("albedo")}, "Lambertian"},
       {"mirror", BuiltinCategory::Material, {surfaceColour("tint")}, "perfect specular reflection"},
@@ -162,7 +173,12 @@ std::vector<std::string> allCallableNames() {
 }
 
 ArgSpec argSpecOf(const ParamSpec& p, const PrimitiveInfo& info) {
-  ArgSpec a{p.name, p.type == ParamType::Vector ? ArgType::Vector3 : ArgType::Number, ValueRule::Any,
+  ArgSpec a{p.name,
+            p.type == ParamType::Vector    ? ArgType::Vector3
+            : p.type == ParamType::Vector2 ? ArgType::Vector2
+            : p.type == ParamType::Points  ? ArgType::Any
+                                           : ArgType::Number,
+            ValueRule::Any,
             !p.has_default, true};
   switch (p.rule) {
     case ParamRule::Positive:
@@ -174,7 +190,7 @@ ArgSpec argSpecOf(const ParamSpec& p, const PrimitiveInfo& info) {
   // Parameters that shape the emitted code itself cannot vary with time.
   const std::string name = p.name;
   if ((info.kind == PrimitiveKind::Menger && name == "level") ||
-      (info.kind == PrimitiveKind::Plane && name == "normal"))
+      (info.kind == PrimitiveKind::Plane && name == "normal") || info.kind == PrimitiveKind::Polygon)
     a.time_allowed = false;
   return a;
 }

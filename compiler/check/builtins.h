@@ -10,7 +10,7 @@ namespace sdfc {
 
 // Colour: a 3-vector (or a number for a grey), or a colour field where a
 // material takes it.
-enum class ArgType { Number, Vector3, Colour, Any };
+enum class ArgType { Number, Vector3, Vector2, Colour, Any };
 enum class ValueRule { Any, Positive, NonNegative };
 
 struct ArgSpec {

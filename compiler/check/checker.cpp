@@ -1,6 +1,7 @@
 #include "check/checker.h"
 
 #include <algorithm>
+#include <array>
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
@@ -19,6 +20,7 @@
 #include "check/parametric.h"
 #include "check/image_file.h"
 #include "check/point_file.h"
+#include "shapes/polygon.h"
 
 namespace sdfc {
 namespace {
@@ -28,7 +30,7 @@ using ir::Scalar;
 
 // A checked value. Errors propagate as Type::Error without further messages.
 struct Value {
-  enum class Type { Error, Number, Vector, Shape, Material, Field } type = Type::Error;
+  enum class Type { Error, Number, Vector, Shape, Profile, Material, Field } type = Type::Error;
   Scalar number;
   std::vector<Scalar> vector;
   ir::NodeRef shape;
@@ -42,6 +44,7 @@ const char* typeName(Value::Type t) {
     case Value::Type::Number: return "a number";
     case Value::Type::Vector: return "a vector";
     case Value::Type::Shape: return "a shape";
+    case Value::Type::Profile: return "a 2D profile (only extrude and revolve take one)";
     case Value::Type::Material: return "a material";
     case Value::Type::Field: return "a colour field";
     case Value::Type::Error: return "an error";
@@ -80,7 +83,7 @@ bool fitsUse(Value::Type t, ParamUse use) {
     case ParamUse::Number: return t == Value::Type::Number;
     case ParamUse::Numeric: return t == Value::Type::Number || t == Value::Type::Vector;
     case ParamUse::Vector: return t == Value::Type::Vector;
-    case ParamUse::Shape: return t == Value::Type::Shape;
+    case ParamUse::Shape: return t == Value::Type::Shape || t == Value::Type::Profile;
     case ParamUse::Material: return t == Value::Type::Material;
   }
   return true;
@@ -587,7 +590,8 @@ class Checker {
         for (const Scalar& s : v.vector) k += scalarKey(s) + ",";
         return k;
       }
-      case Value::Type::Shape: std::snprintf(buf, sizeof buf, "s%p", static_cast<const void*>(v.shape.get())); return buf;
+      case Value::Type::Shape:
+      case Value::Type::Profile: std::snprintf(buf, sizeof buf, "s%p", static_cast<const void*>(v.shape.get())); return buf;
       case Value::Type::Material: return "m" + std::to_string(v.material);
       case Value::Type::Field: std::snprintf(buf, sizeof buf, "f%p", static_cast<const void*>(v.field.get())); return buf;
       case Value::Type::Error: return "e";
@@ -1054,9 +1058,10 @@ class Checker {
     return m.material;
   }
 
+  // A shape, or a 2D profile when the node is one (ir::isProfile).
   static Value shapeValue(ir::NodeRef node, SourceRange range) {
     Value v;
-    v.type = Value::Type::Shape;
+    v.type = ir::isProfile(*node) ? Value::Type::Profile : Value::Type::Shape;
     v.shape = std::move(node);
     v.range = range;
     return v;
@@ -1064,6 +1069,7 @@ class Checker {
 
   Value evalPrimitive(const ast::Expr& e, const PrimitiveInfo& info) {
     if (e.has_block) diags_->error(e.range, "'" + e.name + "' is a primitive and takes no block");
+    if (info.kind == PrimitiveKind::Polygon) return evalPolygon(e, info);
     std::vector<ArgSpec> specs;
     for (const ParamSpec& p : info.params) specs.push_back(argSpecOf(p, info));
     BoundArgs args = bindArguments(e, specs, true);
@@ -1077,8 +1083,9 @@ class Checker {
       const ParamSpec& p = info.params[i];
       if (!args.values[i]) {
         if (!ok) continue;  // the other arguments are still checked: all errors in one run
-        if (p.type == ParamType::Vector) {
-          for (int c = 0; c < 3; ++c) node->args.push_back(ir::constant(p.default_value[c]));
+        if (p.type == ParamType::Vector || p.type == ParamType::Vector2) {
+          for (int c = 0; c < (p.type == ParamType::Vector ? 3 : 2); ++c)
+            node->args.push_back(ir::constant(p.default_value[c]));
         } else {
           node->args.push_back(ir::constant(p.default_value.x));
         }
@@ -1090,6 +1097,11 @@ class Checker {
         node->args.push_back(v->x);
         node->args.push_back(v->y);
         node->args.push_back(v->z);
+      } else if (p.type == ParamType::Vector2) {
+        auto v = vector2Arg(*args.values[i], specs[i], e.name);
+        if (!v) { ok = false; continue; }
+        node->args.push_back((*v)[0]);
+        node->args.push_back((*v)[1]);
       } else {
         auto s = numberArg(*args.values[i], specs[i], e.name);
         if (!s) { ok = false; continue; }
@@ -1098,6 +1110,94 @@ class Checker {
     }
     if (!ok) return {};
     if (!checkPrimitiveValues(e, info, *node)) return {};
+    return shapeValue(node, e.range);
+  }
+
+  // A 2-vector [x, y] (profiles' sizes); a number stands for [n, n].
+  std::optional<std::array<Scalar, 2>> vector2Arg(const Value& v, const ArgSpec& spec, const std::string& callee) {
+    if (!checkTimeAllowed(v, spec, callee)) return std::nullopt;
+    std::array<Scalar, 2> out;
+    if (v.type == Value::Type::Number) {
+      out = {v.number, v.number};
+    } else if (v.type == Value::Type::Vector && v.vector.size() == 2) {
+      out = {v.vector[0], v.vector[1]};
+    } else {
+      diags_->error(v.range, "'" + std::string(spec.name) + "' of '" + callee + "' must be a 2-vector like [x, y], not " +
+                                (v.type == Value::Type::Vector ? "a " + std::to_string(v.vector.size()) + "-vector"
+                                                               : std::string(reported(v))));
+      return std::nullopt;
+    }
+    const std::string what = "'" + std::string(spec.name) + "' of '" + callee + "'";
+    for (const Scalar& s : out) {
+      if (!checkShaderValue(s, v.range, "a component of " + what)) return std::nullopt;
+      if (!checkRule(s, spec.rule, v.range, "every component of " + what)) return std::nullopt;
+    }
+    return out;
+  }
+
+  // polygon(points: [[x, y], ...]): the points are read from the syntax (a
+  // list of vectors is no value of the language), constant, and must make a
+  // simple polygon (then even-odd inside is the inside).
+  Value evalPolygon(const ast::Expr& e, const PrimitiveInfo& info) {
+    std::optional<Value> material;
+    const ast::Expr* points = nullptr;
+    bool ok = !e.has_block;
+    for (const ast::Argument& a : e.arguments) {
+      if ((a.name.empty() || a.name == "points") && !points) {
+        points = a.value.get();
+      } else if (a.name == "material" && !material) {
+        material = evalExpr(*a.value);
+      } else {
+        const std::string near = nearestName(a.name, {"points", "material"});
+        diags_->error(a.name.empty() ? a.value->range : a.name_range,
+                      a.name.empty() ? std::string("'polygon' takes 1 positional argument")
+                                     : "'polygon' has no parameter '" + a.name + "' (or it is given twice)" +
+                                           (near.empty() || near == a.name ? "" : "; did you mean '" + near + "'?"));
+        ok = false;
+      }
+    }
+    if (!points) {
+      if (ok) diags_->error(e.range, "'polygon' needs 'points'");
+      return {};
+    }
+    if (points->reported) return {};
+    if (points->kind != ast::ExprKind::Vector) {
+      diags_->error(points->range, "'points' of 'polygon' must be a list of points [[x, y], ...]");
+      return {};
+    }
+    auto node = std::make_shared<ir::Node>();
+    node->kind = ir::NodeKind::Primitive;
+    node->primitive = info.kind;
+    node->range = e.range;
+    for (const ast::ExprPtr& item : points->operands) {
+      Value v = evalExpr(*item);
+      if (v.type == Value::Type::Error) { ok = false; continue; }
+      bool constant = v.type == Value::Type::Vector && v.vector.size() == 2;
+      for (const Scalar& c : v.vector) constant = constant && c.isConst() && std::isfinite(c.value);
+      if (!constant) {
+        diags_->error(v.range, "each point of a polygon must be a constant [x, y], not " +
+                                  (v.type == Value::Type::Vector ? "a " + std::to_string(v.vector.size()) + "-vector"
+                                                                 : std::string(reported(v))));
+        ok = false;
+        continue;
+      }
+      node->points.emplace_back(v.vector[0].value, v.vector[1].value);
+    }
+    if (!ok) return {};
+    if (node->points.size() > kMaxPolygonPoints) {
+      diags_->error(points->range, "a polygon takes at most " + std::to_string(kMaxPolygonPoints) + " points, got " +
+                                       std::to_string(node->points.size()));
+      return {};
+    }
+    if (const std::string problem = polygonProblem(node->points); !problem.empty()) {
+      diags_->error(points->range, problem);
+      return {};
+    }
+    if (material && material->type != Value::Type::Error) {
+      BoundArgs args;
+      args.material = material;
+      node->material = materialOf(args);
+    }
     return shapeValue(node, e.range);
   }
 
@@ -1121,6 +1221,15 @@ class Checker {
         if (rounding > smallest / 2) {
           diags_->error(e.range, "box 'rounding' (" + fmt(rounding) +
                                     ") must be at most half the smallest side (" +
+                                    fmt(smallest / 2) + ")");
+          return false;
+        }
+        return true;
+      }
+      case PrimitiveKind::Rect: {
+        const double rounding = c(2), smallest = std::min(c(0), c(1));
+        if (rounding > smallest / 2) {
+          diags_->error(e.range, "rect 'rounding' (" + fmt(rounding) + ") must be at most half the smaller side (" +
                                     fmt(smallest / 2) + ")");
           return false;
         }
@@ -1152,21 +1261,47 @@ class Checker {
       diags_->error(e.range, "'" + e.name + "' needs a block of shapes: '" + e.name + "(...) { ... }'");
       ok = false;
     }
+    // extrude and revolve take profiles; the CSG operators and planar moves
+    // take either, but not both at once; the others take shapes only.
+    const bool takes_profiles = e.name == "extrude" || e.name == "revolve";
+    const bool planar = e.name == "union" || e.name == "intersect" || e.name == "subtract" ||
+                        e.name == "translate" || e.name == "rotate" || e.name == "scale" ||
+                        e.name == "round" || e.name == "shell";
+    std::optional<Value::Type> first_kind;
     for (const ast::ExprPtr& c : e.children) {
       Value v = evalExpr(*c);
       if (v.type == Value::Type::Error) { ok = false; continue; }
-      if (v.type != Value::Type::Shape) {
-        diags_->error(v.range, std::string("'") + e.name + "' expects shapes in its block, not " +
-                                  reported(v));
+      if (v.type != Value::Type::Shape && v.type != Value::Type::Profile) {
+        diags_->error(v.range, std::string("'") + e.name + "' expects " + (takes_profiles ? "2D profiles" : "shapes") +
+                                  " in its block, not " + reported(v));
         ok = false;
         continue;
       }
+      if (takes_profiles && v.type != Value::Type::Profile) {
+        diags_->error(v.range, "'" + e.name + "' takes 2D profiles in its block (circle, rect, polygon, hexagon), "
+                               "not a shape");
+        ok = false;
+        continue;
+      }
+      if (!takes_profiles && v.type == Value::Type::Profile && !planar) {
+        diags_->error(v.range, "'" + e.name + "' does not take a 2D profile; extrude or revolve it first");
+        ok = false;
+        continue;
+      }
+      if (first_kind && *first_kind != v.type) {
+        diags_->error(v.range, "'" + e.name + "' cannot mix 2D profiles and shapes in one block; extrude or "
+                               "revolve the profile first");
+        ok = false;
+        continue;
+      }
+      first_kind = v.type;
       children.push_back(v.shape);
     }
     if (e.has_block && children.empty() && ok) {
       diags_->error(e.range, "'" + e.name + "' has an empty block");
       return {};
     }
+    const bool of_profiles = first_kind == Value::Type::Profile && !takes_profiles;
     // morph's 't' is checked even when a child has an error: all errors in one run.
     std::optional<Scalar> morph_t;
     if (e.name == "morph" && args.ok && args.values[0]) {
@@ -1219,14 +1354,32 @@ class Checker {
     }
     node->children = {single()};
     if (name == "translate") {
-      auto v = vectorArg(*arg(0), sig.args[0], name);
+      // A profile moves in its plane: [x, y] (or [x, y, 0]).
+      Value offset = *arg(0);
+      if (of_profiles && offset.type == Value::Type::Vector && offset.vector.size() == 2)
+        offset.vector.push_back(ir::constant(0));
+      auto v = vectorArg(offset, sig.args[0], name);
       if (!v) return {};
+      if (of_profiles && !(v->z.isConst() && v->z.value == 0)) {
+        diags_->error(arg(0)->range, "a 2D profile moves in its plane: 'offset' must be [x, y]");
+        return {};
+      }
       node->kind = ir::NodeKind::Translate;
       node->vec = *v;
     } else if (name == "rotate") {
-      return evalRotate(e, sig, args, node);
+      Value r = evalRotate(e, sig, args, node);
+      if (of_profiles && r.type != Value::Type::Error && !rotatesInPlane(*r.shape, children)) {
+        diags_->error(e.range, "a 2D profile turns in its plane: rotate it about the z axis "
+                               "(axis: [0, 0, 1]), or rotate the extruded shape");
+        return {};
+      }
+      return r;
     } else if (name == "scale") {
       const Value& f = *arg(0);
+      if (of_profiles && f.type != Value::Type::Number) {
+        diags_->error(f.range, "a 2D profile scales by a number only");
+        return {};
+      }
       if (f.type == Value::Type::Number) {
         auto s = numberArg(f, {"factor", ArgType::Number, ValueRule::Positive, true, true}, name);
         if (!s) return {};
@@ -1274,6 +1427,31 @@ class Checker {
           node->count[i] = static_cast<int>(cv[i]);
         }
       }
+    } else if (name == "extrude") {
+      auto s = numberArg(*arg(0), sig.args[0], name);
+      if (!s) return {};
+      node->kind = ir::NodeKind::Extrude;
+      node->amount = ir::binary('*', *s, ir::constant(0.5));  // the IR keeps the half depth
+    } else if (name == "revolve") {
+      node->kind = ir::NodeKind::Revolve;
+      node->amount = ir::constant(0);
+      if (const Value* o = arg(0)) {
+        auto s = numberArg(*o, sig.args[0], name);
+        if (!s) return {};
+        node->amount = *s;
+      }
+    } else if (name == "twist") {
+      auto s = numberArg(*arg(0), sig.args[0], name);
+      if (!s) return {};
+      if (!s->range().bounded()) {
+        diags_->error(arg(0)->range, "twist 'rate' is unbounded over time, so no step size is safe; keep it in a "
+                                     "range, e.g. with clamp() or sin()");
+        return {};
+      }
+      node->kind = ir::NodeKind::Twist;
+      node->amount = *s;
+      diags_->warning(e.name_range, "bound", "'twist' gives a distance bound, not an exact distance (marching "
+                                             "divides it by the twist's stretch)");
     } else if (name == "round" || name == "shell") {
       auto s = numberArg(*arg(0), sig.args[0], name);
       if (!s) return {};
@@ -1477,6 +1655,20 @@ class Checker {
                               fmt(stretch) + ", at most " + fmt(kMaxMorphStretch) + " (t within [" +
                               fmt((1 - kMaxMorphStretch) / 2) + ", " + fmt((1 + kMaxMorphStretch) / 2) + "])");
       return false;
+    }
+    return true;
+  }
+
+  // Whether the rotations evalRotate made (down to the block's children) all
+  // turn about the z axis, keeping a profile in its plane.
+  static bool rotatesInPlane(const ir::Node& n, const std::vector<ir::NodeRef>& children) {
+    for (const ir::Node* r = &n; r && std::find_if(children.begin(), children.end(), [&](const ir::NodeRef& c) {
+                                         return c.get() == r;
+                                       }) == children.end();
+         r = r->children.empty() ? nullptr : r->children[0].get()) {
+      if (r->kind != ir::NodeKind::Rotate) continue;
+      const dvec3 axis = r->vec.value();
+      if (axis.x != 0 || axis.y != 0) return false;
     }
     return true;
   }

@@ -11,7 +11,8 @@ namespace {
 ParamUse useOfSpec(ArgType type) {
   switch (type) {
     case ArgType::Number: return ParamUse::Number;
-    case ArgType::Vector3: return ParamUse::Numeric;  // a number stands for a uniform vector
+    case ArgType::Vector3:
+    case ArgType::Vector2: return ParamUse::Numeric;  // a number stands for a uniform vector
     case ArgType::Colour:  // a colour or a colour field
     case ArgType::Any: return ParamUse::Unknown;
   }
@@ -61,7 +62,9 @@ class UseFinder {
     const bool math = ir::mathFunctionArity(e.name) >= 0;
     if (const PrimitiveInfo* prim = findPrimitive(e.name)) {
       for (const ParamSpec& p : prim->params)
-        params.push_back({p.name, p.type == ParamType::Vector ? ParamUse::Numeric : ParamUse::Number});
+        params.push_back({p.name, p.type == ParamType::Number ? ParamUse::Number
+                                  : p.type == ParamType::Points ? ParamUse::Unknown
+                                                                : ParamUse::Numeric});
     } else if (const BuiltinSignature* sig = findBuiltin(e.name)) {
       for (const ArgSpec& a : sig->args) params.push_back({a.name, useOfSpec(a.type)});
     }

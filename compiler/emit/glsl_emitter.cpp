@@ -11,6 +11,7 @@
 #include "emit/color_field_glsl.h"
 #include "emit/embedded_sources.h"
 #include "emit/feature_filter.h"
+#include "shapes/polygon.h"
 
 namespace sdfc {
 
@@ -300,6 +301,7 @@ class SceneWriter {
   std::ostringstream helpers_;
   std::ostringstream functions_;
   std::set<std::string> helper_names_;
+  std::map<std::string, std::string> polygon_names_;  // point list -> its function
   struct AnalyticPlane {
     dvec3 normal;
     double offset;
@@ -468,6 +470,13 @@ class SceneWriter {
     return prefix + std::to_string(f.next_var++);
   }
 
+  // A (distance, material) expression used more than once, in a variable.
+  std::string keep(Function& f, const std::string& pair) {
+    const std::string m = var(f, "m");
+    f.code << "  vec2 " << m << " = " << pair << ";\n";
+    return m;
+  }
+
   static std::string lineComment(const ir::Node& n) {
     const int line = n.range.line();
     // Always a comment, so the node name callers append stays inside it.
@@ -522,6 +531,45 @@ class SceneWriter {
         f.code << "  float " << r << " = " << (shell ? "abs(" + x + ")" : x) << " - " << n.amount.glsl() << ";"
                << lineComment(n) << (shell ? " shell\n" : " round\n");
         return mat ? "vec2(" + r + ", " + c + ".y)" : r;
+      }
+      case ir::NodeKind::Extrude: {
+        // The profile at z = 0, then the 2D box corner of it and the slab.
+        const std::string q = var(f, "p");
+        f.code << "  vec3 " << q << " = vec3(" << p << ".xy, 0.0);" << lineComment(n) << " extrude\n";
+        std::string c = node(*n.children[0], q, f, mat, mine);
+        if (mat && !isIdentifier(c)) c = keep(f, c);
+        const std::string w = var(f, "w");
+        f.code << "  vec2 " << w << " = vec2(" << (mat ? c + ".x" : c) << ", abs(" << p << ".z) - "
+               << n.amount.glsl() << ");\n";
+        const std::string r = var(f, "d");
+        f.code << "  float " << r << " = min(max(" << w << ".x, " << w << ".y), 0.0) + length(max(" << w
+               << ", 0.0));\n";
+        return mat ? "vec2(" + r + ", " + c + ".y)" : r;
+      }
+      case ir::NodeKind::Twist: {
+        // As the evaluator: the twisted field over its Lipschitz factor within
+        // the radius holding the child, the cylinder's distance outside.
+        needHelper("rotate", kRotateHelper);
+        needHelper("sdBox2", box2Glsl());
+        const Aabb& b = n.children[0]->bounds;
+        const std::string q = var(f, "p");
+        f.code << "  vec3 " << q << " = sdRotateInverse(" << p << ", vec3(0.0, 1.0, 0.0), radians(" << n.amount.glsl()
+               << " * " << p << ".y));" << lineComment(n) << " twist\n";
+        std::string c = node(*n.children[0], q, f, mat, mine);
+        if (mat && !isIdentifier(c)) c = keep(f, c);
+        const std::string r = var(f, "r"), d = var(f, "d");
+        f.code << "  float " << r << " = length(" << p << ".xz);\n";
+        f.code << "  float " << d << " = " << r << " <= " << glslFloat(n.deform_radius) << " ? "
+               << (mat ? c + ".x" : c) << " * " << glslFloat(1 / n.deform_lipschitz) << " : sdBox2(vec2(" << r
+               << " - " << glslFloat(n.deform_radius) << ", abs(" << p << ".y - " << glslFloat((b.lo.y + b.hi.y) / 2)
+               << ") - " << glslFloat((b.hi.y - b.lo.y) / 2) << "));\n";
+        return mat ? "vec2(" + d + ", " + c + ".y)" : d;
+      }
+      case ir::NodeKind::Revolve: {
+        const std::string q = var(f, "p");
+        f.code << "  vec3 " << q << " = vec3(length(" << p << ".xz) - " << n.amount.glsl() << ", " << p
+               << ".y, 0.0);" << lineComment(n) << " revolve\n";
+        return node(*n.children[0], q, f, mat, mine);
       }
       default: return domain(n, p, f, mat, mine);
     }
@@ -1165,6 +1213,7 @@ class SceneWriter {
       needHelper("sdBox2", box2Glsl());
       return menger(n, p, f);
     }
+    if (n.primitive == PrimitiveKind::Polygon) return polygon(n, p, f);
     needPrimitive(info);
     std::string call = fn + "(" + p;
     size_t slot = 0;
@@ -1176,6 +1225,9 @@ class SceneWriter {
           v = ir::constantVec(glm::normalize(v.value()));
         call += ", " + v.glsl();
         slot += 3;
+      } else if (spec.type == ParamType::Vector2) {
+        call += ", vec2(" + n.args[slot].glsl() + ", " + n.args[slot + 1].glsl() + ")";
+        slot += 2;
       } else {
         call += ", " + n.args[slot++].glsl();
       }
@@ -1184,6 +1236,19 @@ class SceneWriter {
     const std::string d = var(f, "d");
     f.code << lineDirective(n) << "  float " << d << " = " << call << ";" << lineComment(n) << " "
            << info.name << "\n";
+    if (options_.count_evaluations) f.code << "  g_loop_iterations++;\n";
+    return d;
+  }
+
+  // A polygon: one unrolled function per distinct point list.
+  std::string polygon(const ir::Node& n, const std::string& p, Function& f) {
+    std::string key;
+    for (const glm::dvec2& v : n.points) key += glslFloat(v.x) + "," + glslFloat(v.y) + ";";
+    auto [it, fresh] = polygon_names_.try_emplace(key, "sdPolygon" + std::to_string(polygon_names_.size()));
+    if (fresh) helpers_ << polygonGlsl(it->second, n.points);
+    const std::string d = var(f, "d");
+    f.code << lineDirective(n) << "  float " << d << " = " << it->second << "(" << p << ");" << lineComment(n)
+           << " polygon\n";
     if (options_.count_evaluations) f.code << "  g_loop_iterations++;\n";
     return d;
   }

@@ -121,6 +121,7 @@ EvalResult Evaluator::evalNode(const ir::Node& n, const dvec3& p, int inherited)
   auto child = [&](size_t i, const dvec3& q) { return evalNode(*n.children[i], q, mat); };
   switch (n.kind) {
     case ir::NodeKind::Primitive: {
+      if (n.primitive == PrimitiveKind::Polygon) return {polygonDistance(n.points, glm::dvec2(p.x, p.y)), mat};
       // A fixed array: this runs for every primitive at every point (the mesher
       // spent a fifth of its time in malloc when it was a vector).
       std::array<double, kMaxPrimitiveArgs> args{};
@@ -229,6 +230,30 @@ EvalResult Evaluator::evalNode(const ir::Node& n, const dvec3& p, int inherited)
       r.distance = std::fabs(r.distance) - n.amount.at(t);
       return r;
     }
+    case ir::NodeKind::Extrude: {
+      // The profile's distance and the slab's, combined as a 2D box corner
+      // (exact for an exact profile: the nearest point is on a face, an
+      // edge of the rim, or inside).
+      EvalResult r = child(0, dvec3(p.x, p.y, 0));
+      const glm::dvec2 w(r.distance, std::fabs(p.z) - n.amount.at(t));
+      r.distance = std::min(std::max(w.x, w.y), 0.0) + glm::length(glm::max(w, glm::dvec2(0)));
+      return r;
+    }
+    case ir::NodeKind::Twist: {
+      // Within the radius R that holds the child, the twisted field divided
+      // by its Lipschitz factor; outside, the distance to that cylinder.
+      const Aabb& b = n.children[0]->bounds;
+      const double r = std::sqrt(p.x * p.x + p.z * p.z);
+      if (r > n.deform_radius) {
+        const glm::dvec2 w(r - n.deform_radius, std::fabs(p.y - (b.lo.y + b.hi.y) / 2) - (b.hi.y - b.lo.y) / 2);
+        return {std::min(std::max(w.x, w.y), 0.0) + glm::length(glm::max(w, glm::dvec2(0))), mat};
+      }
+      EvalResult e = child(0, glm::transpose(rotationMatrix(dvec3(0, 1, 0), n.amount.at(t) * p.y)) * p);
+      e.distance /= n.deform_lipschitz;
+      return e;
+    }
+    case ir::NodeKind::Revolve:
+      return child(0, dvec3(std::sqrt(p.x * p.x + p.z * p.z) - n.amount.at(t), p.y, 0));
     case ir::NodeKind::Morph: {
       const double w = n.amount.at(t);
       EvalResult a = child(0, p), b = child(1, p);

@@ -34,6 +34,9 @@ const char* kindName(NodeKind k) {
     case NodeKind::Morph: return "morph";
     case NodeKind::Round: return "round";
     case NodeKind::Shell: return "shell";
+    case NodeKind::Extrude: return "extrude";
+    case NodeKind::Revolve: return "revolve";
+    case NodeKind::Twist: return "twist";
     case NodeKind::Instances: return "instances";
   }
   return "?";
@@ -101,6 +104,14 @@ std::string dumpNode(const Node& n, int indent) {
         out << "[" << n.args[slot].text() << ", " << n.args[slot + 1].text() << ", "
             << n.args[slot + 2].text() << "]";
         slot += 3;
+      } else if (info.params[i].type == ParamType::Vector2) {
+        out << "[" << n.args[slot].text() << ", " << n.args[slot + 1].text() << "]";
+        slot += 2;
+      } else if (info.params[i].type == ParamType::Points) {
+        out << "[";
+        for (size_t k = 0; k < n.points.size(); ++k)
+          out << (k ? ", " : "") << "[" << n.points[k].x << ", " << n.points[k].y << "]";
+        out << "]";
       } else {
         out << n.args[slot++].text();
       }
@@ -127,6 +138,9 @@ std::string dumpNode(const Node& n, int indent) {
       case NodeKind::Morph: out << " t=" << n.amount.text(); break;
       case NodeKind::Round: out << " radius=" << n.amount.text(); break;
       case NodeKind::Shell: out << " half-thickness=" << n.amount.text(); break;
+      case NodeKind::Extrude: out << " half-depth=" << n.amount.text(); break;
+      case NodeKind::Revolve: out << " offset=" << n.amount.text(); break;
+      case NodeKind::Twist: out << " degrees-per-unit=" << n.amount.text(); break;
       case NodeKind::Instances: {
         const InstanceSet& set = *n.instances;
         out << " " << set.size() << " (data form: " << set.origin << "; " << set.nodes.size()

@@ -39,6 +39,9 @@ enum class NodeKind {
   Morph,                       // t * a + (1 - t) * b
   Round,                       // child - amount: the shape grown by a radius
   Shell,                       // |child| - amount: a wall of half thickness amount
+  Extrude,                     // a 2D profile (z = 0) extruded along z over |z| <= amount
+  Revolve,                     // a 2D profile at (|p.xz| - amount, p.y, 0): revolved about y
+  Twist,                       // child(p turned about y by -amount * p.y degrees): a bound
   Instances,                   // union of placed copies of children[0], as data
 };
 
@@ -61,7 +64,8 @@ struct Node {
   // Elongate: half extents.
   Vec3 vec;
   // Rotate: angle in degrees; Scale: factor; Reflect: offset; Morph: t;
-  // Round: radius; Shell: half the wall's thickness.
+  // Round: radius; Shell: half the wall's thickness; Extrude: half the
+  // depth; Revolve: the offset from the axis.
   Scalar amount;
   // Repeat: copies per axis (0 = infinite).
   glm::ivec3 count{0};
@@ -71,6 +75,15 @@ struct Node {
   double scale = 1.0;
 
   std::vector<NodeRef> children;
+
+  // Twist (filled by passes/analyze.cpp): the radius about the y axis that
+  // holds the child, and the Lipschitz factor of the twisted field within
+  // it, which the twist divides by (docs/language.md, "Deformations").
+  double deform_radius = 0;
+  double deform_lipschitz = 1;
+
+  // Primitive polygon: its corners, constant (shapes/polygon.h).
+  std::vector<glm::dvec2> points;
 
   // Instances: the copies and their hierarchy (children[0] is the template;
   // `smooth` blends them as a union does).
@@ -86,6 +99,16 @@ struct Node {
   double lipschitz = 1.0;
   double cost = 0;
 };
+
+// A 2D profile (a profile primitive, or CSG and planar transforms of them):
+// only extrude and revolve take one, and they evaluate it at z = 0.
+inline bool isProfile(const Node& n) {
+  if (n.kind == NodeKind::Primitive) return primitiveInfo(n.primitive).profile;
+  if (n.kind == NodeKind::Extrude || n.kind == NodeKind::Revolve || n.kind == NodeKind::Instances ||
+      n.children.empty())
+    return false;
+  return isProfile(*n.children[0]);
+}
 
 // A point cloud: the copies of an Instances node are one sphere of constant
 // radius placed by offsets alone (no rotation or scale, no per-instance

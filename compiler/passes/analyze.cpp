@@ -1,6 +1,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <cstdio>
 #include <unordered_set>
 
 #include "passes/passes.h"
@@ -122,6 +123,17 @@ class Analyzer {
         n.cost += 0.1;
         break;
       }
+      case ir::NodeKind::Extrude: {
+        // Exact for an exact profile (the 2D box corner of profile and slab).
+        const double h = upper(n.amount);
+        n.bounds = first->bounds.finite() && std::isfinite(h)
+                       ? Aabb{dvec3(first->bounds.lo.x, first->bounds.lo.y, -h), dvec3(first->bounds.hi.x, first->bounds.hi.y, h)}
+                       : Aabb::infinite();
+        n.cost += 0.2;
+        break;
+      }
+      case ir::NodeKind::Revolve: revolve(n); break;
+      case ir::NodeKind::Twist: twist(n); break;
       case ir::NodeKind::Morph: {
         const ir::Interval t = n.amount.range();
         n.exact = false;
@@ -148,6 +160,12 @@ class Analyzer {
 
   void primitive(ir::Node& n) {
     const PrimitiveInfo& info = primitiveInfo(n.primitive);
+    if (n.primitive == PrimitiveKind::Polygon) {
+      n.bounds = polygonBounds(n.points);
+      n.exact = true;
+      n.cost = 0.2 * static_cast<double>(n.points.size());
+      return;
+    }
     std::vector<double> hi;
     for (const ir::Scalar& s : n.args) hi.push_back(upper(s));
     bool finite = true;
@@ -196,6 +214,95 @@ class Analyzer {
     n.lipschitz = templ.lipschitz;
     // A visit per hierarchy level and a leaf: what one evaluation costs.
     n.cost = (templ.cost * ir::kBvhLeafSize + 1) * (set.depth + 1);
+  }
+
+  // twist(rate) about y, k = rate in radians per unit: the child is read at
+  // q = R_y(-k y) p. Its Jacobian is R (I + k r t e_y^T), t the unit tangent
+  // about the axis at radius r, whose largest singular value is that of
+  // [[1, kr], [0, 1]]: (kr + sqrt((kr)^2 + 4)) / 2. Within the radius R that
+  // holds the child (a convex cylinder, so the segment to the nearest surface
+  // point stays in it) the field is L-Lipschitz with L at r = R; the twist
+  // divides by L there, and outside R uses the cylinder's distance (a lower
+  // bound: the shape is inside it). tests/twist_test.cpp samples gradients.
+  void twist(ir::Node& n) {
+    const Aabb& b = n.children[0]->bounds;
+    n.exact = false;
+    n.cost += 1;
+    if (!b.finite()) {
+      diags_.error(n.range, "'twist' needs a bounded shape: its stretch grows with the distance from the axis, "
+                            "so an unbounded shape has no safe step");
+      n.bounds = Aabb::infinite();
+      return;
+    }
+    const double x = std::max(std::fabs(b.lo.x), std::fabs(b.hi.x)), z = std::max(std::fabs(b.lo.z), std::fabs(b.hi.z));
+    const double radius = std::sqrt(x * x + z * z);
+    const ir::Interval rate = n.amount.range();
+    const double k = std::max(std::fabs(rate.lo), std::fabs(rate.hi)) * M_PI / 180;
+    const double kr = k * radius;
+    n.deform_radius = radius;
+    n.deform_lipschitz = (kr + std::sqrt(kr * kr + 4)) / 2;
+    n.bounds = {dvec3(-radius, b.lo.y, -radius), dvec3(radius, b.hi.y, radius)};
+  }
+
+  // The profile's x is the distance from the axis minus the offset, so only
+  // its part at x >= -offset is revolved. A part beyond (x < -offset) is not
+  // in the solid but still pulls the distance down: a bound, unless it is the
+  // mirror image of the rest (offset 0 and a profile symmetric in x, such as
+  // a centred circle: then it is the other half of the same cross-section).
+  void revolve(ir::Node& n) {
+    const ir::Node& p = *n.children[0];
+    const ir::Interval o = n.amount.range();
+    n.cost += 0.3;
+    if (!p.bounds.finite() || !o.bounded()) {
+      n.bounds = Aabb::infinite();
+      return;
+    }
+    const double r = std::max({std::fabs(p.bounds.lo.x + o.lo), std::fabs(p.bounds.hi.x + o.hi),
+                               std::fabs(p.bounds.lo.x + o.hi), std::fabs(p.bounds.hi.x + o.lo)});
+    n.bounds = {dvec3(-r, p.bounds.lo.y, -r), dvec3(r, p.bounds.hi.y, r)};
+    if (p.bounds.lo.x + o.lo >= 0) return;
+    if (n.amount.isConst() && n.amount.value == 0 && mirrorSymmetricX(p)) return;
+    n.exact = false;
+    diags_.warning(n.range, "bound", "the profile of 'revolve' reaches across the axis (x < -offset = " +
+                                         fmtNumber(-o.lo) + "); that part is not revolved, and the distance "
+                                         "is only a bound (move the profile to x >= -offset)");
+  }
+
+  // Whether a profile is its own mirror image in x = 0 (centred primitives,
+  // and CSG, offsets and y-moves of such).
+  static bool mirrorSymmetricX(const ir::Node& n) {
+    switch (n.kind) {
+      case ir::NodeKind::Primitive:
+        if (n.primitive != PrimitiveKind::Polygon) return true;
+        for (const glm::dvec2& a : n.points) {
+          bool mirrored = false;
+          for (const glm::dvec2& b : n.points) mirrored = mirrored || (b.x == -a.x && b.y == a.y);
+          if (!mirrored) return false;
+        }
+        return true;
+      case ir::NodeKind::Union:
+      case ir::NodeKind::Intersect:
+      case ir::NodeKind::Subtract:
+      case ir::NodeKind::Round:
+      case ir::NodeKind::Shell:
+      case ir::NodeKind::Scale:
+        for (const ir::NodeRef& c : n.children)
+          if (!mirrorSymmetricX(*c)) return false;
+        return true;
+      case ir::NodeKind::Translate:
+        return n.vec.x.isConst() && n.vec.x.value == 0 && mirrorSymmetricX(*n.children[0]);
+      case ir::NodeKind::Affine:
+        // A map that commutes with x -> -x: no mixing of x with y, z, no x move.
+        return n.offset.x == 0 && n.linear[0][1] == 0 && n.linear[0][2] == 0 && n.linear[1][0] == 0 &&
+               n.linear[2][0] == 0 && mirrorSymmetricX(*n.children[0]);
+      default: return false;
+    }
+  }
+
+  static std::string fmtNumber(double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%g", v);
+    return buf;
   }
 
   void repeat(ir::Node& n) {

@@ -28,6 +28,8 @@ struct Peeled {
 bool groupablePrimitive(const ir::Node& n) {
   if (n.kind != ir::NodeKind::Primitive || !n.definition.empty()) return false;
   if (n.primitive == PrimitiveKind::Plane || n.primitive == PrimitiveKind::Menger) return false;
+  // A profile is evaluated at z = 0 by its extrude or revolve, not placed in space.
+  if (primitiveInfo(n.primitive).profile) return false;
   for (const ir::Scalar& a : n.args)
     if (!a.isConst()) return false;
   return true;
@@ -52,7 +54,7 @@ bool peel(const ir::NodeRef& child, Peeled& out) {
   }
   if (groupablePrimitive(*n)) {
     if (n->material >= 0) out.material = n->material;
-  } else if (n->definition.empty() || !n->bounds.finite() || containsInstances(*n)) {
+  } else if (n->definition.empty() || !n->bounds.finite() || containsInstances(*n) || ir::isProfile(*n)) {
     // (A set inside a set's template would run a loop per visit of the outer
     // loop, beyond what the loop-cap budget counts: nested sets stay code.)
     return false;

@@ -139,6 +139,37 @@ Aabb hexPrismBounds(const double* a) {
   return {dvec3(-c, -a[0], -a[1] / 2), dvec3(c, a[0], a[1] / 2)};
 }
 
+// ---- 2D profiles (xy plane; Quilez, "2D distance functions",
+// iquilezles.org/articles/distfunctions2d). Each reads p.xy only; bounds are
+// flat at z = 0, where extrude and revolve evaluate them.
+
+// circle(radius).
+double circle(const double* a, const dvec3& p) { return len2(dvec2(p.x, p.y)) - a[0]; }
+Aabb circleBounds(const double* a) { return {dvec3(-a[0], -a[0], 0), dvec3(a[0], a[0], 0)}; }
+
+// rect(size, rounding): full side lengths [x, y], corners rounded by
+// `rounding` (the inner box grown by it: exact).
+double rect(const double* a, const dvec3& p) {
+  const dvec2 h = dvec2(a[0], a[1]) * 0.5 - a[2];
+  return box2(glm::abs(dvec2(p.x, p.y)) - h) - a[2];
+}
+Aabb rectBounds(const double* a) {
+  return {dvec3(-a[0] / 2, -a[1] / 2, 0), dvec3(a[0] / 2, a[1] / 2, 0)};
+}
+
+// hexagon(radius): inradius `radius`, flat top and bottom (hexprism's
+// cross-section).
+double hexagon(const double* a, const dvec3& p) { return hexagon2(dvec2(p.x, p.y), a[0]); }
+Aabb hexagonBounds(const double* a) {
+  const double c = a[0] * 2 / std::sqrt(3.0);
+  return {dvec3(-c, -a[0], 0), dvec3(c, a[0], 0)};
+}
+
+// polygon(points) keeps its points in the node (shapes/polygon.cpp); the
+// catalogue entry is for its name, parameters and docs.
+double polygonUnused(const double*, const dvec3&) { return 1e300; }
+Aabb polygonUnusedBounds(const double*) { return Aabb::infinite(); }
+
 // menger(level, size): a cube of side `size` minus, per level k, the
 // infinitely repeated cross of square bars (period size/3^(k-1), bar width a
 // third of it). Each repeated cross is an exact distance; their max is a
@@ -335,6 +366,21 @@ const char* kMengerGlsl = R"(float sdMenger(vec3 p, int level, float size) {
 }
 )";
 
+const char* kCircleGlsl = R"(float sdCircle(vec3 p, float r) { return length(p.xy) - r; }
+)";
+const char* kRectGlsl = R"(float sdRect(vec3 p, vec2 size, float r) {
+  return sdBox2(abs(p.xy) - (0.5 * size - r)) - r;
+}
+)";
+const char* kHexagonGlsl = R"(float sdHexagon(vec3 p, float r) {
+  const vec2 k = vec2(-0.8660254037844386, 0.5);
+  vec2 q = abs(p.xy);
+  q -= 2.0 * min(dot(k, q), 0.0) * k;
+  float half_edge = r * 0.5773502691896258;
+  return length(q - vec2(clamp(q.x, -half_edge, half_edge), r)) * sign(q.y - r);
+}
+)";
+
 // Closest-point distance to a triangle (as triangleDistance above); the
 // octahedron and the pyramid call it for the one face they fold onto.
 const char* kTriangleGlsl = R"(float sdTriangleDistance(vec3 p, vec3 a, vec3 b, vec3 c) {
@@ -448,6 +494,19 @@ const std::vector<PrimitiveInfo>& primitiveCatalogue() {
        {{"radii", ParamType::Vector, ParamRule::PositiveVector, false, {}}},
        ellipsoid, ellipsoidBounds, "sdEllipsoid", kEllipsoidGlsl, false,
        "ellipsoid of semi-axes `radii` (a distance bound)"},
+      {PrimitiveKind::Circle, "circle", {kRadius}, circle, circleBounds, "sdCircle", kCircleGlsl, true,
+       "2D profile: circle of `radius` at the origin (for extrude and revolve)", true},
+      {PrimitiveKind::Rect, "rect",
+       {{"size", ParamType::Vector2, ParamRule::PositiveVector, false, {}},
+        {"rounding", ParamType::Number, ParamRule::NonNegative, true, dvec3(0)}},
+       rect, rectBounds, "sdRect", kRectGlsl, true,
+       "2D profile: rectangle of full side lengths `size` [x, y], corners rounded by `rounding`", true},
+      {PrimitiveKind::Hexagon, "hexagon", {kRadius}, hexagon, hexagonBounds, "sdHexagon", kHexagonGlsl,
+       true, "2D profile: regular hexagon of inradius `radius`, flat top and bottom", true},
+      {PrimitiveKind::Polygon, "polygon",
+       {{"points", ParamType::Points, ParamRule::Any, false, {}}},
+       polygonUnused, polygonUnusedBounds, "sdPolygon", "", true,
+       "2D profile: closed simple polygon through `points` [[x, y], ...] (3 to 64)", true},
   };
   return catalogue;
 }
@@ -469,7 +528,8 @@ const char* triangleGlsl() { return kTriangleGlsl; }
 
 int flattenedParamCount(const PrimitiveInfo& info) {
   int n = 0;
-  for (const ParamSpec& s : info.params) n += s.type == ParamType::Vector ? 3 : 1;
+  for (const ParamSpec& s : info.params)
+    n += s.type == ParamType::Vector ? 3 : s.type == ParamType::Vector2 ? 2 : s.type == ParamType::Points ? 0 : 1;
   return n;
 }
 

@@ -20,7 +20,9 @@ struct Aabb {
   Aabb grow(double r) const { return {lo - r, hi + r}; }
 };
 
-enum class ParamType { Number, Vector };
+// Vector2: a 2-vector [x, y] (profiles); Points: a constant list of them
+// (polygon), read from the syntax and kept in the node, not in its args.
+enum class ParamType { Number, Vector, Vector2, Points };
 enum class ParamRule { Any, Positive, NonNegative, NonZeroVector, PositiveVector };
 
 struct ParamSpec {
@@ -33,7 +35,9 @@ struct ParamSpec {
 
 enum class PrimitiveKind {
   Sphere, Box, Torus, Cylinder, Cone, Plane, Capsule, TriPrism, HexPrism, Menger,
-  Octahedron, Pyramid, RoundCone, Ellipsoid
+  Octahedron, Pyramid, RoundCone, Ellipsoid,
+  // 2D profiles in the xy plane (z = 0): only the block of extrude/revolve.
+  Circle, Rect, Hexagon, Polygon
 };
 
 struct PrimitiveInfo {
@@ -47,6 +51,9 @@ struct PrimitiveInfo {
   const char* glsl_source;      // the GLSL function definition
   bool exact;                   // Euclidean distance (true) or only a bound
   const char* summary;
+  // A 2D profile: its distance reads p.xy only, it is evaluated at z = 0
+  // (extrude and revolve put it there) and its bounds are flat (z = 0).
+  bool profile = false;
 };
 
 const std::vector<PrimitiveInfo>& primitiveCatalogue();
@@ -59,6 +66,14 @@ constexpr size_t kMaxPrimitiveArgs = 8;
 const char* box2Glsl();
 // GLSL of the point-triangle distance the octahedron and pyramid share.
 const char* triangleGlsl();
+
+// polygon(points): exact signed distance to the closed polygon through
+// `points` (inside by the even-odd rule; the checker accepts only simple
+// polygons, where that is the inside), at p.xy; and its flat bounds.
+double polygonDistance(const std::vector<glm::dvec2>& points, glm::dvec2 p);
+Aabb polygonBounds(const std::vector<glm::dvec2>& points);
+// Most points a polygon takes: its GLSL is unrolled, one edge a few lines.
+constexpr size_t kMaxPolygonPoints = 64;
 
 // Largest Menger level accepted: each level adds one loop pass, and level 8
 // holes are 3^-8 ~ 1.5e-4 of the sponge, near float32 marching precision.
