@@ -32,10 +32,11 @@ using namespace sdfc;
 namespace {
 
 // One Vulkan device per index for the whole process: creating one costs tens of
-// milliseconds, and a notebook renders many times. Released at interpreter exit.
+// milliseconds, and a notebook renders many times. Never destroyed: a scene's
+// renderers may be collected after any exit hook, and must find their device.
 std::map<int, std::unique_ptr<ScopedContext>>& contexts() {
-  static std::map<int, std::unique_ptr<ScopedContext>> all;
-  return all;
+  static auto* all = new std::map<int, std::unique_ptr<ScopedContext>>;
+  return *all;
 }
 
 VulkanContext& contextFor(int device) {
@@ -49,8 +50,6 @@ VulkanContext& contextFor(int device) {
   }
   return it->second->get();
 }
-
-void releaseDevices() { contexts().clear(); }
 
 std::optional<KernelView> kernelView(const std::string& name) {
   std::optional<KernelView> view = kernelViewFromName(name);
@@ -370,5 +369,4 @@ PYBIND11_MODULE(_sdfc, m) {
         return out;
       },
       py::arg("image"));
-  m.def("release_devices", &releaseDevices);
 }
