@@ -182,6 +182,7 @@ class PyScene {
     // each pass's report checks for it, and the render stops after that pass.
     std::atomic<bool> interrupt{false};
     std::optional<py::error_already_set> error;
+    uint32_t reported = 0;
     const ProgressCallback report = [&](const ProgressInfo& info) {
       py::gil_scoped_acquire acquire;
       if (error) return;
@@ -190,9 +191,12 @@ class PyScene {
         interrupt = true;
         return;
       }
+      // Samples over the whole image: the denoiser's two halves report one by one.
+      const uint32_t done = reported + info.samples_done;
+      if (info.finished) reported = done;
       if (progress) {
         try {
-          (*progress)(info.samples_done, info.samples_total);
+          (*progress)(std::min(done, settings.spp), settings.spp);
         } catch (py::error_already_set& e) {
           error.emplace(std::move(e));
           interrupt = true;

@@ -292,7 +292,8 @@ def test_builder_text_checks(tmp_path):
     assert check.returncode == 0, check.stderr
     assert run("fmt", "--check", str(path)).returncode == 0, text
     scene = s.scene()
-    assert scene.eval(np.array([[0.0, 0.0, 0.0]]))[0] < 0
+    d = scene.eval(np.array([[0.0, 0.6, 0.0], [0.0, 0.0, 0.0]]))
+    assert d[0] < 0 and abs(d[1] - 0.3) < 1e-12  # in the solid; on the hole's axis
 
 
 def test_builder_distances():
