@@ -1,6 +1,7 @@
 #include "cli_support.h"
 
 #include "diag/warnings.h"
+#include "api/scene.h"
 #include "image_io.h"
 
 #include <cerrno>
@@ -19,7 +20,7 @@
 namespace sdfc {
 
 CompileOptions compileOptionsFrom(const CommandLine& cl) {
-  CompileOptions o;
+  CompileOptions o = api::LoadOptions::defaultCompileOptions();
   o.emit.bounding_volumes = !cl.no_bounds;
   o.emit.line_directives = cl.line_directives;
   o.emit.sobol = !cl.white_noise;
@@ -34,33 +35,26 @@ CompileOptions compileOptionsFrom(const CommandLine& cl) {
   o.optimize_spirv = cl.optimize;
   // `compile --timings N` measures glslang itself: no cache there.
   o.spirv_cache = !cl.no_cache && cl.timings == 0;
-  o.cache_version = kSdfcVersion;
   // The kernel holds only the code of the view it draws (docs/kernel_contract.md).
   o.emit.view = kernelViewFromName(cl.view).value_or(KernelView::Beauty);
   return o;
 }
 
-LoadedScene loadScene(const CommandLine& cl, Diagnostics& diags, bool emit, bool spirv,
-                      CompileOptions options, bool options_given) {
-  LoadedScene out;
-  if (!options_given) options = compileOptionsFrom(cl);
+int loadOptionsFrom(const CommandLine& cl, api::LoadOptions& load) {
   for (const std::string& d : cl.defines) {
-    const size_t eq = d.find('=');
-    const std::optional<double> value =
-        eq == std::string::npos ? std::nullopt : parsePlainNumber(d.substr(eq + 1));
-    if (eq == std::string::npos || eq == 0 || !value) {
+    const auto define = api::parseDefine(d);
+    if (!define) {
       std::cerr << "sdfc: error: -D expects name=number with a plain decimal number such as 2, "
                    "-0.5 or 1e3 (finite in float32), got '"
                 << d << "'\n";
-      out.exit_code = kExitUsage;
-      return out;
+      return kExitUsage;
     }
-    options.check.defines[d.substr(0, eq)] = *value;
+    load.defines[define->first] = define->second;
   }
-  bool werror = cl.werror;
+  load.werror = cl.werror;
   for (const std::string& w : cl.warning_options) {
     if (w == "error") {
-      werror = true;
+      load.werror = true;
       continue;
     }
     const std::string name = w.substr(0, 3) == "no-" ? w.substr(3) : "";
@@ -73,37 +67,43 @@ LoadedScene loadScene(const CommandLine& cl, Diagnostics& diags, bool emit, bool
                                  : "no warning is named '" + name + "'")
                 << (near.empty() ? "" : "; did you mean '-Wno-" + near + "'?") << " (warnings: " << list
                 << ")\n";
-      out.exit_code = kExitUsage;
-      return out;
+      return kExitUsage;
     }
-    diags.disableWarning(name);
+    load.disabled_warnings.push_back(name);
   }
-  std::unique_ptr<SourceFile> file = readSceneFile(cl.input);
-  if (!file) {
+  return kExitOk;
+}
+
+LoadedScene loadScene(const CommandLine& cl, Diagnostics& diags, bool emit, bool spirv,
+                      CompileOptions options, bool options_given) {
+  LoadedScene out;
+  api::LoadOptions load;
+  load.compile = options_given ? options : compileOptionsFrom(cl);
+  load.compile.produce_spirv = spirv;
+  load.emit = emit;
+  out.exit_code = loadOptionsFrom(cl, load);
+  if (out.exit_code != kExitOk) return out;
+  for (const std::string& name : load.disabled_warnings) diags.disableWarning(name);
+  std::unique_ptr<api::Scene> scene = api::loadFile(cl.input, load);
+  if (!scene->io_error.empty()) {
+    std::cerr << "sdfc: error: " << scene->io_error << "\n";
     out.exit_code = kExitIo;
     return out;
   }
-  options.produce_spirv = spirv;
-  out.compiled = emit ? compileSource(cl.input, std::move(file->text), options, diags)
-                      : checkSource(cl.input, std::move(file->text), options, diags);
   if (cl.diagnostics_format == "json") {
-    std::cerr << diags.formatJson(cl.error_limit);
+    std::cerr << scene->diagnosticsJson(cl.error_limit);
   } else {
-    std::cerr << diags.format(isatty(STDERR_FILENO), cl.error_limit);
+    std::cerr << scene->diagnosticsText(isatty(STDERR_FILENO), cl.error_limit);
   }
-  const bool warnings = diags.warningCount() > 0;
-  if (diags.hasErrors() || (werror && warnings) || !out.compiled.scene.root)
-    out.exit_code = kExitScene;
+  if (!scene->ok()) out.exit_code = kExitScene;
+  out.compiled = std::move(scene->compiled);
+  // The caller's list keeps the diagnostics, and the files they point into, alive.
+  for (const Diagnostic& d : scene->diagnostics.all()) diags.add(d);
+  out.keep = std::move(scene);
   return out;
 }
 
-std::optional<double> parsePlainNumber(const std::string& text) {
-  static const std::regex kNumber(R"([-+]?([0-9]+\.?[0-9]*|\.[0-9]+)([eE][-+]?[0-9]+)?)");
-  if (!std::regex_match(text, kNumber)) return std::nullopt;
-  const double value = std::strtod(text.c_str(), nullptr);
-  if (!std::isfinite(value) || std::fabs(value) > std::numeric_limits<float>::max()) return std::nullopt;
-  return value;
-}
+std::optional<double> parsePlainNumber(const std::string& text) { return api::parsePlainNumber(text); }
 
 CLI::Validator numberIn(double lo, double hi, bool open_low) {
   std::ostringstream range;

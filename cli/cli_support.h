@@ -4,6 +4,7 @@
 #include <optional>
 #include <string>
 
+#include "api/scene.h"
 #include "atomic_file.h"
 #include "commands.h"
 #include "driver/compile.h"
@@ -13,12 +14,17 @@ namespace sdfc {
 struct LoadedScene {
   CompiledScene compiled;
   int exit_code = kExitOk;
+  std::unique_ptr<api::Scene> keep;  // what `compiled`'s diagnostics point into
 };
 
 // Options for the compiler from the command line's flags.
 CompileOptions compileOptionsFrom(const CommandLine& cl);
 
-// Reads, checks and (with `emit`) compiles cl.input, printing diagnostics to
+// -D and -W flags into `load` (defines, disabled warnings, werror); prints the
+// usage error and returns kExitUsage for a bad one.
+int loadOptionsFrom(const CommandLine& cl, api::LoadOptions& load);
+
+// Reads, checks and (with `emit`) compiles cl.input through api::loadFile, printing diagnostics to
 // stderr in cl.diagnostics_format. exit_code is kExitScene on errors (or on
 // warnings with --Werror), kExitIo when the file cannot be read.
 LoadedScene loadScene(const CommandLine& cl, Diagnostics& diags, bool emit, bool spirv = true,

@@ -28,15 +28,6 @@
 namespace sdfc {
 namespace {
 
-uint32_t viewId(const std::string& v) {
-  if (v == "normal") return gpu::kViewNormal;
-  if (v == "steps") return gpu::kViewSteps;
-  if (v == "depth") return gpu::kViewDepth;
-  if (v == "albedo") return gpu::kViewAlbedo;
-  if (v == "iterations") return gpu::kViewIterations;
-  return gpu::kViewBeauty;
-}
-
 constexpr double kMaxFrames = 100000;
 
 // What to write instead of the old --frames A-B:step (times in seconds).
@@ -145,7 +136,7 @@ int runRender(const CommandLine& cl) {
   if (cl.spp > 0) o.spp = cl.spp;
   if (cl.bounces >= 0) o.bounces = cl.bounces;
   if (cl.light_samples >= 0) o.light_samples = cl.light_samples;
-  o.view = viewId(cl.view);
+  o.view = viewIdFromName(cl.view);
   o.seed = cl.seed;
   o.time = cl.time;
   if (!checkTimeOption(cl.time)) return kExitUsage;
@@ -312,46 +303,43 @@ int runRender(const CommandLine& cl) {
     o.time = times[f];
     RenderSettings settings = renderSettingsFor(compiled, o);
     const ProgressCallback progress = quiet ? ProgressCallback{} : makeTerminalProgress("render");
-    // The variance-guided denoiser renders the samples as two halves: their
-    // difference is its per-pixel noise estimate.
-    SampleHalves halves;
     const bool adaptive = cl.adaptive && o.view == gpu::kViewBeauty;
-    const bool with_halves =
-        adaptive || (o.view == gpu::kViewBeauty && denoiser && needsVariance(*denoiser));
-    // Their features are the means of the same jittered samples as the colour
-    // (docs/denoise.md): at an edge they blend as the colour does.
-    settings.jittered_aovs =
-        with_halves && denoiser && needsVariance(*denoiser) &&
-        (cl.denoise_aovs == "jittered" || cl.denoise_aovs == "specular" ||
-         (cl.denoise_aovs == "auto" && wantsJitteredAovs(*denoiser)));
-    // Through specular first hits (docs/denoise.md).
-    settings.specular_aovs =
-        settings.jittered_aovs &&
-        (cl.denoise_aovs == "specular" || (cl.denoise_aovs == "auto" && wantsSpecularAovs(*denoiser)));
+    ImageOptions image_options;
+    image_options.denoiser = denoiser;
+    image_options.denoise_aovs = cl.denoise_aovs;
+    image_options.denoise_select = cl.denoise_select;
     AdaptiveStats adaptive_stats;
-    RenderOutput out;
+    AdaptiveParams params;
+    double cost_seconds = 0;
+    int cost_code = kExitOk;
     if (adaptive) {
       if (settings.spp % 2 == 1 && settings.spp >= 4)
         std::cerr << "sdfc: warning: --adaptive draws both halves alike: " << settings.spp - 1
                   << " spp mean instead of " << settings.spp << "\n";
-      AdaptiveParams params;
       params.estimate = *parseAdaptiveEstimate(cl.adaptive_estimate);
       params.first_share = cl.adaptive_share;
       params.cap = cl.adaptive_cap;
       params.block = cl.adaptive_block;
       params.power = cl.adaptive_power;
       params.time_budget = cl.adaptive_budget == "time";
-      double cost_seconds = 0;
       params.cost_offset = cl.adaptive_cost_offset;
       if (params.time_budget && cl.adaptive_cost == "iterations") {
         const auto cost_start = std::chrono::steady_clock::now();
-        const int code = iterationsCostPass(cl, context, o, settings, cameraFor(compiled.scene),
-                                            params.cost_per_sample);
-        if (code != kExitOk) return code;
+        cost_code = iterationsCostPass(cl, context, o, settings, cameraFor(compiled.scene),
+                                       params.cost_per_sample);
+        if (cost_code != kExitOk) return cost_code;
         cost_seconds = secondsSince(cost_start);
       }
-      out = renderAdaptive(renderer, cameraFor(compiled.scene), settings, params, &halves,
-                           &adaptive_stats, progress, interrupt);
+      image_options.draw = [&](Renderer& r, const CameraDesc& camera, const RenderSettings& s,
+                               SampleHalves* halves) {
+        return renderAdaptive(r, camera, s, params, halves, &adaptive_stats, progress, interrupt);
+      };
+    }
+    RenderedImage rendered = renderImage(renderer, compiled, settings, image_options, progress, interrupt);
+    settings = rendered.settings;
+    RenderOutput& out = rendered.out;
+    const FloatImage& denoised = rendered.denoised;
+    if (adaptive) {
       // bench/adaptive_study.py reads this line.
       if (!quiet && adaptive_stats.first_spp > 0)
         std::cerr << "sdfc: adaptive (" << cl.adaptive_estimate << "): first phase "
@@ -365,38 +353,17 @@ int runRender(const CommandLine& cl) {
                   << " x uniform's, samples " << adaptive_stats.sample_ratio << " x, cost pass "
                   << formatSeconds(cost_seconds);
       if (!quiet && adaptive_stats.first_spp > 0) std::cerr << "\n";
-    } else {
-      out = with_halves ? renderHalves(renderer, cameraFor(compiled.scene), settings, &halves,
-                                       progress, interrupt)
-                        : renderer.render(cameraFor(compiled.scene), settings, progress, interrupt);
     }
-    if (settings.jittered_aovs) resolveJitteredAovs(out, &halves);
-    // Write out.color in place unless denoised: a copy is a full-size image (memory).
-    // Without two halves (1 spp, or interrupted early) svgf and nlm leave the image as it is.
-    FloatImage denoised;
-    const auto denoise_start = std::chrono::steady_clock::now();
-    if (o.view == gpu::kViewBeauty && denoiser && *denoiser != Denoiser::None &&
-        (!with_halves || halves.samples_b > 0)) {
-      const auto start = std::chrono::steady_clock::now();
-      // Process CPU time: the device is idle meanwhile, so this is the filter's
-      // own, whatever else loads the machine.
-      const std::clock_t cpu_start = std::clock();
-      denoised = denoise(*denoiser, out.color, out.normal_depth, out.albedo_steps, &halves,
-                         cl.denoise_select);
-      // bench/denoise_study.py reads this line: the filter's own cost.
-      if (!quiet)
-        std::cerr << "sdfc: denoised (" << denoiserName(*denoiser) << ") in "
-                  << std::lround(std::chrono::duration<double, std::milli>(
-                                     std::chrono::steady_clock::now() - start)
-                                     .count())
-                  << " ms (" << std::lround(1000.0 * double(std::clock() - cpu_start) / CLOCKS_PER_SEC)
-                  << " CPU ms)\n";
-    }
+    // bench/denoise_study.py reads this line: the filter's own cost.
+    if (!quiet && !denoised.empty())
+      std::cerr << "sdfc: denoised (" << denoiserName(rendered.denoiser) << ") in "
+                << std::lround(rendered.denoise_seconds * 1000) << " ms ("
+                << std::lround(rendered.denoise_cpu_seconds * 1000) << " CPU ms)\n";
     const std::string frame = times.size() > 1 ? " (frame " + std::to_string(f) + ")" : "";
     timings.add("passes" + frame, out.seconds - out.readback_seconds,
                 std::to_string(out.samples_done) + " spp in " + std::to_string(out.passes) + " passes");
     timings.add("readback" + frame, out.readback_seconds, "(staging buffer to the sums and images)");
-    if (!denoised.empty()) timings.add("denoise" + frame, secondsSince(denoise_start));
+    if (!denoised.empty()) timings.add("denoise" + frame, rendered.denoise_seconds);
     const FloatImage& image = denoised.empty() ? out.color : denoised;
     const std::string path = frame_numbers.empty() ? cl.output : farm::framePath(cl.output, frame_numbers[f]);
     const auto encode_start = std::chrono::steady_clock::now();

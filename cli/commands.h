@@ -5,17 +5,13 @@
 #include <string>
 #include <vector>
 
+#include "api/scene.h"
+
 namespace sdfc {
 
-inline constexpr const char* kSdfcVersion = "0.1.0";
+inline constexpr const char* kSdfcVersion = api::kVersion;
 
-// Exit codes: distinct per kind of failure, so scripts can tell them apart.
-inline constexpr int kExitOk = 0;
-inline constexpr int kExitScene = 1;      // the scene has errors
-inline constexpr int kExitUsage = 2;      // bad command line
-inline constexpr int kExitDevice = 3;     // Vulkan device or runtime failure
-inline constexpr int kExitIo = 4;         // files that cannot be read or written
-inline constexpr int kExitInterrupted = 130;
+// The exit codes (kExitOk ... kExitInterrupted) are api/scene.h's.
 
 struct CommandLine {
   std::string command;
@@ -116,5 +112,6 @@ int runMerge(const CommandLine& cl);
 int runFarm(const CommandLine& cl);
 int runFmt(const CommandLine& cl);
 int runLsp(const CommandLine& cl);
+int runView(const CommandLine& cl);  // cmd_view.cpp (links the viewer)
 
 }  // namespace sdfc

@@ -14,7 +14,6 @@
 #include "usage_errors.h"
 #include "driver_select.h"
 #include "stage_timings.h"
-#include "view_loop.h"
 #include "vk_check.h"
 
 extern const char* const kSdfcRevision;  // revision.cpp, written at build time
@@ -63,7 +62,7 @@ int main(int argc, char** argv) {
     }
     if (cl.command == "view") {
       selectedDriver();  // before GLFW's first Vulkan loader call
-      return view::runView(cl);
+      return runView(cl);
     }
     return runCommand(cl);
   } catch (const RuntimeError& e) {

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <set>
 
+#include "api/scene.h"
 #include "check/imports.h"
 #include "check/parametric.h"
 #include "syntax/lexer.h"
@@ -77,14 +78,16 @@ std::shared_ptr<const Analysis> analyzeDocument(const Document& doc, bool utf8) 
   auto a = std::make_shared<Analysis>();
   a->uri = doc.uri;
   a->version = doc.version;
-  CompileOptions options;
-  options.fuse_transforms = false;  // keep one IR node per call, for hover
-  options.produce_spirv = false;
+  api::LoadOptions load;  // checked only, as `sdfc check` does
+  load.compile.fuse_transforms = false;  // keep one IR node per call, for hover
+  load.compile.produce_spirv = false;
   a->utf8 = utf8;
   // The file's own path, so file("points.csv") is read beside it; a URI that
   // names no local file (untitled:) stands as the name, read relative to here.
   const std::string path = pathFromUri(doc.uri).value_or(doc.uri);
-  a->compiled = checkSource(path, doc.text, options, a->diagnostics);
+  std::unique_ptr<api::Scene> scene = api::loadString(doc.text, path, load);
+  a->compiled = std::move(scene->compiled);
+  a->diagnostics = std::move(scene->diagnostics);
   // Imported definitions, by the names this file uses (files imported by
   // imported files are reached under their prefixes the same way).
   {

@@ -20,6 +20,8 @@ packages=(
   libglm-dev libtinygltf-dev nlohmann-json3-dev libstb-dev libtinyexr-dev libcli11-dev zlib1g-dev
   # tests, benchmark smoke run, fuzzing
   libgtest-dev python3-numpy python3-matplotlib clang
+  # the Python package (python/): its bindings and its tests
+  pybind11-dev python3-dev python3-pytest python3-venv
   # libFuzzer's and the sanitizers' runtimes (clang alone does not bring them)
   libclang-rt-14-dev
   # the render farm's tests: a single-node Slurm cluster

@@ -6,16 +6,22 @@
 
 #include "spirv/glsl_to_spirv.h"
 #include "spirv/spirv_cache.h"
+#include <unistd.h>
 
-#include "cli_support.h"
 #include "error_overlay.h"
 #include "vk_check.h"
 
 namespace sdfc::view {
 
-BackgroundCompiler::BackgroundCompiler(const VulkanContext& context, CommandLine command_line,
-                                       CompileOptions options)
-    : context_(context), command_line_(std::move(command_line)), options_(std::move(options)) {
+BackgroundCompiler::BackgroundCompiler(const VulkanContext& context, std::string input,
+                                       api::LoadOptions load, CompileOptions options,
+                                       std::string diagnostics_format, int error_limit)
+    : context_(context),
+      input_(std::move(input)),
+      load_(std::move(load)),
+      diagnostics_format_(std::move(diagnostics_format)),
+      error_limit_(error_limit),
+      options_(std::move(options)) {
   thread_ = std::thread([this] { run(); });
 }
 
@@ -94,26 +100,36 @@ std::unique_ptr<BuiltScene> BackgroundCompiler::buildReload(uint32_t view) {
   auto built = std::make_unique<BuiltScene>();
   built->view = view;
   const auto start = Clock::now();
-  Diagnostics diags;
-  CompileOptions options = options_;
-  options.emit.view = static_cast<KernelView>(view);
-  if (image_height_ > 0) options.emit.march.image_height = int(image_height_);
-  LoadedScene loaded = loadScene(command_line_, diags, true, true, options, true);
+  api::LoadOptions load = load_;
+  load.compile = options_;
+  load.compile.emit.view = static_cast<KernelView>(view);
+  if (image_height_ > 0) load.compile.emit.march.image_height = int(image_height_);
+  load.emit = true;
+  std::unique_ptr<api::Scene> loaded = api::loadFile(input_, load);
+  if (!loaded->io_error.empty()) {
+    std::fprintf(stderr, "sdfc: error: %s\n", loaded->io_error.c_str());
+  } else {
+    const std::string text = diagnostics_format_ == "json" ? loaded->diagnosticsJson(error_limit_)
+                                                           : loaded->diagnosticsText(isatty(STDERR_FILENO), error_limit_);
+    std::fputs(text.c_str(), stderr);
+  }
   built->compile_seconds = std::chrono::duration<double>(Clock::now() - start).count();
   {
     // A save of an imported file reloads too (even when this compile failed there).
     std::vector<std::string> imports;
-    for (const auto& f : loaded.compiled.scene.imported_sources) imports.push_back(f->path);
+    for (const auto& f : loaded->compiled.scene.imported_sources) imports.push_back(f->path);
     std::lock_guard<std::mutex> lock(mutex_);
     if (watcher_) watcher_->watchAlso(imports);
   }
-  if (loaded.exit_code != kExitOk) {
-    built->error = firstErrorText(diags);
+  if (!loaded->ok()) {
+    built->error = firstErrorText(loaded->diagnostics);
     if (built->error.empty())
-      built->error = loaded.exit_code == kExitIo ? "cannot read the file" : "the scene has errors";
+      built->error = !loaded->io_error.empty() ? "cannot read the file" : "the scene has errors";
     return built;
   }
-  auto compiled = std::make_shared<CompiledScene>(std::move(loaded.compiled));
+  // The scene travels with its diagnostics' source (the shared_ptr keeps both).
+  std::shared_ptr<api::Scene> owner(std::move(loaded));
+  auto compiled = std::shared_ptr<CompiledScene>(owner, &owner->compiled);
   built->compiled = compiled;
   createRenderer(*built, compiled->spirv, compiled->emitted.scene_data, compiled->emitted.limits);
   if (built->ok && !compiled->spirv_cache_key.empty() && !options_.validate_spirv &&

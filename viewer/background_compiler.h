@@ -3,7 +3,7 @@
 // a ready Renderer; the loop swaps it in between frames. Kernels are specialised
 // per view: a reload builds the view on screen, and another view's kernel is
 // built for the same scene on its first use (requestVariant). Diagnostics print
-// exactly as `sdfc check` prints them (cli's loadScene).
+// exactly as `sdfc check` prints them (api::Scene).
 #pragma once
 #include <atomic>
 #include <chrono>
@@ -16,7 +16,7 @@
 #include <thread>
 #include <vector>
 
-#include "commands.h"
+#include "api/scene.h"
 #include "file_watcher.h"
 #include "driver/compile.h"
 #include "renderer.h"
@@ -48,8 +48,10 @@ struct BuiltScene {
 
 class BackgroundCompiler {
  public:
-  BackgroundCompiler(const VulkanContext& context, CommandLine command_line,
-                     CompileOptions options);
+  // `load` gives the defines and warnings; `options` the compiler's options.
+  BackgroundCompiler(const VulkanContext& context, std::string input, api::LoadOptions load,
+                     CompileOptions options, std::string diagnostics_format = "text",
+                     int error_limit = kDefaultErrorLimit);
   ~BackgroundCompiler();  // finishes the compile under way, drops its result
 
   // Compiles the file again, with the kernel for `view`; a request during a
@@ -91,7 +93,10 @@ class BackgroundCompiler {
 
   const VulkanContext& context_;
   VkCommandPool pool_ = VK_NULL_HANDLE;  // the worker's own (a pool is externally synchronised)
-  const CommandLine command_line_;
+  const std::string input_;
+  const api::LoadOptions load_;
+  const std::string diagnostics_format_;
+  const int error_limit_;
   const CompileOptions options_;
   mutable std::mutex mutex_;
   std::condition_variable wake_;

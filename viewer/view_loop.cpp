@@ -16,9 +16,9 @@
 #include <regex>
 #include <thread>
 
+#include "atomic_file.h"
 #include "background_compiler.h"
 #include "camera_controller.h"
-#include "cli_support.h"
 #include "debug_view.h"
 #include "denoise.h"
 #include "error_overlay.h"
@@ -136,7 +136,7 @@ struct FrameSplit {
 
 class Viewer : public InputHandler {
  public:
-  explicit Viewer(const CommandLine& cl) : cl_(cl) {}
+  explicit Viewer(const ViewOptions& options) : cl_(options) {}
   ~Viewer() override;
   int run();
 
@@ -157,7 +157,7 @@ class Viewer : public InputHandler {
   void logEvent(const std::string& text);
   void updateTitle(bool force);
 
-  const CommandLine cl_;
+  const ViewOptions cl_;
   uint32_t width_ = 0, height_ = 0;
   std::unique_ptr<Window> window_;
   VulkanContext context_;
@@ -276,7 +276,7 @@ void Viewer::open() {
                  msBetween(window_start, device_start), msBetween(device_start, swapchain_start),
                  msBetween(swapchain_start, Clock::now()));
 
-  CompileOptions compile = compileOptionsFrom(cl_);
+  CompileOptions compile = cl_.load.compile;
   if (!cl_.no_cache) setPipelineCacheDirectory(sdfcCacheDirectory());
   compile.emit.march.image_height = int(height_);
   // As `render`: lavapipe runs both sides of a branch, so bound checks only cost.
@@ -287,7 +287,8 @@ void Viewer::open() {
   // Before the worker exists: a present waits for the queue, which the worker
   // holds while the driver compiles a kernel.
   presentBlack();
-  compiler_ = std::make_unique<BackgroundCompiler>(context_, cl_, compile);
+  compiler_ = std::make_unique<BackgroundCompiler>(context_, cl_.input, cl_.load, compile,
+                                                   cl_.diagnostics_format, cl_.error_limit);
   view_ = viewFromName(cl_.view);
   compiler_->setView(view_);
   compiler_->setOnReady([] { glfwPostEmptyEvent(); });  // thread-safe in GLFW
@@ -296,11 +297,10 @@ void Viewer::open() {
   reload_unpresented_ = true;
   compiler_->request(view_);
 
-  denoise_ = !cl_.denoiser.empty() && cl_.denoiser != "none";
-  dynamic_resolution_ = !cl_.no_dynamic_resolution;
+  denoise_ = cl_.denoise;
+  dynamic_resolution_ = cl_.dynamic_resolution;
   if (cl_.spp > 0) spp_override_ = uint32_t(cl_.spp);
-  tone_.exposure_stops = float(cl_.exposure);
-  tone_.curve = cl_.aces ? ToneCurve::AcesFit : *toneCurveFromName(cl_.tonemap);
+  tone_ = cl_.tone;
   time_ = cl_.time;
   status_.file = std::filesystem::path(cl_.input).filename().string();
   std::fprintf(stderr, "sdfc: view %ux%u on %s (present mode %s)\n", width_, height_,
@@ -757,16 +757,15 @@ int Viewer::run() {
 
 }  // namespace
 
-int runView(const CommandLine& command_line) {
-  if (!checkTimeOption(command_line.time)) return kExitUsage;
+int runView(const ViewOptions& options) {
   try {
-    Viewer viewer(command_line);
+    Viewer viewer(options);
     return viewer.run();
   } catch (const NoDisplayError& e) {
     std::fprintf(stderr,
                  "sdfc: error: `sdfc view` needs a display: %s\n"
                  "sdfc: to render without one: sdfc render %s -o image.png\n",
-                 e.what(), command_line.input.c_str());
+                 e.what(), options.input.c_str());
     return kExitDevice;
   } catch (const RuntimeError& e) {
     std::fprintf(stderr, "sdfc: error: device: %s\n", e.what());

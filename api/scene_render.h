@@ -1,0 +1,72 @@
+// sdfc's public API, part 2: renders a compiled scene on a Vulkan device, the
+// bridge between compiler output (SPIR-V, march limits, scene settings) and the
+// runtime: settings from the scene overridden field by field, one still image
+// with its denoiser (what `sdfc render` writes), progress and cancellation.
+// Used by `sdfc render`, the viewer, the Python module, the benchmark and the
+// image tests.
+#pragma once
+#include <atomic>
+#include <functional>
+#include <optional>
+#include <string>
+
+#include "driver/compile.h"
+#include "denoise.h"
+#include "renderer.h"
+#include "vulkan_context.h"
+
+namespace sdfc {
+
+// Settings the command line may override; unset ones come from the scene.
+struct RenderOverrides {
+  std::optional<int> width, height, spp, bounces, light_samples;
+  uint32_t view = gpu::kViewBeauty;
+  uint32_t seed = 0;
+  double time = 0;
+};
+
+// "WxH" with sides 1..16384 -> {W, H}; nullopt otherwise.
+std::optional<std::pair<int, int>> parseImageSize(const std::string& text);
+
+RenderSettings renderSettingsFor(const CompiledScene& compiled, const RenderOverrides& o);
+CameraDesc cameraFor(const ir::Scene& scene);
+
+// "beauty", "normal", "steps", "depth", "albedo", "iterations" -> gpu::kView*
+// (anything else: beauty).
+uint32_t viewIdFromName(const std::string& name);
+
+// `options` for the device the kernel will run on: lavapipe masks both sides of
+// every branch instead of jumping, so a bounding-volume check only adds work
+// there (bench/RESULTS.md) and is left out unless `force_bounds`.
+void adaptCompileOptionsToDevice(CompileOptions& options, bool cpu_device, bool force_bounds);
+
+// How a still image's samples are treated, beyond RenderSettings.
+struct ImageOptions {
+  // nullopt: nlr for the beauty view (the command line's default); the debug
+  // views are never denoised.
+  std::optional<Denoiser> denoiser;
+  std::string denoise_aovs = "auto";  // auto | jittered | specular | centre
+  std::vector<float> denoise_select;  // nlm/nlr per-pixel strengths; empty: off
+  // Draws the samples instead of renderHalves (adaptive sampling, cli/); called
+  // with halves that it fills.
+  std::function<RenderOutput(Renderer&, const CameraDesc&, const RenderSettings&, SampleHalves*)> draw;
+};
+
+struct RenderedImage {
+  RenderOutput out;        // the samples' mean and features
+  FloatImage denoised;     // empty when not denoised
+  RenderSettings settings;
+  Denoiser denoiser = Denoiser::None;  // what was applied
+  double denoise_seconds = 0, denoise_cpu_seconds = 0;
+  const FloatImage& image() const { return denoised.empty() ? out.color : denoised; }
+};
+
+// One still, exactly as `sdfc render` makes it: two halves when the denoiser
+// needs a noise estimate, jittered features where it wants them, denoised.
+// `settings` from renderSettingsFor. Throws RuntimeError on device errors;
+// an interrupt stops after the current pass (out.interrupted).
+RenderedImage renderImage(Renderer& renderer, const CompiledScene& compiled, RenderSettings settings,
+                          const ImageOptions& options, const ProgressCallback& progress = {},
+                          const std::atomic<bool>* interrupt = nullptr);
+
+}  // namespace sdfc

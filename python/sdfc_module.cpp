@@ -1,0 +1,376 @@
+// sdfc._sdfc: the C++ API (api/) as a Python extension. The package's Python
+// side (python/sdfc/) turns its results into the public interface: SceneError,
+// the builder, the PNG preview.
+#include <pybind11/functional.h>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <atomic>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <tuple>
+
+#include "api/evaluate.h"
+#include "api/scene.h"
+#include "api/scene_render.h"
+#include "driver_select.h"
+#include "image_io.h"
+#include "pipeline_cache.h"
+#include "spirv/glsl_to_spirv.h"
+#include "spirv/spirv_cache.h"
+#include "vk_check.h"
+
+namespace py = pybind11;
+using namespace sdfc;
+
+namespace {
+
+// One Vulkan device per index for the whole process: creating one costs tens of
+// milliseconds, and a notebook renders many times. Never destroyed: a scene's
+// renderers may be collected after any exit hook, and must find their device.
+std::map<int, std::unique_ptr<ScopedContext>>& contexts() {
+  static auto* all = new std::map<int, std::unique_ptr<ScopedContext>>;
+  return *all;
+}
+
+VulkanContext& contextFor(int device) {
+  auto& all = contexts();
+  auto it = all.find(device);
+  if (it == all.end()) {
+    ContextOptions options;
+    options.device_index = device;
+    selectedDriver();  // the loader's variables, before its first call
+    it = all.emplace(device, std::make_unique<ScopedContext>(options)).first;
+  }
+  return it->second->get();
+}
+
+std::optional<KernelView> kernelView(const std::string& name) {
+  std::optional<KernelView> view = kernelViewFromName(name);
+  if (!view || *view == KernelView::All)
+    throw py::value_error("view must be one of beauty, normal, steps, depth, albedo, iterations; got '" +
+                          name + "'");
+  return view;
+}
+
+// The (N, 3) float64 points of eval and gradient, or a TypeError / ValueError
+// that says what was passed.
+py::array_t<double, py::array::c_style> checkedPoints(const py::handle& points) {
+  if (!py::isinstance<py::array>(points))
+    throw py::type_error("points must be a numpy array of shape (N, 3) and dtype float64, got " +
+                         std::string(py::str(py::type::of(points).attr("__name__"))));
+  py::array a = py::reinterpret_borrow<py::array>(points);
+  if (!a.dtype().is(py::dtype::of<double>()))
+    throw py::type_error("points must have dtype float64, got " + std::string(py::str(a.dtype())) +
+                         " (convert with points.astype(numpy.float64))");
+  if (a.ndim() != 2 || a.shape(1) != 3) {
+    std::string shape = "(";
+    for (py::ssize_t i = 0; i < a.ndim(); ++i) shape += (i ? ", " : "") + std::to_string(a.shape(i));
+    shape += a.ndim() == 1 ? ",)" : ")";
+    throw py::value_error("points must have shape (N, 3), got " + shape);
+  }
+  return py::array_t<double, py::array::c_style>::ensure(a);  // a C-contiguous copy when strided
+}
+
+class PyScene {
+ public:
+  explicit PyScene(std::unique_ptr<api::Scene> scene) : scene_(std::move(scene)) {}
+
+  bool ok() const { return scene_->ok(); }
+  std::string ioError() const { return scene_->io_error; }
+  std::string diagnosticsText() const { return scene_->diagnosticsText(false, kDefaultErrorLimit); }
+  std::string path() const { return scene_->compiled.source ? scene_->compiled.source->path : ""; }
+  std::string text() const { return scene_->compiled.source ? scene_->compiled.source->text : ""; }
+
+  py::list diagnostics() const {
+    py::list out;
+    for (const api::DiagnosticRecord& d : scene_->diagnosticRecords()) out.append(record(d));
+    return out;
+  }
+
+  std::vector<std::string> materials() const {
+    std::vector<std::string> names;
+    for (size_t i = 0; i < scene_->compiled.scene.materials.size(); ++i) {
+      std::string name = scene_->compiled.scene.materials[i].name;
+      names.push_back(name.empty() ? "material" + std::to_string(i) : name);
+    }
+    return names;
+  }
+
+  py::tuple size() const {
+    return py::make_tuple(scene_->compiled.scene.render.width, scene_->compiled.scene.render.height);
+  }
+
+  // Distance, gradient or material at every point, the GIL released.
+  py::object field(const py::handle& points, double time, int threads, const std::string& what) const {
+    auto p = checkedPoints(points);
+    const size_t n = size_t(p.shape(0));
+    api::EvalBatch batch;
+    batch.points = p.data();
+    batch.count = n;
+    batch.time = time;
+    batch.threads = threads;
+    py::array result;
+    if (what == "distance") {
+      py::array_t<double> d{py::ssize_t(n)};
+      batch.distance = d.mutable_data();
+      result = d;
+    } else if (what == "gradient") {
+      py::array_t<double> g({py::ssize_t(n), py::ssize_t(3)});
+      batch.gradient = g.mutable_data();
+      result = g;
+    } else {
+      py::array_t<int32_t> m{py::ssize_t(n)};
+      batch.material = m.mutable_data();
+      result = m;
+    }
+    {
+      py::gil_scoped_release release;
+      api::evaluate(scene_->compiled.scene, batch);
+    }
+    return result;
+  }
+
+  std::string glsl(const std::string& view) const {
+    return scene_->compile(*kernelView(view), std::nullopt, false).emitted.glsl;
+  }
+
+  py::bytes spirv(const std::string& view) const {
+    CompiledScene c = scene_->compile(*kernelView(view));
+    return py::bytes(reinterpret_cast<const char*>(c.spirv.data()), c.spirv.size() * 4);
+  }
+
+  // As `sdfc render -o x.exr` with the same settings: the kernel for the device
+  // (no bounding volumes on a CPU), the scene's settings overridden field by
+  // field, the denoiser (nlr by default), the linear float image.
+  py::array_t<float> render(std::optional<std::pair<int, int>> size, std::optional<int> spp,
+                            const std::string& view, std::optional<std::string> denoise, double time,
+                            uint32_t seed, std::optional<int> bounces, std::optional<int> light_samples,
+                            int device, std::optional<py::function> progress) {
+    const KernelView kernel = *kernelView(view);
+    RenderOverrides o;
+    if (size) {
+      if (size->first < 1 || size->second < 1 || size->first > 16384 || size->second > 16384)
+        throw py::value_error("size must be (width, height) with sides from 1 to 16384");
+      o.width = size->first;
+      o.height = size->second;
+    }
+    if (spp) {
+      if (*spp < 1 || *spp > 1000000) throw py::value_error("spp must be from 1 to 1000000");
+      o.spp = *spp;
+    }
+    if (bounces) o.bounces = *bounces;
+    if (light_samples) o.light_samples = *light_samples;
+    o.view = viewIdFromName(view);
+    o.seed = seed;
+    o.time = time;
+    ImageOptions image;
+    if (denoise) {
+      const std::optional<Denoiser> d = parseDenoiser(*denoise);
+      if (!d) throw py::value_error("denoise must be one of nlr, none, bilateral, atrous, svgf, nlm; got '" + *denoise + "'");
+      image.denoiser = d;
+    }
+    Kernel& k = kernelFor(device, kernel, o.height);
+    RenderSettings settings = renderSettingsFor(*k.compiled, o);
+    // Ctrl-C: Python's handler only notes the signal while the GIL is released;
+    // each pass's report checks for it, and the render stops after that pass.
+    std::atomic<bool> interrupt{false};
+    std::optional<py::error_already_set> error;
+    uint32_t reported = 0;
+    const ProgressCallback report = [&](const ProgressInfo& info) {
+      py::gil_scoped_acquire acquire;
+      if (error) return;
+      if (PyErr_CheckSignals() != 0) {
+        error.emplace();
+        interrupt = true;
+        return;
+      }
+      // Samples over the whole image: the denoiser's two halves report one by one.
+      const uint32_t done = reported + info.samples_done;
+      if (info.finished) reported = done;
+      if (progress) {
+        try {
+          (*progress)(std::min(done, settings.spp), settings.spp);
+        } catch (py::error_already_set& e) {
+          error.emplace(std::move(e));
+          interrupt = true;
+        }
+      }
+    };
+    RenderedImage rendered;
+    {
+      py::gil_scoped_release release;
+      rendered = renderImage(*k.renderer, *k.compiled, settings, image, report, &interrupt);
+    }
+    if (error) throw std::move(*error);
+    const FloatImage& img = rendered.image();
+    py::array_t<float> out({py::ssize_t(img.height), py::ssize_t(img.width), py::ssize_t(3)});
+    float* dst = out.mutable_data();
+    for (size_t i = 0; i < img.pixelCount(); ++i)
+      for (int c = 0; c < 3; ++c) dst[i * 3 + c] = img.rgba[i * 4 + c];
+    return out;
+  }
+
+  py::tuple mesh(int resolution, double voxel_size, std::optional<std::vector<double>> box, double time,
+                 int threads) const {
+    MeshOptions options;
+    if (resolution < 4 || resolution > 1024) throw py::value_error("resolution must be from 4 to 1024");
+    options.resolution = resolution;
+    options.voxel_size = voxel_size;
+    options.time = time;
+    options.threads = threads;
+    if (box) {
+      if (box->size() != 6) throw py::value_error("box must be [x0, y0, z0, x1, y1, z1]");
+      options.box = Aabb{glm::dvec3((*box)[0], (*box)[1], (*box)[2]), glm::dvec3((*box)[3], (*box)[4], (*box)[5])};
+    }
+    MeshResult result;
+    {
+      py::gil_scoped_release release;
+      result = api::mesh(scene_->compiled.scene, options);
+    }
+    if (!result.error.empty()) throw py::value_error(result.error);
+    const TriangleMesh& m = result.mesh;
+    py::array_t<double> vertices({py::ssize_t(m.positions.size()), py::ssize_t(3)});
+    py::array_t<uint32_t> faces({py::ssize_t(m.triangles.size()), py::ssize_t(3)});
+    py::array_t<int32_t> materials{py::ssize_t(m.materials.size())};
+    double* v = vertices.mutable_data();
+    for (size_t i = 0; i < m.positions.size(); ++i)
+      for (int c = 0; c < 3; ++c) v[i * 3 + c] = m.positions[i][c];
+    uint32_t* f = faces.mutable_data();
+    for (size_t i = 0; i < m.triangles.size(); ++i)
+      for (int c = 0; c < 3; ++c) f[i * 3 + c] = m.triangles[i][c];
+    std::copy(m.materials.begin(), m.materials.end(), materials.mutable_data());
+    return py::make_tuple(vertices, faces, materials);
+  }
+
+ private:
+  // A kernel compiled for one device, view and march height, with its pipeline.
+  struct Kernel {
+    std::unique_ptr<CompiledScene> compiled;
+    std::unique_ptr<Renderer> renderer;
+  };
+
+  Kernel& kernelFor(int device, KernelView view, std::optional<int> height) {
+    const auto key = std::make_tuple(device, int(view), height.value_or(-1));
+    auto it = kernels_.find(key);
+    if (it != kernels_.end()) return it->second;
+    VulkanContext& context = contextFor(device);
+    setPipelineCacheDirectory(sdfcCacheDirectory());
+    CompileOptions options = scene_->options.compile;
+    options.emit.view = view;
+    if (height) options.emit.march.image_height = *height;
+    adaptCompileOptionsToDevice(options, context.properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU, false);
+    Kernel k;
+    k.compiled = std::make_unique<CompiledScene>(scene_->compileWith(options));
+    k.renderer = std::make_unique<Renderer>(context, *k.compiled);
+    k.renderer->compileKernel(viewIdFromName(kernelViewName(view)));
+    return kernels_.emplace(key, std::move(k)).first->second;
+  }
+
+  static py::dict record(const api::DiagnosticRecord& d) {
+    py::dict r;
+    r["severity"] = d.severity;
+    r["file"] = d.file;
+    r["line"] = d.line;
+    r["column"] = d.column;
+    r["message"] = d.message;
+    r["name"] = d.name;
+    py::list notes;
+    for (const api::DiagnosticRecord& n : d.notes) notes.append(record(n));
+    r["notes"] = notes;
+    return r;
+  }
+
+  std::unique_ptr<api::Scene> scene_;
+  std::map<std::tuple<int, int, int>, Kernel> kernels_;
+};
+
+api::LoadOptions loadOptions(const std::map<std::string, double>& defines,
+                             const std::vector<std::string>& disabled_warnings, bool werror) {
+  api::LoadOptions o;
+  for (const auto& [name, value] : defines) {
+    if (!std::isfinite(value) || std::fabs(value) > std::numeric_limits<float>::max())
+      throw py::value_error("define '" + name + "' must be finite in float32");
+    o.defines[name] = value;
+  }
+  o.disabled_warnings = disabled_warnings;
+  o.werror = werror;
+  // As the command line: kernels from the on-disk SPIR-V cache.
+  o.compile.spirv_cache = true;
+  return o;
+}
+
+}  // namespace
+
+PYBIND11_MODULE(_sdfc, m) {
+  m.doc() = "sdfc's C++ API; use the sdfc package, not this module";
+  m.attr("__version__") = api::kVersion;
+  py::register_exception<RuntimeError>(m, "DeviceError", PyExc_RuntimeError);
+
+  py::class_<PyScene>(m, "Scene")
+      .def_property_readonly("ok", &PyScene::ok)
+      .def_property_readonly("io_error", &PyScene::ioError)
+      .def_property_readonly("diagnostics_text", &PyScene::diagnosticsText)
+      .def_property_readonly("diagnostics", &PyScene::diagnostics)
+      .def_property_readonly("path", &PyScene::path)
+      .def_property_readonly("text", &PyScene::text)
+      .def_property_readonly("materials", &PyScene::materials)
+      .def_property_readonly("size", &PyScene::size)
+      .def("field", &PyScene::field, py::arg("points"), py::arg("time") = 0.0, py::arg("threads") = 0,
+           py::arg("what") = "distance")
+      .def("glsl", &PyScene::glsl, py::arg("view") = "beauty")
+      .def("spirv", &PyScene::spirv, py::arg("view") = "beauty")
+      .def("render", &PyScene::render, py::arg("size") = py::none(), py::arg("spp") = py::none(),
+           py::arg("view") = "beauty", py::arg("denoise") = py::none(), py::arg("time") = 0.0,
+           py::arg("seed") = 0, py::arg("bounces") = py::none(), py::arg("light_samples") = py::none(),
+           py::arg("device") = -1, py::arg("progress") = py::none())
+      .def("mesh", &PyScene::mesh, py::arg("resolution") = 128, py::arg("voxel_size") = 0.0,
+           py::arg("box") = py::none(), py::arg("time") = 0.0, py::arg("threads") = 0);
+
+  m.def(
+      "load",
+      [](const std::string& path, const std::map<std::string, double>& defines,
+         const std::vector<std::string>& disabled_warnings, bool werror) {
+        return std::make_unique<PyScene>(api::loadFile(path, loadOptions(defines, disabled_warnings, werror)));
+      },
+      py::arg("path"), py::arg("defines"), py::arg("disabled_warnings"), py::arg("werror"));
+  m.def(
+      "parse",
+      [](const std::string& text, const std::string& name, const std::map<std::string, double>& defines,
+         const std::vector<std::string>& disabled_warnings, bool werror) {
+        return std::make_unique<PyScene>(
+            api::loadString(text, name, loadOptions(defines, disabled_warnings, werror)));
+      },
+      py::arg("text"), py::arg("name"), py::arg("defines"), py::arg("disabled_warnings"), py::arg("werror"));
+  m.def(
+      "read_image",
+      [](const std::string& path) {
+        FloatImage img = readImage(path);
+        py::array_t<float> out({py::ssize_t(img.height), py::ssize_t(img.width), py::ssize_t(3)});
+        float* dst = out.mutable_data();
+        for (size_t i = 0; i < img.pixelCount(); ++i)
+          for (int c = 0; c < 3; ++c) dst[i * 3 + c] = img.rgba[i * 4 + c];
+        return out;
+      },
+      py::arg("path"));
+  m.def(
+      "to_srgb8",
+      [](py::array_t<float, py::array::c_style | py::array::forcecast> image) {
+        if (image.ndim() != 3 || image.shape(2) != 3) throw py::value_error("image must be (H, W, 3)");
+        FloatImage img(uint32_t(image.shape(1)), uint32_t(image.shape(0)), 1.0f);
+        const float* src = image.data();
+        for (size_t i = 0; i < img.pixelCount(); ++i)
+          for (int c = 0; c < 3; ++c) img.rgba[i * 4 + c] = src[i * 3 + c];
+        std::vector<uint8_t> bytes = toSrgb8(img, ToneMap{});
+        py::array_t<uint8_t> out({image.shape(0), image.shape(1), py::ssize_t(3)});
+        std::copy(bytes.begin(), bytes.end(), out.mutable_data());
+        return out;
+      },
+      py::arg("image"));
+}

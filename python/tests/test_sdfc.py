@@ -1,0 +1,306 @@
+"""The Python package against the command line: every function, its error paths,
+and the bit-for-bit equalities (eval, render, glsl, spirv). SDFC names the
+command-line binary (CTest sets it; default build/cli/sdfc)."""
+import os
+import signal
+import subprocess
+import sys
+import textwrap
+import threading
+import time
+
+import numpy as np
+import pytest
+
+import sdfc
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+SDFC = os.environ.get("SDFC", os.path.join(ROOT, "build", "cli", "sdfc"))
+
+SCENE = textwrap.dedent("""\
+    render(size: [64, 36], spp: 4)
+    camera(position: [0, 2, 6], target: [0, 0.8, 0])
+    sun(direction: [0.5, 1, 0.3])
+    let clay = diffuse(albedo: [0.8, 0.3, 0.2])
+    let r = 1
+    scene {
+      plane(normal: [0, 1, 0], offset: 0)
+      translate([0, 1, 0]) {
+        subtract(material: clay) {
+          box(size: [1.6, 1.6, 1.6], rounding: 0.1)
+          sphere(radius: r)
+        }
+      }
+    }
+    """)
+
+BROKEN = "scene {\n  sphere(radus: 1)\n  box(size: [1, 2])\n}\n"
+
+
+def run(*args, stdin=None):
+    return subprocess.run([SDFC, *args], input=stdin, capture_output=True, text=stdin is not None or None)
+
+
+@pytest.fixture(scope="module")
+def scene_file(tmp_path_factory):
+    # A folder with a space, as a user's might be.
+    path = tmp_path_factory.mktemp("py scenes") / "hello scene.sdf"
+    path.write_text(SCENE)
+    return str(path)
+
+
+@pytest.fixture(scope="module")
+def scene(scene_file):
+    return sdfc.load(scene_file)
+
+
+@pytest.fixture(scope="module")
+def points():
+    rng = np.random.default_rng(7)
+    return rng.uniform(-2.5, 2.5, size=(200, 3))
+
+
+# -- load, parse, errors
+
+def test_load_and_parse(scene, scene_file):
+    assert scene.path == scene_file
+    assert scene.text == SCENE
+    assert scene.size == (64, 36)
+    assert "clay" in scene.materials
+    parsed = sdfc.parse(SCENE)
+    assert parsed.path == "<string>"
+    assert parsed.diagnostics == []
+
+
+def test_scene_error_prints_as_check(tmp_path):
+    path = tmp_path / "broken.sdf"
+    path.write_text(BROKEN)
+    with pytest.raises(sdfc.SceneError) as e:
+        sdfc.load(str(path))
+    check = run("check", str(path))
+    assert check.returncode == 1
+    assert str(e.value) == check.stderr.decode()
+    first = e.value.diagnostics[0]
+    assert (first.severity, first.file, first.line, first.column) == ("error", str(path), 2, 10)
+    assert "radus" in first.message
+    assert all(d.severity == "error" for d in e.value.diagnostics)
+
+
+def test_parse_error_names_its_source():
+    with pytest.raises(sdfc.SceneError) as e:
+        sdfc.parse(BROKEN, name="mine.sdf")
+    assert str(e.value).startswith("mine.sdf:2:10: error:")
+
+
+def test_unreadable_file(tmp_path):
+    with pytest.raises(sdfc.SceneError, match="cannot read .*missing.sdf"):
+        sdfc.load(str(tmp_path / "missing.sdf"))
+    with pytest.raises(sdfc.SceneError, match="it is a directory"):
+        sdfc.load(str(tmp_path))
+
+
+def test_defines_as_dash_d(scene_file, points):
+    bigger = sdfc.load(scene_file, defines={"r": 0.5})
+    cli = run("eval", scene_file, "-D", "r=0.5", stdin="0 1 0\n")
+    assert float(cli.stdout.split()[0]) == bigger.eval(np.array([[0.0, 1.0, 0.0]]))[0]
+    with pytest.raises(TypeError):
+        sdfc.load(scene_file, defines={"r": "big"})
+
+
+def test_warnings_and_werror(tmp_path):
+    path = tmp_path / "warn.sdf"
+    path.write_text("scene {\n  scale(factor: [1, 2, 1]) { sphere(radius: 1) }\n}\n")
+    s = sdfc.load(str(path))
+    assert [d.severity for d in s.diagnostics] == ["warning"]
+    name = s.diagnostics[0].name
+    with pytest.raises(sdfc.SceneError):
+        sdfc.load(str(path), werror=True)
+    assert sdfc.load(str(path), disabled_warnings=[name], werror=True).diagnostics == []
+
+
+# -- the float64 field
+
+def test_eval_bit_equal_to_cli(scene, scene_file, points):
+    text = "".join("%.17g %.17g %.17g\n" % tuple(p) for p in points)
+    out = run("eval", scene_file, "--gradient", "--material", stdin=text)
+    assert out.returncode == 0, out.stderr
+    rows = [line.split() for line in out.stdout.splitlines()]
+    d = scene.eval(points)
+    g = scene.gradient(points)
+    m = scene.material(points)
+    assert d.dtype == np.float64 and d.shape == (len(points),)
+    assert g.dtype == np.float64 and g.shape == (len(points), 3)
+    names = scene.materials
+    for i, row in enumerate(rows):
+        assert float(row[0]) == d[i]  # %.17g round-trips a double exactly
+        assert row[1:4] == ["%.12g" % v for v in g[i]]
+        assert row[4] == (names[m[i]] if m[i] >= 0 else "-")
+
+
+def test_eval_threads_agree(scene, points):
+    many = np.repeat(points, 100, axis=0)
+    assert np.array_equal(scene.eval(many, threads=1), scene.eval(many, threads=2))
+    assert np.array_equal(scene.eval(np.asfortranarray(many)), scene.eval(many))
+    assert scene.eval(np.zeros((0, 3))).shape == (0,)
+
+
+def test_eval_releases_the_gil(scene):
+    many = np.random.default_rng(1).uniform(-3, 3, size=(400_000, 3))
+    ticks = []
+    done = threading.Event()
+
+    def work():
+        scene.eval(many)
+        done.set()
+
+    t = threading.Thread(target=work)
+    t.start()
+    while not done.is_set():
+        ticks.append(1)
+        time.sleep(0.001)
+    t.join()
+    assert len(ticks) > 3  # the main thread ran Python while eval worked
+
+
+@pytest.mark.parametrize("bad, error", [
+    (np.zeros((4, 2)), ValueError),
+    (np.zeros(3), ValueError),
+    (np.zeros((2, 3, 1)), ValueError),
+    (np.zeros((4, 3), dtype=np.float32), TypeError),
+    (np.zeros((4, 3), dtype=np.int64), TypeError),
+    ([[0.0, 0.0, 0.0]], TypeError),
+])
+def test_bad_points(scene, bad, error):
+    with pytest.raises(error, match="points"):
+        scene.eval(bad)
+    with pytest.raises(error, match="points"):
+        scene.gradient(bad)
+
+
+# -- the kernel
+
+def test_glsl_and_spirv_as_compile(scene, scene_file, tmp_path):
+    out = run("compile", scene_file, "--emit", "glsl")
+    assert scene.glsl() == out.stdout.decode()
+    normal = run("compile", scene_file, "--emit", "glsl", "--view", "normal")
+    assert scene.glsl(view="normal") == normal.stdout.decode()
+    spv = tmp_path / "k.spv"
+    assert run("compile", scene_file, "--emit", "spv", "-o", str(spv)).returncode == 0
+    words = scene.spirv()
+    assert words[:4] == b"\x03\x02\x23\x07" and words == spv.read_bytes()
+    with pytest.raises(ValueError, match="view"):
+        scene.glsl(view="sideways")
+
+
+# -- rendering
+
+@pytest.mark.parametrize("args, kwargs", [
+    ([], {}),
+    (["--spp", "2", "--seed", "3", "--denoise", "none"], dict(spp=2, seed=3, denoise="none")),
+    (["--size", "40x20", "--view", "normal"], dict(size=(40, 20), view="normal")),
+])
+def test_render_bit_equal_to_cli(scene, scene_file, tmp_path, args, kwargs):
+    exr = tmp_path / "x.exr"
+    out = run("render", scene_file, "-o", str(exr), "--quiet", *args)
+    assert out.returncode == 0, out.stderr
+    image = scene.render(**kwargs)
+    reference = sdfc.read_image(str(exr))
+    assert image.dtype == np.float32 and image.shape == reference.shape
+    assert np.array_equal(image.view(np.uint32), reference.view(np.uint32))
+
+
+def test_render_progress_and_time(scene):
+    calls = []
+    image = scene.render(size=(16, 8), spp=4, progress=lambda done, total: calls.append((done, total)))
+    assert image.shape == (8, 16, 3) and np.isfinite(image).all()
+    assert calls and calls[-1] == (4, 4)
+    with pytest.raises(ZeroDivisionError):
+        scene.render(size=(16, 8), spp=4, progress=lambda d, t: 1 / 0)
+
+
+def test_render_bad_settings(scene):
+    with pytest.raises(ValueError, match="denoise"):
+        scene.render(size=(8, 8), denoise="magic")
+    with pytest.raises(ValueError, match="size"):
+        scene.render(size=(0, 8))
+    with pytest.raises(ValueError, match="spp"):
+        scene.render(size=(8, 8), spp=0)
+
+
+def test_device_that_cannot_be_created(scene):
+    with pytest.raises(sdfc.DeviceError):
+        scene.render(size=(8, 8), spp=1, device=99)
+    assert isinstance(sdfc.DeviceError("x"), RuntimeError)
+
+
+def test_ctrl_c_raises_keyboard_interrupt(scene_file):
+    # A render of many passes in a child; SIGINT after its first pass must end it
+    # with KeyboardInterrupt within about a pass.
+    child = textwrap.dedent(f"""\
+        import sys, time, sdfc
+        s = sdfc.load({scene_file!r})
+        def progress(done, total):
+            print("pass", done, flush=True)
+        try:
+            s.render(size=(64, 36), spp=4000, denoise="none", progress=progress)
+        except KeyboardInterrupt:
+            print("interrupted", flush=True)
+            sys.exit(7)
+        """)
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(sys.path))
+    p = subprocess.Popen([sys.executable, "-c", child], stdout=subprocess.PIPE, text=True, env=env)
+    first = p.stdout.readline()
+    assert first.startswith("pass"), first
+    start = time.monotonic()
+    p.send_signal(signal.SIGINT)
+    rest = p.stdout.read()
+    p.wait(timeout=60)
+    assert p.returncode == 7 and "interrupted" in rest
+    assert time.monotonic() - start < 20
+
+
+def test_repr_png(scene):
+    png = scene._repr_png_()
+    assert png[:8] == b"\x89PNG\r\n\x1a\n" and len(png) > 100
+
+
+# -- meshing
+
+def test_mesh(scene, tmp_path):
+    shape = sdfc.parse("let m = diffuse(albedo: [1, 0, 0])\nscene {\n  sphere(radius: 1, material: m)\n}\n")
+    v, f, m = shape.mesh(resolution=24)
+    assert v.dtype == np.float64 and v.shape[1] == 3
+    assert f.dtype == np.uint32 and f.shape[1] == 3 and f.max() < len(v)
+    assert m.shape == (len(f),) and set(m.tolist()) == {0}
+    assert np.abs(shape.eval(v)).max() < 1e-3
+    with pytest.raises(ValueError, match="unbounded|box"):
+        scene.mesh(resolution=16)
+    v2, f2, _ = scene.mesh(resolution=16, box=[[-2, -0.5, -2], [2, 2.5, 2]])
+    assert len(f2) > 0
+
+
+# -- the builder
+
+def test_builder_text_checks(tmp_path):
+    s = (sdfc.sphere(1) | sdfc.box([2, 1, 1]).translate([1, 0, 0])).smooth(0.2)
+    s = (s - sdfc.cylinder(0.3, 4).rotate_x(90)) & sdfc.box(3)
+    s = s.material(sdfc.diffuse([0.8, 0.3, 0.2])) | sdfc.torus(1.5, 0.1).rotate([0, 0, 1], 30).scale(1.2)
+    text = str(s)
+    path = tmp_path / "built.sdf"
+    path.write_text(text)
+    check = run("check", str(path))
+    assert check.returncode == 0, check.stderr
+    assert run("fmt", "--check", str(path)).returncode == 0, text
+    scene = s.scene()
+    d = scene.eval(np.array([[0.0, 0.6, 0.0], [0.0, 0.0, 0.0]]))
+    assert d[0] < 0 and abs(d[1] - 0.3) < 1e-12  # in the solid; on the hole's axis
+
+
+def test_builder_distances():
+    s = sdfc.sphere(1).translate([1, 0, 0]).scene()
+    p = np.array([[3.0, 0.0, 0.0], [1.0, 0.0, 0.0]])
+    assert np.allclose(s.eval(p), [1.0, -1.0])
+    with pytest.raises(ValueError):
+        sdfc.sphere(1).smooth(0.1)
+    with pytest.raises(TypeError):
+        sdfc.sphere(1) | 3
