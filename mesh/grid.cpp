@@ -34,6 +34,7 @@ const char* nodeName(const ir::Node& n) {
     case ir::NodeKind::Round: return "round";
     case ir::NodeKind::Shell: return "shell";
     case ir::NodeKind::Instances: return "instances";
+    case ir::NodeKind::Mesh: return "mesh";
   }
   return "shape";
 }

@@ -11,6 +11,7 @@
 #include "diag/source.h"
 #include "ir/expr.h"
 #include "ir/instances.h"
+#include "meshin/mesh_shape.h"
 #include "shapes/primitives.h"
 
 namespace sdfc::ir {
@@ -40,6 +41,7 @@ enum class NodeKind {
   Round,                       // child - amount: the shape grown by a radius
   Shell,                       // |child| - amount: a wall of half thickness amount
   Instances,                   // union of placed copies of children[0], as data
+  Mesh,                        // a triangle mesh read from a file (meshin/)
 };
 
 struct Node;
@@ -75,6 +77,8 @@ struct Node {
   // Instances: the copies and their hierarchy (children[0] is the template;
   // `smooth` blends them as a union does).
   std::shared_ptr<InstanceSet> instances;
+  // Mesh: the triangles, their distance and the shader's form.
+  std::shared_ptr<const MeshShape> mesh;
 
   // The `let` name when this node is a named definition (emitted as a function).
   std::string definition;
