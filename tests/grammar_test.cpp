@@ -425,7 +425,8 @@ TEST(Grammar, EveryDocExampleChecksWithoutErrors) {
   ASSERT_GE(snippets.size(), 10u) << "docs/language.md lost its ```sdf examples";
   for (const Snippet& s : snippets) {
     Diagnostics diags;
-    const std::string name = "language.md:" + std::to_string(s.line);
+    // Beside the page, so a file an example reads is found from docs/.
+    const std::string name = std::string(SDFC_SOURCE_DIR) + "/docs/language.md:" + std::to_string(s.line);
     CompiledScene compiled = checkSource(name, s.text, CompileOptions{}, diags);
     EXPECT_FALSE(diags.hasErrors()) << "the example at docs/language.md line " << s.line
                                     << " does not check:\n" << diags.format() << s.text;
