@@ -37,6 +37,7 @@ const char* nodeName(const ir::Node& n) {
     case ir::NodeKind::Revolve: return "revolve";
     case ir::NodeKind::Twist: return "twist";
     case ir::NodeKind::Instances: return "instances";
+    case ir::NodeKind::Mesh: return "mesh";
   }
   return "shape";
 }

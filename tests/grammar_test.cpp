@@ -428,7 +428,7 @@ TEST(Grammar, EveryDocExampleChecksWithoutErrors) {
   ASSERT_GE(snippets.size(), 10u) << "docs/language.md lost its ```sdf examples";
   for (const Snippet& s : snippets) {
     Diagnostics diags;
-    // Named by its real folder: a texture's path is relative to it.
+    // Beside the page, so a file an example reads is found from docs/.
     const std::string name = std::string(SDFC_SOURCE_DIR) + "/docs/language.md:" + std::to_string(s.line);
     CompiledScene compiled = checkSource(name, s.text, CompileOptions{}, diags);
     EXPECT_FALSE(diags.hasErrors()) << "the example at docs/language.md line " << s.line

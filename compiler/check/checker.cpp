@@ -21,6 +21,7 @@
 #include "check/image_file.h"
 #include "check/point_file.h"
 #include "shapes/polygon.h"
+#include "meshin/mesh_check.h"
 
 namespace sdfc {
 namespace {
@@ -535,6 +536,7 @@ class Checker {
       return {};
     }
     if (e.name == "instances") return evalInstances(e, *findBuiltin("instances"));
+    if (e.name == "mesh") return evalMesh(e);
     if (const int arity = ir::mathFunctionArity(e.name); arity >= 0) return evalMath(e, arity);
     if (const PrimitiveInfo* prim = findPrimitive(e.name)) return evalPrimitive(e, *prim);
     if (const BuiltinSignature* sig = findBuiltin(e.name)) {
@@ -1466,6 +1468,57 @@ class Checker {
       node->vec = {ir::binary('*', v->x, ir::constant(0.5)), ir::binary('*', v->y, ir::constant(0.5)),
                    ir::binary('*', v->z, ir::constant(0.5))};
     }
+    return shapeValue(node, e.range);
+  }
+
+  // ---- mesh(file: "part.stl", material: m) (meshin/, docs/mesh_in.md) ----
+
+  Value evalMesh(const ast::Expr& e) {
+    if (e.has_block) diags_->error(e.range, "'mesh' is a primitive and takes no block");
+    const ast::Expr* file = nullptr;
+    std::optional<Value> material;
+    bool ok = true;
+    size_t positional = 0;
+    for (const ast::Argument& a : e.arguments) {
+      std::string name = a.name;
+      if (name.empty()) name = positional++ == 0 ? "file" : "";
+      if (name == "file" && !file) file = a.value.get();
+      else if (name == "material" && !material) material = evalExpr(*a.value);
+      else {
+        const std::string near = nearestName(name, {"file", "material"});
+        diags_->error(a.name.empty() ? a.value->range : a.name_range,
+                      name.empty() ? "'mesh' takes at most 1 positional argument (the file)"
+                                   : "'mesh' has no parameter '" + name + "' (or it is given twice)" +
+                                         (near.empty() || near == name ? "" : "; did you mean '" + near + "'?"));
+        ok = false;
+      }
+    }
+    if (!file) {
+      if (ok) diags_->error(e.range, "'mesh' needs 'file': mesh(file: \"part.stl\")");
+      return {};
+    }
+    if (file->kind != ast::ExprKind::String) {
+      if (!file->reported)
+        diags_->error(file->range, "'file' of 'mesh' must be a string, the path of an STL, OBJ, glTF or GLB "
+                                   "file: mesh(file: \"part.stl\")");
+      return {};
+    }
+    int material_id = -1;
+    if (material) {
+      BoundArgs bound;
+      bound.material = material;
+      material_id = materialOf(bound);
+      if (material->type != Value::Type::Material) ok = false;
+    }
+    if (!ok) return {};
+    const std::string path = resolveBesides(file->range.file ? file->range.file->path : source_.path, file->name);
+    std::shared_ptr<MeshShape> shape = loadMesh(path, file->name, file->range, options_.mesh_mode, *diags_);
+    if (!shape) return {};
+    auto node = std::make_shared<ir::Node>();
+    node->kind = ir::NodeKind::Mesh;
+    node->range = e.range;
+    node->material = material_id;
+    node->mesh = std::move(shape);
     return shapeValue(node, e.range);
   }
 

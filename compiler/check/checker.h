@@ -13,6 +13,8 @@ namespace sdfc {
 struct CheckOptions {
   // -D name=value: replaces the number bound by `let name` before checking.
   std::map<std::string, double> defines;
+  // mesh(file: ...) in the shader: Auto lets the compiler choose (--mesh-mode).
+  MeshMode mesh_mode = MeshMode::Auto;
 };
 
 // Limits that keep the emitted shader sane; the messages quote them.

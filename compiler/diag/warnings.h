@@ -21,6 +21,9 @@ inline constexpr WarningInfo kWarnings[] = {
     {"repeat-reach", "a repeated shape reaches further than the neighbouring cells checked"},
     {"subtract-nothing", "'subtract' with one shape"},
     {"setting-again", "a setting given twice (the last one wins)"},
+    {"mesh-open", "a mesh(file: ...) with boundary edges: its winding number decides inside, which "
+                  "is a guess near the holes"},
+    {"mesh-degenerate", "a mesh(file: ...) with triangles of no area (they are dropped)"},
     {"unknown-warning", "a warning name in `// sdfc: allow(...)` that sdfc does not know"},
 };
 

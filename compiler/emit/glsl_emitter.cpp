@@ -522,6 +522,7 @@ class SceneWriter {
                b + ".y)";
       }
       case ir::NodeKind::Instances: return instances(n, p, f, mat, mine);
+      case ir::NodeKind::Mesh: return mesh(n, p, f);
       case ir::NodeKind::Round:
       case ir::NodeKind::Shell: {
         const std::string c = node(*n.children[0], p, f, mat, mine);
@@ -1252,6 +1253,20 @@ class SceneWriter {
     if (options_.count_evaluations) f.code << "  g_loop_iterations++;\n";
     return d;
   }
+
+  // A mesh's sampled grid, appended to the scene data once per mesh.
+  std::string mesh(const ir::Node& n, const std::string& p, Function& f) {
+    needHelper("sdMeshGrid", meshGridGlsl());
+    auto it = mesh_bases_.find(n.mesh.get());
+    if (it == mesh_bases_.end())
+      it = mesh_bases_.emplace(n.mesh.get(), appendMeshGridData(n.mesh->grid_layout, n.mesh->grid(), data_)).first;
+    const std::string d = var(f, "d");
+    f.code << lineDirective(n) << "  float " << d << " = sdMeshGrid(" << p << ", " << it->second << ");"
+           << lineComment(n) << " mesh\n";
+    if (options_.count_evaluations) f.code << "  g_loop_iterations++;\n";
+    return d;
+  }
+  std::map<const MeshShape*, size_t> mesh_bases_;
 
   // The Menger sponge, unrolled: `level` is a compile-time constant, and a
   // loop here would count against lavapipe's loop cap at every march step.

@@ -128,6 +128,7 @@ EvalResult Evaluator::evalNode(const ir::Node& n, const dvec3& p, int inherited)
       for (size_t i = 0; i < n.args.size(); ++i) args[i] = n.args[i].at(t);
       return {primitiveInfo(n.primitive).distance(args.data(), p), mat};
     }
+    case ir::NodeKind::Mesh: return {n.mesh->distance->signedDistance(p), mat};
     case ir::NodeKind::Union: {
       const double k = n.smooth.at(t);
       EvalResult best = child(0, p);

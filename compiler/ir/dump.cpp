@@ -38,6 +38,7 @@ const char* kindName(NodeKind k) {
     case NodeKind::Revolve: return "revolve";
     case NodeKind::Twist: return "twist";
     case NodeKind::Instances: return "instances";
+    case NodeKind::Mesh: return "mesh";
   }
   return "?";
 }
@@ -166,6 +167,22 @@ std::string dumpNode(const Node& n, int indent) {
         }
         out << ")";
         if (!n.smooth.isConst() || n.smooth.value > 0) out << " smooth=" << n.smooth.text();
+        break;
+      }
+      case NodeKind::Mesh: {
+        // What was read, and the shader's form with its error bound.
+        const MeshShape& m = *n.mesh;
+        const MeshGridLayout& g = m.grid_layout;
+        char buf[400];
+        std::snprintf(buf, sizeof buf,
+                      " \"%s\" (%s, %zu triangles, %s; %zu hierarchy nodes, depth %d; shader: grid "
+                      "%dx%dx%d corners of %g, band %g, error <= %g (sqrt 3 / 2 cell), interpolant Lipschitz <= "
+                      "1.732; outside it the mesh box's distance)",
+                      m.file.c_str(), m.format.c_str(), m.triangles,
+                      m.boundary_edges > 0 ? (std::to_string(m.boundary_edges) + " boundary edges").c_str() : "closed",
+                      m.distance->nodes().size(), m.distance->depth(), g.dims.x, g.dims.y, g.dims.z, g.cell,
+                      g.band, g.errorBound());
+        out << buf;
         break;
       }
       case NodeKind::Affine: {

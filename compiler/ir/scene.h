@@ -11,6 +11,7 @@
 #include "diag/source.h"
 #include "ir/expr.h"
 #include "ir/instances.h"
+#include "meshin/mesh_shape.h"
 #include "shapes/primitives.h"
 
 namespace sdfc::ir {
@@ -43,6 +44,7 @@ enum class NodeKind {
   Revolve,                     // a 2D profile at (|p.xz| - amount, p.y, 0): revolved about y
   Twist,                       // child(p turned about y by -amount * p.y degrees): a bound
   Instances,                   // union of placed copies of children[0], as data
+  Mesh,                        // a triangle mesh read from a file (meshin/)
 };
 
 struct Node;
@@ -88,6 +90,8 @@ struct Node {
   // Instances: the copies and their hierarchy (children[0] is the template;
   // `smooth` blends them as a union does).
   std::shared_ptr<InstanceSet> instances;
+  // Mesh: the triangles, their distance and the shader's form.
+  std::shared_ptr<const MeshShape> mesh;
 
   // The `let` name when this node is a named definition (emitted as a function).
   std::string definition;

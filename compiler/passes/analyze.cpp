@@ -104,6 +104,12 @@ class Analyzer {
       }
       case ir::NodeKind::Repeat: repeat(n); break;
       case ir::NodeKind::Instances: instances(n); break;
+      case ir::NodeKind::Mesh:
+        // The float64 distance is exact; the shader's grid is within its
+        // stated error (ir/dump.cpp prints it), a lookup of eight values.
+        n.bounds = n.mesh->distance->bounds();
+        n.cost += 2;
+        break;
       case ir::NodeKind::Elongate: {
         const dvec3 h(upper(n.vec.x), upper(n.vec.y), upper(n.vec.z));
         n.bounds = first->bounds.finite() && std::isfinite(h.x + h.y + h.z)

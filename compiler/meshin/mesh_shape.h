@@ -1,0 +1,35 @@
+// A mesh(file: ...) as the IR holds it: what was read, its float64 distance,
+// and how the shader gets it (docs/mesh_in.md).
+#pragma once
+#include <memory>
+#include <mutex>
+#include <string>
+
+#include "meshin/mesh_distance.h"
+#include "meshin/mesh_file.h"
+#include "meshin/mesh_grid.h"
+
+namespace sdfc {
+
+enum class MeshMode { Auto, Grid, Exact };
+
+struct MeshShape {
+  std::string file;  // as written in the scene
+  std::string format;
+  size_t triangles = 0, degenerate = 0, boundary_edges = 0, edges = 0;
+  std::unique_ptr<MeshDistance> distance;
+  MeshMode mode = MeshMode::Grid;  // what the shader uses
+  MeshGridLayout grid_layout;
+
+  // The sampled grid, built on first use (rendering needs it; eval and mesh do not).
+  const MeshGrid& grid() const {
+    std::call_once(grid_once_, [this] { grid_ = buildMeshGrid(*distance, grid_layout); });
+    return grid_;
+  }
+
+ private:
+  mutable std::once_flag grid_once_;
+  mutable MeshGrid grid_;
+};
+
+}  // namespace sdfc

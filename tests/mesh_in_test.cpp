@@ -1,0 +1,370 @@
+// mesh(file: ...): reading and its checks, the float64 distance against brute
+// force, its sign against ray parity, a mesh from `sdfc mesh` read back, and
+// the shader's grid (meshin/). Every mesh is made here, none is stored.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <random>
+
+#include "driver/compile.h"
+#include "eval/evaluator.h"
+#include "meshin/mesh_distance.h"
+#include "meshin/mesh_file.h"
+#include "meshin/mesh_grid.h"
+#include "mesh_write.h"
+#include "mesher.h"
+
+namespace sdfc {
+namespace {
+
+using glm::dvec3;
+
+struct Soup {
+  std::vector<dvec3> v;
+  std::vector<glm::uvec3> f;
+};
+
+// The unit icosahedron subdivided `levels` times onto the sphere of `radius` at `centre`.
+Soup icosphere(int levels, double radius = 1, dvec3 centre = dvec3(0)) {
+  const double t = (1 + std::sqrt(5.0)) / 2;
+  Soup s;
+  s.v = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
+         {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
+  for (dvec3& p : s.v) p = glm::normalize(p);
+  s.f = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
+         {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
+         {3, 8, 9},  {4, 9, 5},  {2, 4, 11},  {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
+  for (int l = 0; l < levels; ++l) {
+    std::map<std::pair<unsigned, unsigned>, unsigned> mid;
+    auto m = [&](unsigned a, unsigned b) {
+      auto key = std::make_pair(std::min(a, b), std::max(a, b));
+      auto it = mid.find(key);
+      if (it != mid.end()) return it->second;
+      s.v.push_back(glm::normalize(s.v[a] + s.v[b]));
+      return mid[key] = unsigned(s.v.size() - 1);
+    };
+    std::vector<glm::uvec3> next;
+    for (const glm::uvec3& f : s.f) {
+      const unsigned ab = m(f[0], f[1]), bc = m(f[1], f[2]), ca = m(f[2], f[0]);
+      next.insert(next.end(), {{f[0], ab, ca}, {f[1], bc, ab}, {f[2], ca, bc}, {ab, bc, ca}});
+    }
+    s.f = next;
+  }
+  for (dvec3& p : s.v) p = centre + radius * p;
+  return s;
+}
+
+Soup merged(const Soup& a, const Soup& b) {
+  Soup s = a;
+  const unsigned base = unsigned(s.v.size());
+  s.v.insert(s.v.end(), b.v.begin(), b.v.end());
+  for (glm::uvec3 f : b.f) s.f.push_back(f + base);
+  return s;
+}
+
+InputMesh asInput(const Soup& s) { return {s.v, s.f}; }
+
+std::string tempDir() {
+  static const std::string dir = [] {
+    std::string d = std::filesystem::temp_directory_path() / ("sdfc_mesh_in_" + std::to_string(::getpid()));
+    std::filesystem::create_directories(d);
+    return d;
+  }();
+  return dir;
+}
+
+std::string writeFile(const std::string& name, const std::string& bytes) {
+  const std::string path = tempDir() + "/" + name;
+  std::ofstream(path, std::ios::binary) << bytes;
+  return path;
+}
+
+std::string binaryStl(const Soup& s) {
+  std::string out(80, '\0');
+  const std::uint32_t n = std::uint32_t(s.f.size());
+  out.append(reinterpret_cast<const char*>(&n), 4);
+  for (const glm::uvec3& f : s.f) {
+    float rec[12] = {0, 0, 0};
+    for (int k = 0; k < 3; ++k)
+      for (int a = 0; a < 3; ++a) rec[3 + 3 * k + a] = float(s.v[f[k]][a]);
+    out.append(reinterpret_cast<const char*>(rec), sizeof rec);
+    out.append(2, '\0');
+  }
+  return out;
+}
+
+std::string obj(const Soup& s) {
+  std::string out = "# made by mesh_in_test\no part\n";
+  char line[128];
+  for (const dvec3& p : s.v) {
+    std::snprintf(line, sizeof line, "v %.17g %.17g %.17g\n", p.x, p.y, p.z);
+    out += line;
+  }
+  for (const glm::uvec3& f : s.f) {
+    std::snprintf(line, sizeof line, "f %u/1 %u//2 %u\n", f[0] + 1, f[1] + 1, f[2] + 1);
+    out += line;
+  }
+  return out;
+}
+
+// Independent of meshin's region test: the nearest point of the plane when
+// it falls inside (all three edge tests), else the nearest of the three
+// edges as clamped segments.
+double bruteTriangle(const dvec3& p, const dvec3& a, const dvec3& b, const dvec3& c) {
+  const dvec3 n = glm::normalize(glm::cross(b - a, c - a));
+  const dvec3 q = p - glm::dot(p - a, n) * n;
+  const bool in = glm::dot(glm::cross(b - a, q - a), n) >= 0 && glm::dot(glm::cross(c - b, q - b), n) >= 0 &&
+                  glm::dot(glm::cross(a - c, q - c), n) >= 0;
+  if (in) return std::fabs(glm::dot(p - a, n));
+  auto seg = [&](const dvec3& u, const dvec3& w) {
+    const double t = std::clamp(glm::dot(p - u, w - u) / glm::dot(w - u, w - u), 0.0, 1.0);
+    return glm::length(p - (u + t * (w - u)));
+  };
+  return std::min({seg(a, b), seg(b, c), seg(c, a)});
+}
+
+double brute(const Soup& s, const dvec3& p) {
+  double best = 1e300;
+  for (const glm::uvec3& f : s.f) best = std::min(best, bruteTriangle(p, s.v[f[0]], s.v[f[1]], s.v[f[2]]));
+  return best;
+}
+
+// Crossings of the ray p + t d (t > 0) with the soup (Moller and Trumbore 1997).
+int crossings(const Soup& s, const dvec3& p, const dvec3& d) {
+  int n = 0;
+  for (const glm::uvec3& f : s.f) {
+    const dvec3 a = s.v[f[0]], e1 = s.v[f[1]] - a, e2 = s.v[f[2]] - a;
+    const dvec3 h = glm::cross(d, e2);
+    const double det = glm::dot(e1, h);
+    if (std::fabs(det) < 1e-14) continue;
+    const dvec3 w = p - a;
+    const double u = glm::dot(w, h) / det;
+    const dvec3 q = glm::cross(w, e1);
+    const double v = glm::dot(d, q) / det;
+    const double t = glm::dot(e2, q) / det;
+    if (u >= 0 && v >= 0 && u + v <= 1 && t > 0) ++n;
+  }
+  return n;
+}
+
+void expectDistancesMatchBruteForce(const Soup& s, unsigned seed) {
+  const MeshDistance m(asInput(s));
+  std::mt19937 rng(seed);
+  const Aabb box = m.bounds().grow(0.5);
+  std::uniform_real_distribution<double> x(box.lo.x, box.hi.x), y(box.lo.y, box.hi.y), z(box.lo.z, box.hi.z);
+  for (int i = 0; i < 400; ++i) {
+    const dvec3 p(x(rng), y(rng), z(rng));
+    const double want = brute(s, p);
+    ASSERT_NEAR(m.unsignedDistance(p), want, 1e-12 + 1e-12 * want) << "at " << p.x << ", " << p.y << ", " << p.z;
+    // A cap nearer than the surface answers the cap.
+    EXPECT_EQ(m.unsignedDistance(p, want * 0.5), want * 0.5);
+  }
+}
+
+TEST(MeshIn, DistanceEqualsBruteForceClosed) { expectDistancesMatchBruteForce(icosphere(2), 1); }
+
+TEST(MeshIn, DistanceEqualsBruteForceOpen) {
+  Soup s = icosphere(2);
+  std::vector<glm::uvec3> upper;
+  for (const glm::uvec3& f : s.f)
+    if (s.v[f[0]].y + s.v[f[1]].y + s.v[f[2]].y > 0) upper.push_back(f);
+  s.f = upper;
+  expectDistancesMatchBruteForce(s, 2);
+}
+
+TEST(MeshIn, DistanceEqualsBruteForceSelfIntersecting) {
+  expectDistancesMatchBruteForce(merged(icosphere(2), icosphere(1, 0.8, dvec3(0.7, 0.2, 0))), 3);
+}
+
+// Inside by the winding number where a random ray crosses the surface an odd
+// number of times, for closed meshes (one sphere; two overlapping: depth 2 counts inside).
+TEST(MeshIn, SignAgreesWithRayParity) {
+  for (const Soup& s : {icosphere(3), merged(icosphere(2), icosphere(2, 0.5, dvec3(2, 0, 0)))}) {
+    const MeshDistance m(asInput(s));
+    std::mt19937 rng(7);
+    const Aabb box = m.bounds().grow(0.3);
+    std::uniform_real_distribution<double> u(0, 1);
+    std::normal_distribution<double> g;
+    int checked = 0;
+    for (int i = 0; i < 600; ++i) {
+      const dvec3 p = box.lo + (box.hi - box.lo) * dvec3(u(rng), u(rng), u(rng));
+      if (m.unsignedDistance(p) < 1e-3) continue;  // the ray test is unreliable at the surface
+      const dvec3 d = glm::normalize(dvec3(g(rng), g(rng), g(rng)));
+      const bool odd = crossings(s, p, d) % 2 == 1;
+      EXPECT_EQ(m.signedDistance(p) < 0, odd) << "winding " << m.winding(p);
+      ++checked;
+    }
+    EXPECT_GT(checked, 500);
+  }
+}
+
+// The hierarchical winding number against the exact sum of solid angles.
+TEST(MeshIn, FastWindingNumberIsNearTheExactSum) {
+  const Soup s = icosphere(3);
+  const MeshDistance m(asInput(s));
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-2, 2);
+  double worst = 0;
+  for (int i = 0; i < 200; ++i) {
+    const dvec3 p(u(rng), u(rng), u(rng));
+    double exact = 0;
+    for (const glm::uvec3& f : s.f) exact += triangleSolidAngle(p, s.v[f[0]], s.v[f[1]], s.v[f[2]]);
+    exact /= 4 * M_PI;
+    worst = std::max(worst, std::fabs(m.winding(p) - exact));
+  }
+  EXPECT_LT(worst, 0.02);
+}
+
+TEST(MeshIn, ReadsBinaryStlObjAlike) {
+  const Soup s = icosphere(2);
+  const MeshFile stl = readMeshFile(writeFile("ico.stl", binaryStl(s)));
+  const MeshFile o = readMeshFile(writeFile("ico.obj", obj(s)));
+  ASSERT_TRUE(stl.ok) << stl.error;
+  ASSERT_TRUE(o.ok) << o.error;
+  EXPECT_EQ(stl.format, "binary STL");
+  EXPECT_EQ(o.format, "OBJ");
+  EXPECT_EQ(stl.mesh.triangles.size(), s.f.size());
+  EXPECT_EQ(o.mesh.triangles.size(), s.f.size());
+  // Welded by position: a closed mesh, every edge shared by two triangles.
+  EXPECT_EQ(stl.mesh.vertices.size(), s.v.size());
+  EXPECT_EQ(stl.boundary_edges, 0u);
+  EXPECT_EQ(stl.edges, s.f.size() * 3 / 2);
+}
+
+TEST(MeshIn, ReadsAsciiStlAndCountsOpenEdgesAndDegenerates) {
+  const std::string text =
+      "solid two\n"
+      " facet normal 0 0 1\n  outer loop\n   vertex 0 0 0\n   vertex 1 0 0\n   vertex 0 1 0\n  endloop\n endfacet\n"
+      " facet normal 0 0 1\n  outer loop\n   vertex 1 0 0\n   vertex 1 1 0\n   vertex 0 1 0\n  endloop\n endfacet\n"
+      " facet normal 0 0 1\n  outer loop\n   vertex 0 0 0\n   vertex 2 0 0\n   vertex 1 0 0\n  endloop\n endfacet\n"
+      "endsolid two\n";
+  const MeshFile f = readMeshFile(writeFile("square.stl", text));
+  ASSERT_TRUE(f.ok) << f.error;
+  EXPECT_EQ(f.format, "ASCII STL");
+  EXPECT_EQ(f.mesh.triangles.size(), 2u);
+  EXPECT_EQ(f.degenerate, 1u);  // the collinear third
+  EXPECT_EQ(f.boundary_edges, 4u);
+}
+
+TEST(MeshIn, BadFilesSayWhy) {
+  auto error = [](const std::string& name, const std::string& bytes) {
+    const MeshFile f = readMeshFile(writeFile(name, bytes));
+    EXPECT_FALSE(f.ok);
+    return f.error;
+  };
+  EXPECT_NE(error("empty.stl", "").find("neither ASCII STL"), std::string::npos);
+  EXPECT_EQ(error("nothing.stl", "solid x\nendsolid x\n"), "it holds no triangles");
+  EXPECT_EQ(error("nan.obj", "v 0 0 0\nv 1 0 0\nv nan 1 0\nf 1 2 3\n"), "line 4: a vertex coordinate is not a number (nan)");
+  EXPECT_EQ(error("inf.obj", "v 0 0 0\nv 1 0 0\nv 1e39 1 0\nf 1 2 3\n"), "line 4: a vertex coordinate is beyond float32's range");
+  EXPECT_EQ(error("index.obj", "v 0 0 0\nv 1 0 0\nf 1 2 7\n"), "line 3: '7' is not a vertex (2 defined so far)");
+  EXPECT_EQ(error("flat.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n"), "all 1 of its triangles have no area");
+  EXPECT_EQ(error("part.ply", "ply\n"), "'.ply' is not a mesh format sdfc reads (.stl, .obj, .gltf, .glb)");
+  EXPECT_NE(error("bad.glb", "glTF nonsense").find("not a valid GLB file"), std::string::npos);
+  const MeshFile missing = readMeshFile(tempDir() + "/no such.stl");
+  EXPECT_TRUE(missing.unreadable);
+  EXPECT_EQ(missing.error, "No such file or directory");
+  const MeshFile dir = readMeshFile(tempDir());
+  EXPECT_EQ(dir.error, "it is a directory");
+}
+
+std::string sceneWith(const std::string& body) {
+  return "camera(position: [0, 0.5, 4], target: [0, 0, 0])\nscene {\n" + body + "\n}\n";
+}
+
+CompiledScene checked(const std::string& name, const std::string& text, Diagnostics& diags) {
+  const std::string path = writeFile(name, text);
+  CompileOptions o;
+  o.produce_spirv = false;
+  return compileSource(path, text, o, diags);
+}
+
+TEST(MeshIn, CheckerErrorsPointAtTheFileArgument) {
+  writeFile("open.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  Diagnostics diags;
+  // Kept: the diagnostics point into its source.
+  const CompiledScene c = checked("errors.sdf", sceneWith("  mesh(file: \"missing.stl\")\n  mesh(\"open.obj\")\n  mesh(fille: \"x.stl\")"), diags);
+  const std::string text = diags.format();
+  EXPECT_NE(text.find("errors.sdf:3:14: error: cannot read 'missing.stl': No such file or directory (looked for '" +
+                      tempDir() + "/missing.stl')"),
+            std::string::npos)
+      << text;
+  EXPECT_NE(text.find("errors.sdf:4:8: warning: 'open.obj' is not closed: 3 of its 3 edges are boundary edges"),
+            std::string::npos)
+      << text;
+  EXPECT_NE(text.find("'mesh' has no parameter 'fille' (or it is given twice); did you mean 'file'?"), std::string::npos)
+      << text;
+}
+
+// The compiler's grid: the IR says so, the GLSL reads it, and every corner
+// holds the float64 signed distance (clamped to the band).
+TEST(MeshIn, GridModeIsInTheIrAndTheData) {
+  writeFile("ico3.stl", binaryStl(icosphere(3)));
+  Diagnostics diags;
+  const CompiledScene c = checked("grid.sdf", sceneWith("  mesh(file: \"ico3.stl\")"), diags);
+  ASSERT_TRUE(c.ok) << diags.format();
+  const std::string ir = ir::dump(c.scene);
+  EXPECT_NE(ir.find("mesh \"ico3.stl\" (binary STL, 1280 triangles, closed;"), std::string::npos) << ir;
+  EXPECT_NE(ir.find("shader: grid"), std::string::npos) << ir;
+  EXPECT_NE(c.emitted.glsl.find("sdMeshGrid(p, 0)"), std::string::npos);
+  const ir::Node& mesh = *c.scene.root->children[0];
+  ASSERT_EQ(mesh.kind, ir::NodeKind::Mesh);
+  const MeshGridLayout& l = mesh.mesh->grid_layout;
+  const MeshGrid& g = mesh.mesh->grid();
+  ASSERT_EQ(c.emitted.scene_data.size(), 16 + (l.corners() + 3) / 4 * 4);
+  std::mt19937 rng(5);
+  for (int i = 0; i < 300; ++i) {
+    const size_t k = rng() % l.corners();
+    const dvec3 p = l.lo + l.cell * dvec3(double(k % l.dims.x), double(k / l.dims.x % l.dims.y),
+                                          double(k / (size_t(l.dims.x) * l.dims.y)));
+    const double want = mesh.mesh->distance->signedDistance(p);
+    const double clamped = std::clamp(want, -l.band, l.band);
+    EXPECT_NEAR(g.values[k], clamped, 1e-6) << "corner " << k;
+    EXPECT_EQ(c.emitted.scene_data[16 + k], g.values[k]);
+  }
+  // The float64 evaluator uses the exact distance: a sphere's within the chord error.
+  Evaluator eval(c.scene);
+  EXPECT_NEAR(eval.distance(dvec3(0, 0, 2)), 1.0, 0.01);
+  EXPECT_NEAR(eval.distance(dvec3(0, 0, 0)), -1.0, 0.01);
+}
+
+// A scene meshed by `sdfc mesh` (dual contouring, exported as GLB) and read
+// back: its distance is the scene's within the export's own error (its
+// vertices' largest distance from the surface plus the chord's sagitta).
+TEST(MeshIn, ExportedMeshReadsBackAsTheScene) {
+  // A rounded box: exact everywhere (a smooth union would be a bound only).
+  const std::string text = sceneWith("  box(size: [1.2, 0.8, 1], rounding: 0.15)");
+  Diagnostics diags;
+  CompiledScene scene = checked("exported.sdf", text, diags);
+  ASSERT_TRUE(scene.ok) << diags.format();
+  MeshOptions o;
+  o.resolution = 48;
+  MeshResult r = meshScene(scene.scene, o);
+  ASSERT_EQ(r.error, "");
+  const std::string glb = writeFile("exported.glb", encodeMesh(r.mesh, scene.scene, MeshFormat::Glb));
+  const MeshFile f = readMeshFile(glb);
+  ASSERT_TRUE(f.ok) << f.error;
+  EXPECT_EQ(f.boundary_edges, 0u);
+  Evaluator eval(scene.scene);
+  double vertex_error = 0;
+  for (const dvec3& v : f.mesh.vertices) vertex_error = std::max(vertex_error, std::fabs(eval.distance(v)));
+  // Edges span at most a cell diagonal; the smallest radius of curvature is the rounding's 0.15.
+  const double edge = std::sqrt(3.0) * r.plan.voxel;
+  const double tolerance = vertex_error + edge * edge / (8 * 0.15);
+  const MeshDistance m(f.mesh);
+  std::mt19937 rng(9);
+  const Aabb box = m.bounds().grow(1.0);
+  std::uniform_real_distribution<double> u(0, 1);
+  double worst = 0;
+  for (int i = 0; i < 500; ++i) {
+    const dvec3 p = box.lo + (box.hi - box.lo) * dvec3(u(rng), u(rng), u(rng));
+    worst = std::max(worst, std::fabs(m.signedDistance(p) - eval.distance(p)));
+  }
+  EXPECT_LE(worst, tolerance) << "vertex error " << vertex_error << ", voxel " << r.plan.voxel;
+}
+
+}  // namespace
+}  // namespace sdfc
