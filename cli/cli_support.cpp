@@ -139,6 +139,25 @@ bool checkTimeOption(double time, const char* option) {
   return false;
 }
 
+bool renderOverridesFrom(const CommandLine& cl, RenderOverrides& o) {
+  if (!cl.size.empty()) {
+    const auto size = parseImageSize(cl.size);
+    if (!size) {
+      std::cerr << "sdfc: error: --size expects WxH with sides from 1 to 16384, e.g. 640x360\n";
+      return false;
+    }
+    o.width = size->first;
+    o.height = size->second;
+  }
+  if (cl.spp > 0) o.spp = cl.spp;
+  if (cl.bounces >= 0) o.bounces = cl.bounces;
+  if (cl.light_samples >= 0) o.light_samples = cl.light_samples;
+  if (!checkTimeOption(cl.time)) return false;
+  o.seed = cl.seed;
+  o.time = cl.time;
+  return true;
+}
+
 bool checkImageExtension(const std::string& path) {
   try {
     imageFormatFromPath(path);

@@ -8,6 +8,7 @@
 #include "atomic_file.h"
 #include "commands.h"
 #include "driver/compile.h"
+#include "scene_render.h"
 
 namespace sdfc {
 
@@ -46,6 +47,11 @@ CLI::Validator wholeNumberIn(long long lo, long long hi);
 // Usage checks shared by render, view, eval, mesh and farm submit: --time must be a float32
 // number. Prints the error and returns false when it is not.
 bool checkTimeOption(double time, const char* option = "--time");
+
+// The render settings the command line overrides (--size, --spp, --bounces,
+// --light-samples, --seed, --time), shared by render, export and the farm;
+// false after printing a usage error (a bad --size or --time).
+bool renderOverridesFrom(const CommandLine& cl, RenderOverrides& o);
 
 // -o's image extension (.png, .exr, .pfm): prints a usage error and returns
 // false for any other.

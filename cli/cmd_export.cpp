@@ -147,21 +147,7 @@ std::string shadertoyMain(const CameraDesc& c, const RenderSettings& s) {
 int runExport(const CommandLine& cl) {
   const bool shadertoy = cl.export_target == "shadertoy";
   RenderOverrides o;
-  if (!cl.size.empty()) {
-    const auto size = parseImageSize(cl.size);
-    if (!size) {
-      std::cerr << "sdfc: error: --size expects WxH with sides from 1 to 16384, e.g. 640x360\n";
-      return kExitUsage;
-    }
-    o.width = size->first;
-    o.height = size->second;
-  }
-  if (cl.spp > 0) o.spp = cl.spp;
-  if (cl.bounces >= 0) o.bounces = cl.bounces;
-  if (cl.light_samples >= 0) o.light_samples = cl.light_samples;
-  if (!checkTimeOption(cl.time)) return kExitUsage;
-  o.time = cl.time;
-  o.seed = cl.seed;
+  if (!renderOverridesFrom(cl, o)) return kExitUsage;
   checkWritablePath(cl.output);  // before the work, not after
 
   CompileOptions options = compileOptionsFrom(cl);

@@ -67,7 +67,7 @@ std::vector<std::string> renderArgs(const CommandLine& cl, const farm::ShardPlan
 
 int submitJob(const CommandLine& cl) {
   RenderOverrides o;
-  if (!checkTimeOption(cl.time) || !renderOverridesFrom(cl, o)) return kExitUsage;
+  if (!renderOverridesFrom(cl, o)) return kExitUsage;
   if (cl.shards <= 0) {
     std::cerr << "sdfc: error: farm submit needs --shards N (shards per image)\n";
     return kExitUsage;

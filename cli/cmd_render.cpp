@@ -124,22 +124,8 @@ int iterationsCostPass(const CommandLine& cl, const VulkanContext& context, cons
 
 int runRender(const CommandLine& cl) {
   RenderOverrides o;
-  if (!cl.size.empty()) {
-    const auto size = parseImageSize(cl.size);
-    if (!size) {
-      std::cerr << "sdfc: error: --size expects WxH with sides from 1 to 16384, e.g. 640x360\n";
-      return kExitUsage;
-    }
-    o.width = size->first;
-    o.height = size->second;
-  }
-  if (cl.spp > 0) o.spp = cl.spp;
-  if (cl.bounces >= 0) o.bounces = cl.bounces;
-  if (cl.light_samples >= 0) o.light_samples = cl.light_samples;
+  if (!renderOverridesFrom(cl, o)) return kExitUsage;
   o.view = viewIdFromName(cl.view);
-  o.seed = cl.seed;
-  o.time = cl.time;
-  if (!checkTimeOption(cl.time)) return kExitUsage;
   if (cl.adaptive && (cl.shards > 0 || cl.shard_index >= 0)) {
     std::cerr << "sdfc: error: --adaptive cannot be split into --shards (its counts depend on the "
                  "whole first phase)\n";

@@ -18,10 +18,6 @@ struct ShardJob {
   RenderSettings settings;   // of the whole image (spp = plan.spp)
 };
 
-// Render overrides from the command line (size, spp, bounces, ...); false after
-// printing a usage error.
-bool renderOverridesFrom(const CommandLine& cl, RenderOverrides& o);
-
 // The plan of `cl` (--shards, --frames A-B, --fps) for a compiled scene. Throws
 // farm::FarmError (more shards than passes, bad frame range).
 ShardJob shardJobFor(const CommandLine& cl, const RenderOverrides& o, const CompiledScene& compiled);
