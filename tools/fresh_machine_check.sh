@@ -123,7 +123,9 @@ done
 if [ "$status" -eq 0 ]; then
   echo "fresh_machine_check: passed: the README's commands work on a bare Debian 12 root"
   for path in "${copy_in[@]}"; do
-    cp -a --parents "$path" "$root"  # over what the quick start installed
+    # into the same folder of the root, over what the quick start installed
+    mkdir -p "$root$(dirname "$path")"
+    cp -a "$path" "$root$(dirname "$path")/"
   done
   for cmd in "${then_commands[@]}"; do
     run_in_root "$cmd" || { status=1; break; }
