@@ -80,6 +80,19 @@ TEST(Checker, NamesAndDefinitions) {
        "t.sdf:1:9: error: unknown function 'sphre'; did you mean 'sphere'?\n"
        "scene { sphre(radius: 1) }\n"
        "        ^~~~~\n"},
+      // Other tools' spellings, which no edit distance reaches.
+      {"scene { smooth_union { sphere(1) } }\n",
+       "t.sdf:1:9: error: unknown function 'smooth_union'; sdfc writes this as 'union(smooth: k) { ... }'\n"
+       "scene { smooth_union { sphere(1) } }\n"
+       "        ^~~~~~~~~~~~\n"},
+      {"scene { opSmoothSubtraction { sphere(1) } }\n",
+       "t.sdf:1:9: error: unknown function 'opSmoothSubtraction'; sdfc writes this as 'subtract(smooth: k) { ... }'\n"
+       "scene { opSmoothSubtraction { sphere(1) } }\n"
+       "        ^~~~~~~~~~~~~~~~~~~\n"},
+      {"scene { difference { sphere(1) } }\n",
+       "t.sdf:1:9: error: unknown function 'difference'; sdfc writes this as 'subtract { ... }'\n"
+       "scene { difference { sphere(1) } }\n"
+       "        ^~~~~~~~~~\n"},
   });
 }
 

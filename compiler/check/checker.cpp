@@ -19,6 +19,7 @@
 #include "check/imports.h"
 #include "check/parametric.h"
 #include "check/image_file.h"
+#include "check/other_spellings.h"
 #include "check/point_file.h"
 #include "shapes/polygon.h"
 #include "meshin/mesh_check.h"
@@ -560,8 +561,10 @@ class Checker {
       return {};
     }
     std::string message = "unknown function '" + e.name + "'";
+    const std::string other = otherToolSpelling(e.name);
     const std::string near = nearestName(e.name, allCallableNames());
-    if (!near.empty()) message += "; did you mean '" + near + "'?";
+    if (!other.empty()) message += "; sdfc writes this as '" + other + "'";
+    else if (!near.empty()) message += "; did you mean '" + near + "'?";
     diags_->error(e.name_range, message);
     return {};
   }
