@@ -14,6 +14,7 @@ display -> exit 3 with a pointer to `sdfc render`.
 """
 import os
 import re
+import shutil
 import struct
 import subprocess
 import sys
@@ -265,6 +266,34 @@ quit
         check(sum("reload ok" in e for e in events) == 2, "saving the imported file reloads the scene")
         before, after = read_png(j("before.png")), read_png(j("after.png"))
         check((np.abs(before - after).max(axis=-1) > 8).mean() > 0.02, "the reload shows the imported change")
+
+    # A save of a texture the scene reads reloads it too (as an import does).
+    with tempfile.TemporaryDirectory() as d:
+        j = lambda name: os.path.join(d, name)
+        os.makedirs(j("tex dir"))
+        for name, colour in (("red.png", (0.9, 0.2, 0.15)), ("blue.png", (0.15, 0.3, 0.9))):
+            mpimg.imsave(j("tex dir/" + name), np.tile(np.array(colour, np.float32), (8, 8, 1)))
+        shutil.copy(j("tex dir/red.png"), j("tex dir/wood.png"))
+        open(j("main.sdf"), "w").write(SCENE.replace(
+            "SHAPE", 'sphere(radius: 0.7, material: diffuse(albedo: texture(file: "tex dir/wood.png")))'))
+        script = f"""wait-spp 2
+save {j('before.png')}
+run sleep 0.2; cp '{j("tex dir/blue.png")}' '{j("tex dir/wood.png")}'
+wait-reload
+wait-spp 2
+save {j('after.png')}
+quit
+"""
+        open(j("events.txt"), "w").write(script)
+        log = j("frames.log")
+        r = subprocess.run([SDFC, "view", j("main.sdf"), "--script", j("events.txt"), "--frame-log", log,
+                            "--size", "96x64"], env=env, capture_output=True, text=True, timeout=300)
+        sys.stderr.write(r.stderr)
+        check(r.returncode == 0, f"texture session: quit exits 0 (got {r.returncode})")
+        events = [l for l in open(log).read().splitlines() if l.startswith("event ")]
+        check(sum("reload ok" in e for e in events) == 2, "saving the texture reloads the scene")
+        before, after = read_png(j("before.png")), read_png(j("after.png"))
+        check((np.abs(before - after).max(axis=-1) > 8).mean() > 0.02, "the reload shows the new texture")
     if failures:
         print(f"{len(failures)} check(s) failed")
         return 1

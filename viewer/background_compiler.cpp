@@ -115,9 +115,11 @@ std::unique_ptr<BuiltScene> BackgroundCompiler::buildReload(uint32_t view) {
   }
   built->compile_seconds = std::chrono::duration<double>(Clock::now() - start).count();
   {
-    // A save of an imported file reloads too (even when this compile failed there).
+    // A save of an imported file, a mesh or a texture reloads too (even when
+    // this compile failed there).
     std::vector<std::string> imports;
     for (const auto& f : loaded->compiled.scene.imported_sources) imports.push_back(f->path);
+    for (const auto& f : loaded->compiled.scene.data_files) imports.push_back(f);
     std::lock_guard<std::mutex> lock(mutex_);
     if (watcher_) watcher_->watchAlso(imports);
   }

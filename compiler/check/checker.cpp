@@ -1515,6 +1515,7 @@ class Checker {
     }
     if (!ok) return {};
     const std::string path = resolveBesides(file->range.file ? file->range.file->path : source_.path, file->name);
+    scene_.data_files.push_back(path);
     std::shared_ptr<MeshShape> shape = loadMesh(path, file->name, file->range, options_.mesh_mode, *diags_);
     if (!shape) return {};
     auto node = std::make_shared<ir::Node>();
@@ -1538,6 +1539,7 @@ class Checker {
       }
       const ast::Expr& name = *arg.arguments[0].value;
       const std::string path = resolveBesides(name.range.file ? name.range.file->path : source_.path, name.name);
+      scene_.data_files.push_back(path);
       PointFile file = readPointFile(path);
       if (!file.readable) {
         // Why, and where it looked: the path is relative to the scene's folder.
@@ -1941,6 +1943,7 @@ class Checker {
     }
     if (!ok) return {};
     const std::string path = resolveBesides(name.range.file ? name.range.file->path : source_.path, name.name);
+    scene_.data_files.push_back(path);
     ImageFile image = readImageFile(path);
     if (!image.image) {
       std::error_code ignored;

@@ -214,6 +214,9 @@ struct Scene {
   glm::dvec3 origin{0.0};
   // Files brought in by `import` (ranges and diagnostics point into them).
   std::vector<std::shared_ptr<SourceFile>> imported_sources;
+  // Data files the scene reads (meshes, textures, point lists), resolved as
+  // opened: the viewer reloads when one of them is saved.
+  std::vector<std::string> data_files;
 };
 
 // Stable text dump for --emit ir and for pass tests (text in, text out).
