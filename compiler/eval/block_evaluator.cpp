@@ -120,15 +120,23 @@ void BlockEvaluator::evalNode(const ir::Node& n, const PointBlock& p, int inheri
       BlockResult& r = level.result;
       for (size_t c = 1; c < n.children.size(); ++c) {
         child(c, p, r);
+        // Selects, not branches, and the blend's k <= 0 case hoisted: loops
+        // the compiler vectorises.
         if (is_union) {
-          for (int i = 0; i < count; ++i) {
-            if (r.distance[i] < out.distance[i]) out.material[i] = r.material[i];
-            out.distance[i] = blendMin(out.distance[i], r.distance[i], k);
+          for (int i = 0; i < count; ++i)
+            out.material[i] = r.distance[i] < out.distance[i] ? r.material[i] : out.material[i];
+          if (k <= 0) {
+            for (int i = 0; i < count; ++i) out.distance[i] = std::min(out.distance[i], r.distance[i]);
+          } else {
+            for (int i = 0; i < count; ++i) out.distance[i] = blendMin(out.distance[i], r.distance[i], k);
           }
         } else {
-          for (int i = 0; i < count; ++i) {
-            if (r.distance[i] > out.distance[i]) out.material[i] = r.material[i];
-            out.distance[i] = blendMax(out.distance[i], r.distance[i], k);
+          for (int i = 0; i < count; ++i)
+            out.material[i] = r.distance[i] > out.distance[i] ? r.material[i] : out.material[i];
+          if (k <= 0) {
+            for (int i = 0; i < count; ++i) out.distance[i] = -std::min(-out.distance[i], -r.distance[i]);
+          } else {
+            for (int i = 0; i < count; ++i) out.distance[i] = blendMax(out.distance[i], r.distance[i], k);
           }
         }
       }
@@ -140,7 +148,11 @@ void BlockEvaluator::evalNode(const ir::Node& n, const PointBlock& p, int inheri
       BlockResult& r = level.result;
       for (size_t c = 1; c < n.children.size(); ++c) {
         child(c, p, r);
-        for (int i = 0; i < count; ++i) out.distance[i] = blendMax(out.distance[i], -r.distance[i], k);
+        if (k <= 0) {
+          for (int i = 0; i < count; ++i) out.distance[i] = -std::min(-out.distance[i], r.distance[i]);  // blendMax(a, -r, 0)
+        } else {
+          for (int i = 0; i < count; ++i) out.distance[i] = blendMax(out.distance[i], -r.distance[i], k);
+        }
       }
       return;
     }
@@ -228,11 +240,11 @@ void BlockEvaluator::evalNode(const ir::Node& n, const PointBlock& p, int inheri
               q.set(i, x);
             }
             child(0, q, r);
-            for (int i = 0; i < count; ++i)
-              if (r.distance[i] < out.distance[i]) {
-                out.distance[i] = r.distance[i];
-                out.material[i] = r.material[i];
-              }
+            for (int i = 0; i < count; ++i) {
+              const bool nearer = r.distance[i] < out.distance[i];
+              out.distance[i] = nearer ? r.distance[i] : out.distance[i];
+              out.material[i] = nearer ? r.material[i] : out.material[i];
+            }
           }
       return;
     }
