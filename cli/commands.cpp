@@ -402,6 +402,9 @@ int runEval(const CommandLine& cl) {
       return kExitIo;
     }
   }
+  // std::cin on its own buffer (no stdio sync; this command prints with printf
+  // only), so in_avail() below says whether more input is ready.
+  if (cl.points.empty()) std::ios::sync_with_stdio(false);
   std::istream& in = cl.points.empty() ? std::cin : file;
   // Points are evaluated in batches (the block evaluator, every core), a batch
   // ending where the input has nothing more ready, so a program writing one
