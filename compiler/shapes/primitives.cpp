@@ -527,10 +527,18 @@ const PrimitiveInfo& primitiveInfo(PrimitiveKind kind) {
 
 namespace {
 
-// flatten: the primitive and its helpers are inlined into the loop (GCC and
-// Clang), so the loop has no calls and may be vectorised.
+// flatten: the primitive and its helpers are inlined into the loop, so the
+// loop has no calls and may be vectorised; a second copy for x86-64-v3 (AVX2:
+// four doubles a vector, floor as one instruction) is chosen at load time where
+// the processor has it. FMA is never contracted (compiler/CMakeLists.txt), so
+// both copies give the per-point functions' bits.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#define SDFC_BLOCK_CLONES __attribute__((flatten, target_clones("default", "arch=x86-64-v3")))
+#else
+#define SDFC_BLOCK_CLONES __attribute__((flatten))
+#endif
 template <double (*F)(const double*, const dvec3&)>
-__attribute__((flatten)) void distanceLoop(const double* a, const double* x, const double* y, const double* z, double* out, int n) {
+SDFC_BLOCK_CLONES void distanceLoop(const double* a, const double* x, const double* y, const double* z, double* out, int n) {
   for (int i = 0; i < n; ++i) out[i] = F(a, dvec3(x[i], y[i], z[i]));
 }
 
