@@ -84,6 +84,10 @@ void BlockEvaluator::gradient(const double* xyz, size_t n, double* g, Scratch& s
 
 // Each case is the per-point Evaluator::evalNode's, its per-point work a loop
 // over the block. A node kind without a case here is evaluated point by point.
+// Built twice, as the primitives' loops are (shapes/primitives.cpp).
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+__attribute__((target_clones("default", "arch=x86-64-v3")))
+#endif
 void BlockEvaluator::evalNode(const ir::Node& n, const PointBlock& p, int inherited, BlockResult& out,
                               Scratch& scratch, size_t depth) const {
   const int mat = n.material >= 0 ? n.material : inherited;
