@@ -133,6 +133,7 @@ def main():
     ap.add_argument("--repeats", type=int, default=3)
     ap.add_argument("--resolution", type=int, default=96)
     ap.add_argument("--sdfc", default=os.path.join(ROOT, "build", "cli", "sdfc"))
+    ap.add_argument("--sdfc-before", help="another sdfc binary for `sdfc eval` (the per-point evaluator's)")
     ap.add_argument("--out")
     args = ap.parse_args()
     import sdfc
@@ -163,6 +164,27 @@ def main():
               f"to a median |difference| of {np.median(agree):.2g} (95th percentile {np.percentile(agree, 95):.2g}): "
               "the same scene, up to sdfcad's primitives' own formulas (its capped cone and cylinder are "
               "exact; the plane cut and elongation match).", ""]
+
+    # 1b. `sdfc eval` on the same points from a file (parsing and printing included).
+    pts_file = os.path.join("/tmp", "python_bench_points_%d.txt" % os.getpid())
+    n_cli = min(args.points, 200_000)
+    np.savetxt(pts_file, points[:n_cli], fmt="%.17g")
+    cli_eval = {}
+    for name, binary in [("sdfc", args.sdfc)] + ([("before", args.sdfc_before)] if args.sdfc_before else []):
+        cli_eval[name] = []
+    for _ in range(args.repeats):
+        for name in cli_eval:
+            binary = args.sdfc if name == "sdfc" else args.sdfc_before
+            t = time.perf_counter()
+            subprocess.run([binary, "eval", CASTLE, "--points", pts_file], check=True, stdout=subprocess.DEVNULL)
+            cli_eval[name].append(time.perf_counter() - t)
+    os.remove(pts_file)
+    lines += [f"`sdfc eval examples/castle.sdf --points FILE` on the first {n_cli:,} of those points "
+              "(reading and printing included):", "", "| binary | seconds | points/s |", "|---|---|---|"]
+    for name, ts_ in cli_eval.items():
+        t = statistics.median(ts_)
+        lines.append(f"| {'this build' if name == 'sdfc' else args.sdfc_before} | {t:.3f} | {n_cli / t:,.0f} |")
+    lines.append("")
 
     # 2. meshing: the castle without the ground, in a box, at one step for both.
     lo, hi = np.array([-6.2, 0.05, -6.2]), np.array([6.2, 8.4, 6.4])

@@ -10,7 +10,7 @@
 
 #include "cli_support.h"
 #include "eval/color_field.h"
-#include "eval/evaluator.h"
+#include "api/evaluate.h"
 #include "spirv/glsl_to_spirv.h"
 #include "driver_select.h"
 #include "vulkan_context.h"
@@ -394,7 +394,6 @@ int runEval(const CommandLine& cl) {
   LoadedScene loaded = loadScene(cl, diags, false);
   if (loaded.exit_code != kExitOk) return loaded.exit_code;
   const ir::Scene& scene = loaded.compiled.scene;
-  Evaluator evaluator(scene, cl.time);
   std::ifstream file;
   if (!cl.points.empty()) {
     file.open(cl.points);
@@ -403,45 +402,76 @@ int runEval(const CommandLine& cl) {
       return kExitIo;
     }
   }
+  // std::cin on its own buffer (no stdio sync; this command prints with printf
+  // only), so in_avail() below says whether more input is ready.
+  if (cl.points.empty()) std::ios::sync_with_stdio(false);
   std::istream& in = cl.points.empty() ? std::cin : file;
+  // Points are evaluated in batches (the block evaluator, every core), a batch
+  // ending where the input has nothing more ready, so a program writing one
+  // point and waiting for its answer still gets it.
+  constexpr size_t kBatch = 1 << 14;
+  std::vector<double> points, distance, gradient;
+  std::vector<int> material;
+  auto flush = [&] {
+    const size_t n = points.size() / 3;
+    if (n == 0) return;
+    distance.resize(n);
+    material.resize(n);
+    gradient.resize(3 * n);
+    api::EvalBatch batch;
+    batch.points = points.data();
+    batch.count = n;
+    batch.time = cl.time;
+    batch.distance = distance.data();
+    batch.material = material.data();
+    batch.gradient = cl.gradient || cl.material ? gradient.data() : nullptr;
+    api::evaluate(scene, batch);
+    for (size_t i = 0; i < n; ++i) {
+      std::printf("%.17g", distance[i]);
+      const glm::dvec3 g(gradient[3 * i], gradient[3 * i + 1], gradient[3 * i + 2]);
+      if (cl.gradient) std::printf(" %.12g %.12g %.12g", g.x, g.y, g.z);
+      if (cl.material) {
+        const int m = material[i];
+        std::string name = "-";
+        if (m >= 0) {
+          name = scene.materials[m].name;
+          if (name.empty()) name = "material" + std::to_string(m);
+        }
+        std::printf(" %s", name.c_str());
+        // The colour at p (a field's value there; else the constant).
+        if (m >= 0) {
+          const glm::dvec3 p(points[3 * i], points[3 * i + 1], points[3 * i + 2]);
+          const glm::dvec3 nrm = glm::length(g) > 0 ? glm::normalize(g) : glm::dvec3(0, 1, 0);
+          const glm::dvec3 c = materialColor(scene.materials[m], p + scene.origin, nrm, cl.time);
+          std::printf(" %.12g %.12g %.12g", c.x, c.y, c.z);
+        }
+      }
+      std::printf("\n");
+    }
+    std::fflush(stdout);
+    points.clear();
+  };
   std::string line;
   int line_number = 0;
   int bad = 0;
   while (std::getline(in, line)) {
     ++line_number;
-    if (line.find_first_not_of(" \t\r") == std::string::npos || line[0] == '#') continue;
-    std::istringstream words(line);
-    glm::dvec3 p;
-    std::string extra;
-    if (!(words >> p.x >> p.y >> p.z) || (words >> extra)) {
-      std::cerr << (cl.points.empty() ? "<stdin>" : cl.points) << ":" << line_number
-                << ": error: expected three numbers 'x y z'\n";
-      ++bad;
-      continue;
-    }
-    const EvalResult r = evaluator.at(p);
-    std::printf("%.17g", r.distance);
-    if (cl.gradient) {
-      const glm::dvec3 g = evaluator.gradient(p);
-      std::printf(" %.12g %.12g %.12g", g.x, g.y, g.z);
-    }
-    if (cl.material) {
-      std::string name = "-";
-      if (r.material >= 0) {
-        name = scene.materials[r.material].name;
-        if (name.empty()) name = "material" + std::to_string(r.material);
+    if (line.find_first_not_of(" \t\r") != std::string::npos && line[0] != '#') {
+      std::istringstream words(line);
+      glm::dvec3 p;
+      std::string extra;
+      if (!(words >> p.x >> p.y >> p.z) || (words >> extra)) {
+        flush();  // the message after the answers to the lines before it
+        std::cerr << (cl.points.empty() ? "<stdin>" : cl.points) << ":" << line_number
+                  << ": error: expected three numbers 'x y z'\n";
+        ++bad;
+        continue;
       }
-      std::printf(" %s", name.c_str());
-      // The colour at p (a field's value there; else the constant).
-      if (r.material >= 0) {
-        const glm::dvec3 g = evaluator.gradient(p);
-        const glm::dvec3 n = glm::length(g) > 0 ? glm::normalize(g) : glm::dvec3(0, 1, 0);
-        const glm::dvec3 c = materialColor(scene.materials[r.material], p + scene.origin, n, cl.time);
-        std::printf(" %.12g %.12g %.12g", c.x, c.y, c.z);
-      }
+      points.insert(points.end(), {p.x, p.y, p.z});
     }
-    std::printf("\n");
+    if (points.size() / 3 >= kBatch || in.rdbuf()->in_avail() <= 0) flush();
   }
+  flush();
   return bad ? kExitUsage : kExitOk;
 }
 

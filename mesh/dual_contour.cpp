@@ -63,36 +63,133 @@ struct UnionFind {
 };
 
 // Where the field crosses zero between a (t = 0) and b (t = 1): Illinois
-// false position, bracketed, so it also converges on creases.
-dvec3 findCrossing(const Evaluator& eval, const dvec3& a, const dvec3& b, double voxel) {
-  double t0 = 0, t1 = 1;
-  double f0 = eval.distance(a), f1 = eval.distance(b);
-  if ((f0 < 0) == (f1 < 0)) return 0.5 * (a + b);  // the sampled signs disagree: give up gently
+// false position, bracketed, so it also converges on creases. Many edges at
+// once: each edge takes its own steps, but a step of all of them is one
+// block evaluation.
+struct Search {
+  dvec3 a, b;
+  double t0 = 0, t1 = 1, f0 = 0, f1 = 0, t = 0.5;
   int side = 0;
-  double t = 0.5;
-  for (int iter = 0; iter < 100; ++iter) {
-    t = (t0 * f1 - t1 * f0) / (f1 - f0);
-    if (!(t > t0 && t < t1)) t = 0.5 * (t0 + t1);
-    const double f = eval.distance(a + t * (b - a));
-    if (f == 0 || std::fabs(f) < 1e-13 * voxel || t1 - t0 < 1e-13) break;
-    if ((f < 0) == (f0 < 0)) {
-      t0 = t, f0 = f;
-      if (side == -1) f1 *= 0.5;
-      side = -1;
-    } else {
-      t1 = t, f1 = f;
-      if (side == 1) f0 *= 0.5;
-      side = 1;
+  bool done = false, bracketed = true;
+};
+static_assert(sizeof(dvec3) == 3 * sizeof(double), "points are passed to the evaluator as n x 3 doubles");
+
+void findCrossings(const BlockEvaluator& eval, std::vector<Search>& searches, double voxel,
+                   BlockEvaluator::Scratch& scratch, dvec3* out) {
+  const size_t n = searches.size();
+  std::vector<double> xyz(6 * n), f(2 * n);
+  for (size_t i = 0; i < n; ++i) {
+    const dvec3& a = searches[i].a;
+    const dvec3& b = searches[i].b;
+    std::copy(&a.x, &a.x + 3, &xyz[6 * i]);
+    std::copy(&b.x, &b.x + 3, &xyz[6 * i + 3]);
+  }
+  eval.evaluate(xyz.data(), 2 * n, f.data(), nullptr, scratch);
+  for (size_t i = 0; i < n; ++i) {
+    Search& s = searches[i];
+    s.f0 = f[2 * i];
+    s.f1 = f[2 * i + 1];
+    if ((s.f0 < 0) == (s.f1 < 0)) {  // the sampled signs disagree: give up gently
+      s.done = true;
+      s.bracketed = false;
+      out[i] = 0.5 * (s.a + s.b);
     }
   }
-  return a + t * (b - a);
+  std::vector<size_t> active;
+  for (int iter = 0; iter < 100; ++iter) {
+    active.clear();
+    xyz.clear();
+    for (size_t i = 0; i < n; ++i) {
+      Search& s = searches[i];
+      if (s.done) continue;
+      s.t = (s.t0 * s.f1 - s.t1 * s.f0) / (s.f1 - s.f0);
+      if (!(s.t > s.t0 && s.t < s.t1)) s.t = 0.5 * (s.t0 + s.t1);
+      const dvec3 p = s.a + s.t * (s.b - s.a);
+      xyz.insert(xyz.end(), {p.x, p.y, p.z});
+      active.push_back(i);
+    }
+    if (active.empty()) break;
+    eval.evaluate(xyz.data(), active.size(), f.data(), nullptr, scratch);
+    for (size_t k = 0; k < active.size(); ++k) {
+      Search& s = searches[active[k]];
+      const double fk = f[k];
+      if (fk == 0 || std::fabs(fk) < 1e-13 * voxel || s.t1 - s.t0 < 1e-13) {
+        s.done = true;
+      } else if ((fk < 0) == (s.f0 < 0)) {
+        s.t0 = s.t, s.f0 = fk;
+        if (s.side == -1) s.f1 *= 0.5;
+        s.side = -1;
+      } else {
+        s.t1 = s.t, s.f1 = fk;
+        if (s.side == 1) s.f0 *= 0.5;
+        s.side = 1;
+      }
+    }
+  }
+  for (size_t i = 0; i < n; ++i) {
+    const Search& s = searches[i];
+    if (s.bracketed) out[i] = s.a + s.t * (s.b - s.a);
+  }
+}
+
+// Newton steps onto the surface, staying in the cell: vertices on creases
+// already have f = 0 and do not move; the rest lose the QEF's curvature
+// error (~voxel^2 / radius) and the clamping error. Each vertex takes its
+// own steps; a step of all of them is one block evaluation.
+struct Projection {
+  dvec3 v, lo, hi;
+  dvec3* out;
+  bool done = false;
+};
+
+void projectOntoSurface(const BlockEvaluator& eval, std::vector<Projection>& vertices, int steps, double voxel,
+                        double h, BlockEvaluator::Scratch& scratch) {
+  std::vector<size_t> active, moving;
+  std::vector<double> xyz, f, g;
+  for (int iter = 0; iter < steps; ++iter) {
+    active.clear();
+    xyz.clear();
+    for (size_t i = 0; i < vertices.size(); ++i) {
+      if (vertices[i].done) continue;
+      active.push_back(i);
+      xyz.insert(xyz.end(), {vertices[i].v.x, vertices[i].v.y, vertices[i].v.z});
+    }
+    if (active.empty()) break;
+    f.resize(active.size());
+    eval.evaluate(xyz.data(), active.size(), f.data(), nullptr, scratch);
+    moving.clear();
+    size_t m = 0;
+    for (size_t k = 0; k < active.size(); ++k) {
+      if (std::fabs(f[k]) <= 1e-12 * voxel) {
+        vertices[active[k]].done = true;
+        continue;
+      }
+      moving.push_back(k);
+      std::copy(&xyz[3 * k], &xyz[3 * k] + 3, &xyz[3 * m++]);
+    }
+    g.resize(3 * m);
+    eval.gradient(xyz.data(), m, g.data(), scratch, h);
+    for (size_t j = 0; j < m; ++j) {
+      Projection& p = vertices[active[moving[j]]];
+      const dvec3 gj(g[3 * j], g[3 * j + 1], g[3 * j + 2]);
+      const double g2 = glm::dot(gj, gj);
+      if (!(g2 > 1e-12)) {
+        p.done = true;
+        continue;
+      }
+      p.v = glm::clamp(p.v - gj * (f[moving[j]] / g2), p.lo, p.hi);
+    }
+  }
+  for (const Projection& p : vertices) *p.out = p.v;
 }
 
 }  // namespace
 
-TriangleMesh dualContour(const Evaluator& eval, const SignGrid& grid, const MeshOptions& options,
+TriangleMesh dualContour(const BlockEvaluator& block, const SignGrid& grid, const MeshOptions& options,
                          ContourStats* stats) {
   const auto start = std::chrono::steady_clock::now();
+  const Evaluator& eval = block.pointwise();
+  std::vector<BlockEvaluator::Scratch> scratch(workerCount(options.threads));
   const GridPlan& plan = grid.plan;
   const ivec3 s = plan.samples();
   const ivec3 cells = plan.cells;
@@ -138,17 +235,28 @@ TriangleMesh dualContour(const Evaluator& eval, const SignGrid& grid, const Mesh
   std::vector<Crossing> crossings(edges.size());
   const double h = 1e-5 * plan.voxel;
   std::atomic<size_t> edges_done{0};
-  parallelFor(edges.size(), 256, threads, [&](size_t begin, size_t end, int) {
+  parallelFor(edges.size(), 256, threads, [&](size_t begin, size_t end, int worker) {
     if (stopped()) return;
     report("edges", edges_done += end - begin, edges.size());
+    std::vector<Search> searches(end - begin);
     for (size_t e = begin; e < end; ++e) {
       const int axis = int(edges[e] % 3);
       const ivec3 p = sampleOf(edges[e] / 3);
       ivec3 q = p;
       ++q[axis];
+      searches[e - begin].a = plan.point(p.x, p.y, p.z);
+      searches[e - begin].b = plan.point(q.x, q.y, q.z);
+    }
+    std::vector<dvec3> points(end - begin);
+    findCrossings(block, searches, plan.voxel, scratch[worker], points.data());
+    std::vector<dvec3> gradients(end - begin);
+    block.gradient(&points[0].x, points.size(), &gradients[0].x, scratch[worker], h);
+    for (size_t e = begin; e < end; ++e) {
+      const int axis = int(edges[e] % 3);
+      const ivec3 p = sampleOf(edges[e] / 3);
       Crossing& c = crossings[e];
-      c.point = findCrossing(eval, plan.point(p.x, p.y, p.z), plan.point(q.x, q.y, q.z), plan.voxel);
-      const dvec3 g = eval.gradient(c.point, h);
+      c.point = points[e - begin];
+      const dvec3 g = gradients[e - begin];
       const double len = glm::length(g);
       dvec3 fallback(0);
       fallback[axis] = inside(p) ? 1 : -1;  // outward along the edge
@@ -282,8 +390,9 @@ TriangleMesh dualContour(const Evaluator& eval, const SignGrid& grid, const Mesh
   std::atomic<size_t> clamped{0};
   std::atomic<size_t> cells_done{0};
   std::atomic<size_t> flipped_faces{0};
-  parallelFor(cell_keys.size(), 256, threads, [&](size_t begin, size_t end, int) {
+  parallelFor(cell_keys.size(), 256, threads, [&](size_t begin, size_t end, int worker) {
     if (stopped()) return;
+    std::vector<Projection> projections;
     for (size_t ci = begin; ci < end; ++ci) {
       SurfaceCell& sc = surface[ci];
       sc.key = cell_keys[ci];
@@ -315,22 +424,12 @@ TriangleMesh dualContour(const Evaluator& eval, const SignGrid& grid, const Mesh
       const dvec3 lo = plan.point(cell.x, cell.y, cell.z), hi = lo + plan.voxel;
       for (int p = 0; p < sc.patch_count; ++p) {
         const dvec3 solved = qefs[p].solve();
-        dvec3 v = glm::clamp(solved, lo, hi);
+        const dvec3 v = glm::clamp(solved, lo, hi);
         if (v != solved) ++clamped;
-        // Newton steps onto the surface, staying in the cell: vertices on
-        // creases already have f = 0 and do not move; the rest lose the
-        // QEF's curvature error (~voxel^2 / radius) and the clamping error.
-        for (int iter = 0; iter < options.project_steps; ++iter) {
-          const double f = eval.distance(v);
-          if (std::fabs(f) <= 1e-12 * plan.voxel) break;
-          const dvec3 g = eval.gradient(v, h);
-          const double g2 = glm::dot(g, g);
-          if (!(g2 > 1e-12)) break;
-          v = glm::clamp(v - g * (f / g2), lo, hi);
-        }
-        cell_vertices[ci][p] = v;
+        projections.push_back({v, lo, hi, &cell_vertices[ci][p]});
       }
     }
+    projectOntoSurface(block, projections, options.project_steps, plan.voxel, h, scratch[worker]);
     report("contouring", cells_done += end - begin, surface.size());
   });
 
@@ -390,20 +489,23 @@ TriangleMesh dualContour(const Evaluator& eval, const SignGrid& grid, const Mesh
 
   // 7. Vertex normals and triangle materials from the evaluator.
   mesh.normals.resize(mesh.positions.size());
-  parallelFor(mesh.positions.size(), 512, threads, [&](size_t begin, size_t end, int) {
+  parallelFor(mesh.positions.size(), 512, threads, [&](size_t begin, size_t end, int worker) {
+    std::vector<dvec3> gradients(end - begin);
+    block.gradient(&mesh.positions[begin].x, end - begin, &gradients[0].x, scratch[worker], h);
     for (size_t i = begin; i < end; ++i) {
-      const dvec3 g = eval.gradient(mesh.positions[i], h);
+      const dvec3 g = gradients[i - begin];
       const double len = glm::length(g);
       mesh.normals[i] = len > 1e-12 ? g / len : dvec3(0, 0, 1);
     }
   });
   mesh.materials.resize(mesh.triangles.size());
-  parallelFor(mesh.triangles.size(), 512, threads, [&](size_t begin, size_t end, int) {
+  parallelFor(mesh.triangles.size(), 512, threads, [&](size_t begin, size_t end, int worker) {
+    std::vector<dvec3> centroids(end - begin);
     for (size_t t = begin; t < end; ++t) {
       const glm::uvec3 tri = mesh.triangles[t];
-      const dvec3 centroid = (mesh.positions[tri.x] + mesh.positions[tri.y] + mesh.positions[tri.z]) / 3.0;
-      mesh.materials[t] = eval.at(centroid).material;
+      centroids[t - begin] = (mesh.positions[tri.x] + mesh.positions[tri.y] + mesh.positions[tri.z]) / 3.0;
     }
+    block.evaluate(&centroids[0].x, end - begin, nullptr, &mesh.materials[begin], scratch[worker]);
   });
 
   if (stats) {

@@ -115,7 +115,7 @@ GridPlanResult planGrid(const ir::Scene& scene, const MeshOptions& options) {
   return out;
 }
 
-SignGrid sampleGrid(const Evaluator& eval, const ir::Node& root, const GridPlan& plan,
+SignGrid sampleGrid(const BlockEvaluator& eval, const ir::Node& root, const GridPlan& plan,
                     const MeshOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   SignGrid grid;
@@ -132,7 +132,16 @@ SignGrid sampleGrid(const Evaluator& eval, const ir::Node& root, const GridPlan&
   std::mutex progress_mutex;
   const size_t slab_count = size_t(blocks.z);
 
-  parallelFor(slab_count, 1, options.threads, [&](size_t begin, size_t end, int) {
+  std::vector<BlockEvaluator::Scratch> scratch(workerCount(options.threads));
+  parallelFor(slab_count, 1, options.threads, [&](size_t begin, size_t end, int worker) {
+    PointBlock points;
+    BlockResult result;
+    size_t where[kEvalBlock];
+    auto flush = [&] {
+      eval.at(points, result, scratch[worker]);
+      for (int n = 0; n < points.count; ++n) grid.inside[where[n]] = result.distance[n] < 0 ? 1 : 0;
+      points.count = 0;
+    };
     for (size_t bz = begin; bz < end; ++bz) {
       if (options.interrupt && options.interrupt->load()) {
         stopped = true;
@@ -146,7 +155,7 @@ SignGrid sampleGrid(const Evaluator& eval, const ir::Node& root, const GridPlan&
           if (options.sparse) {
             const dvec3 c = plan.origin + plan.voxel * (dvec3(lo + hi - 1) * 0.5);
             const double radius = 0.5 * plan.voxel * glm::length(dvec3(hi - 1 - lo));
-            const double d = eval.distance(c);
+            const double d = eval.pointwise().distance(c);
             ++local;
             if (std::fabs(d) > lipschitz * radius * (1 + 1e-9) + 1e-12 * plan.voxel) {
               const uint8_t in = d < 0 ? 1 : 0;
@@ -159,8 +168,12 @@ SignGrid sampleGrid(const Evaluator& eval, const ir::Node& root, const GridPlan&
           }
           for (int k = lo.z; k < hi.z; ++k)
             for (int j = lo.y; j < hi.y; ++j)
-              for (int i = lo.x; i < hi.x; ++i)
-                grid.inside[grid.index(i, j, k)] = eval.distance(plan.point(i, j, k)) < 0 ? 1 : 0;
+              for (int i = lo.x; i < hi.x; ++i) {
+                where[points.count] = grid.index(i, j, k);
+                points.set(points.count++, plan.point(i, j, k));
+                if (points.count == kEvalBlock) flush();
+              }
+          if (points.count) flush();
           local += uint64_t(hi.x - lo.x) * uint64_t(hi.y - lo.y) * uint64_t(hi.z - lo.z);
         }
       }

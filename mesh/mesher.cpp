@@ -14,7 +14,7 @@ MeshResult meshScene(const ir::Scene& scene, const MeshOptions& options) {
     return out;
   }
   out.plan = planned.plan;
-  const Evaluator eval(scene, options.time);
+  const BlockEvaluator eval(scene, options.time);
   const SignGrid grid = sampleGrid(eval, *scene.root, out.plan, options);
   out.points_evaluated = grid.points_evaluated;
   out.sample_seconds = grid.seconds;

@@ -20,7 +20,7 @@
 
 #include <glm/glm.hpp>
 
-#include "eval/evaluator.h"
+#include "eval/block_evaluator.h"
 #include "ir/scene.h"
 
 namespace sdfc {
@@ -86,7 +86,7 @@ struct SignGrid {
     return size_t(i) + size_t(s.x) * (size_t(j) + size_t(s.y) * size_t(k));
   }
 };
-SignGrid sampleGrid(const Evaluator& eval, const ir::Node& root, const GridPlan& plan,
+SignGrid sampleGrid(const BlockEvaluator& eval, const ir::Node& root, const GridPlan& plan,
                     const MeshOptions& options);
 
 struct TriangleMesh {
@@ -105,7 +105,7 @@ struct ContourStats {
   bool interrupted = false;
   double seconds = 0;
 };
-TriangleMesh dualContour(const Evaluator& eval, const SignGrid& grid, const MeshOptions& options,
+TriangleMesh dualContour(const BlockEvaluator& eval, const SignGrid& grid, const MeshOptions& options,
                          ContourStats* stats = nullptr);
 
 // What weldByPosition() changed.

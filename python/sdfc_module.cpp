@@ -7,6 +7,7 @@
 #include <pybind11/stl.h>
 
 #include <atomic>
+#include <future>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -19,6 +20,7 @@
 #include "api/evaluate.h"
 #include "api/scene.h"
 #include "api/scene_render.h"
+#include "driver_compile_level.h"
 #include "driver_select.h"
 #include "image_io.h"
 #include "pipeline_cache.h"
@@ -37,6 +39,13 @@ namespace {
 std::map<int, std::unique_ptr<ScopedContext>>& contexts() {
   static auto* all = new std::map<int, std::unique_ptr<ScopedContext>>;
   return *all;
+}
+
+// Renders run with the GIL released, one at a time: they share the devices
+// and each scene's kernels.
+std::mutex& renderMutex() {
+  static std::mutex m;
+  return m;
 }
 
 VulkanContext& contextFor(int device) {
@@ -176,8 +185,9 @@ class PyScene {
       if (!d) throw py::value_error("denoise must be one of nlr, none, bilateral, atrous, svgf, nlm; got '" + *denoise + "'");
       image.denoiser = d;
     }
-    Kernel& k = kernelFor(device, kernel, o.height);
-    RenderSettings settings = renderSettingsFor(*k.compiled, o);
+    const RenderSettings planned = renderSettingsFor(scene_->compiled, o);
+    const uint64_t samples = uint64_t(planned.width) * planned.height * (o.view == gpu::kViewBeauty ? planned.spp : 1);
+    RenderSettings settings;
     // Ctrl-C: Python's handler only notes the signal while the GIL is released;
     // each pass's report checks for it, and the render stops after that pass.
     std::atomic<bool> interrupt{false};
@@ -205,7 +215,12 @@ class PyScene {
     };
     RenderedImage rendered;
     {
+      // The device, the kernel and the render without the GIL: numpy's import
+      // (sdfc/__init__.py starts it) or other Python work goes on meanwhile.
       py::gil_scoped_release release;
+      std::lock_guard<std::mutex> one_render(renderMutex());
+      Kernel& k = kernelFor(device, kernel, o.height, samples);
+      settings = renderSettingsFor(*k.compiled, o);
       rendered = renderImage(*k.renderer, *k.compiled, settings, image, report, &interrupt);
     }
     if (error) throw std::move(*error);
@@ -256,19 +271,42 @@ class PyScene {
     std::unique_ptr<Renderer> renderer;
   };
 
-  Kernel& kernelFor(int device, KernelView view, std::optional<int> height) {
+  // As `sdfc render`: a new device is created beside the compile, the kernel
+  // compiled for a CPU device meanwhile and again if the device is a GPU.
+  Kernel& kernelFor(int device, KernelView view, std::optional<int> height, uint64_t samples) {
     const auto key = std::make_tuple(device, int(view), height.value_or(-1));
     auto it = kernels_.find(key);
     if (it != kernels_.end()) return it->second;
-    VulkanContext& context = contextFor(device);
-    setPipelineCacheDirectory(sdfcCacheDirectory());
     CompileOptions options = scene_->options.compile;
     options.emit.view = view;
     if (height) options.emit.march.image_height = *height;
-    adaptCompileOptionsToDevice(options, context.properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU, false);
+    VulkanContext* context = nullptr;
     Kernel k;
-    k.compiled = std::make_unique<CompiledScene>(scene_->compileWith(options));
-    k.renderer = std::make_unique<Renderer>(context, *k.compiled);
+    if (contexts().count(device)) {
+      context = &contextFor(device);
+      adaptCompileOptionsToDevice(options, context->properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU, false);
+      k.compiled = std::make_unique<CompiledScene>(scene_->compileWith(options));
+    } else {
+      // setenv before the device's thread starts. The process's first device
+      // takes `sdfc render`'s choice of the driver's compile level for this
+      // render (driver_compile_level.h): few samples compile unoptimised.
+      selectedDriver();
+      if (contexts().empty()) chooseQuickDriverCompile(samples);
+      std::future<VulkanContext*> created = std::async(std::launch::async, [&] { return &contextFor(device); });
+      CompileOptions cpu = options;
+      adaptCompileOptionsToDevice(cpu, true, false);
+      try {
+        k.compiled = std::make_unique<CompiledScene>(scene_->compileWith(cpu));
+      } catch (...) {
+        created.wait();
+        throw;
+      }
+      context = created.get();  // rethrows a device error
+      if (context->properties.deviceType != VK_PHYSICAL_DEVICE_TYPE_CPU)
+        k.compiled = std::make_unique<CompiledScene>(scene_->compileWith(options));
+    }
+    setPipelineCacheDirectory(sdfcCacheDirectory());
+    k.renderer = std::make_unique<Renderer>(*context, *k.compiled);
     k.renderer->compileKernel(viewIdFromName(kernelViewName(view)));
     return kernels_.emplace(key, std::move(k)).first->second;
   }

@@ -8,6 +8,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "shapes/primitive_blocks.h"
+
 namespace sdfc {
 namespace {
 
@@ -521,6 +523,49 @@ const PrimitiveInfo& primitiveInfo(PrimitiveKind kind) {
   for (const PrimitiveInfo& p : primitiveCatalogue())
     if (p.kind == kind) return p;
   return primitiveCatalogue()[0];
+}
+
+namespace {
+
+// flatten: the primitive and its helpers are inlined into the loop, so the
+// loop has no calls and may be vectorised; a second copy for x86-64-v3 (AVX2:
+// four doubles a vector, floor as one instruction) is chosen at load time where
+// the processor has it. FMA is never contracted (compiler/CMakeLists.txt), so
+// both copies give the per-point functions' bits.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#define SDFC_BLOCK_CLONES __attribute__((flatten, target_clones("default", "arch=x86-64-v3")))
+#else
+#define SDFC_BLOCK_CLONES __attribute__((flatten))
+#endif
+template <double (*F)(const double*, const dvec3&)>
+SDFC_BLOCK_CLONES void distanceLoop(const double* a, const double* x, const double* y, const double* z, double* out, int n) {
+  for (int i = 0; i < n; ++i) out[i] = F(a, dvec3(x[i], y[i], z[i]));
+}
+
+}  // namespace
+
+BlockDistance blockDistance(PrimitiveKind kind) {
+  switch (kind) {
+    case PrimitiveKind::Sphere: return distanceLoop<sphere>;
+    case PrimitiveKind::Box: return distanceLoop<box>;
+    case PrimitiveKind::Torus: return distanceLoop<torus>;
+    case PrimitiveKind::Cylinder: return distanceLoop<cylinder>;
+    case PrimitiveKind::Cone: return distanceLoop<cone>;
+    case PrimitiveKind::Plane: return distanceLoop<plane>;
+    case PrimitiveKind::Capsule: return distanceLoop<capsule>;
+    case PrimitiveKind::TriPrism: return distanceLoop<triPrism>;
+    case PrimitiveKind::HexPrism: return distanceLoop<hexPrism>;
+    case PrimitiveKind::Menger: return distanceLoop<menger>;
+    case PrimitiveKind::Octahedron: return distanceLoop<octahedron>;
+    case PrimitiveKind::Pyramid: return distanceLoop<pyramid>;
+    case PrimitiveKind::RoundCone: return distanceLoop<roundCone>;
+    case PrimitiveKind::Ellipsoid: return distanceLoop<ellipsoid>;
+    case PrimitiveKind::Circle: return distanceLoop<circle>;
+    case PrimitiveKind::Rect: return distanceLoop<rect>;
+    case PrimitiveKind::Hexagon: return distanceLoop<hexagon>;
+    case PrimitiveKind::Polygon: return nullptr;
+  }
+  return nullptr;
 }
 
 const char* box2Glsl() { return kBox2Glsl; }

@@ -12,8 +12,8 @@ from __future__ import annotations
 
 import os
 import struct
+import sys
 import zlib
-from dataclasses import dataclass, field
 from typing import Callable, Mapping, Optional, Sequence
 
 from . import _sdfc
@@ -30,16 +30,42 @@ __all__ = [
 ]
 
 
-@dataclass(frozen=True)
+def _import_numpy_meanwhile() -> None:
+    """A render returns a numpy array, and numpy's import is about 0.1 s of CPU:
+    the first render imports it in a thread while the device is created and the
+    image rendered, which release the GIL (as `sdfc render` creates the device
+    beside its compile)."""
+    if "numpy" not in sys.modules:
+        import threading
+        threading.Thread(target=__import__, args=("numpy",), daemon=True).start()
+
+
 class Diagnostic:
-    """One diagnostic of a scene: severity is "error", "warning" or "note"."""
-    severity: str
-    file: str
-    line: int
-    column: int
-    message: str
-    name: str = ""  # a warning's name (for disabled_warnings / -Wno-NAME)
-    notes: tuple = field(default=())
+    """One diagnostic of a scene: severity is "error", "warning" or "note"; name is a
+    warning's name (for disabled_warnings / -Wno-NAME); notes are Diagnostics too.
+    Immutable, compared and hashed by value. (A plain class: dataclasses' import and
+    class generation were a quarter of `import sdfc`.)"""
+    __slots__ = ("severity", "file", "line", "column", "message", "name", "notes")
+
+    def __init__(self, severity: str, file: str, line: int, column: int, message: str,
+                 name: str = "", notes: tuple = ()):
+        for key, value in zip(self.__slots__, (severity, file, line, column, message, name, tuple(notes))):
+            object.__setattr__(self, key, value)
+
+    def __setattr__(self, key, value):
+        raise AttributeError("Diagnostic is immutable")
+
+    def _fields(self) -> tuple:
+        return tuple(getattr(self, key) for key in self.__slots__)
+
+    def __eq__(self, other):
+        return self._fields() == other._fields() if isinstance(other, Diagnostic) else NotImplemented
+
+    def __hash__(self):
+        return hash(self._fields())
+
+    def __repr__(self) -> str:
+        return "Diagnostic(" + ", ".join(f"{k}={getattr(self, k)!r}" for k in self.__slots__) + ")"
 
     @staticmethod
     def _from(d: dict) -> "Diagnostic":
@@ -123,6 +149,7 @@ class Scene:
         called after every pass; Ctrl-C raises KeyboardInterrupt after the pass under way."""
         if size is not None:
             size = (int(size[0]), int(size[1]))
+        _import_numpy_meanwhile()
         return self._native.render(size, spp, view, denoise, float(time), int(seed), bounces,
                                    light_samples, int(device), progress)
 

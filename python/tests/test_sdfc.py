@@ -149,8 +149,9 @@ def test_eval_releases_the_gil(scene):
     ticks = []
     done = threading.Event()
 
-    def work():
-        scene.eval(many)
+    def work():  # several calls: one is a few milliseconds now
+        for _ in range(20):
+            scene.eval(many)
         done.set()
 
     t = threading.Thread(target=work)
