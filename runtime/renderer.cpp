@@ -108,7 +108,7 @@ double Renderer::compileKernel(uint32_t view, VkCommandPool pool) {
     params.view = view;
     params.sample_count = 1;
     params.traversal_visits = kMinTraversalVisits;
-    runPass(context_, pipeline_, pixel, &params, 600.0, 1, 1);
+    runPass(context_, pipeline_, pixel, &params, 600.0, 1, kReadColor);
   } catch (...) {
     destroyRenderTarget(pixel, context_);
     throw;
@@ -141,9 +141,9 @@ void Renderer::renderPass(const gpu::FrameParams& params, double timeout_seconds
 
 const float* Renderer::runDraws(uint32_t width, uint32_t target_rows, uint32_t rows,
                                 const std::vector<PassDraw>& draws, double timeout_seconds,
-                                uint32_t readback_count) {
+                                uint32_t readback) {
   ensureTarget(width, target_rows);
-  runPass(context_, pipeline_, target_, draws.data(), draws.size(), timeout_seconds, rows, readback_count);
+  runPass(context_, pipeline_, target_, draws.data(), draws.size(), timeout_seconds, rows, readback);
   return target_.mapped;
 }
 
@@ -229,8 +229,11 @@ void Renderer::drawBand(Accumulation& acc, uint32_t b, uint32_t count, RenderOut
   const bool read_aovs = final_out || (acc.keep_aovs && acc.passes == 0) || jittered;
   // Beauty passes whose AOVs are not read skip the AOV ray (the image is the same).
   params.skip_aov_ray = jittered ? jitteredAovMode(acc.settings) : !read_aovs && count > 0 && beauty;
+  // The final pass of a render nothing reads the features of: the colour and the
+  // march steps (attachment 2's w) only.
+  const bool features = !final_out || acc.settings.read_features || jittered;
   runPass(context_, pipeline_, target_, &params, acc.settings.pass_timeout_seconds, rows,
-          read_aovs ? kAttachmentCount : 1);
+          !read_aovs ? kReadColor : features ? kReadAll : kReadColor | kReadAlbedoSteps);
   // Everything below reads the staging buffer: --timings' readback.
   struct ReadbackClock {
     double& total;
@@ -297,8 +300,12 @@ void Renderer::drawBand(Accumulation& acc, uint32_t b, uint32_t count, RenderOut
   if (keep_sums) out.color_sums.insert(out.color_sums.end(), sum.begin(), sum.end());
   std::vector<SampleSum>().swap(sum);
   // + 0.0f maps -0 to +0, as the former double accumulation (0.0 + x) did.
-  float* nd = grow(out.normal_depth);
   float* as = grow(out.albedo_steps);
+  if (!features) {
+    for (size_t i = 0; i < band_floats; ++i) as[i] = albedo_steps[i] + 0.0f;
+    return;
+  }
+  float* nd = grow(out.normal_depth);
   if (jittered) {
     const float scale = 1.0f / float(count_done);
     for (size_t i = 0; i < band_floats; ++i) {
@@ -357,7 +364,10 @@ RenderOutput Renderer::render(const CameraDesc& camera, const RenderSettings& se
   out.color.width = out.normal_depth.width = out.albedo_steps.width = width;
   out.color.height = out.normal_depth.height = out.albedo_steps.height = height;
   out.color.rgba.reserve(n);
-  out.normal_depth.rgba.reserve(n);
+  if (settings.read_features || (settings.jittered_aovs && beauty))
+    out.normal_depth.rgba.reserve(n);
+  else
+    out.normal_depth = FloatImage();  // RenderSettings::read_features
   out.albedo_steps.rgba.reserve(n);
   if (settings.keep_sums) out.color_sums.reserve(n);
 
