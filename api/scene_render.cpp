@@ -94,7 +94,7 @@ RenderedImage renderImage(Renderer& renderer, const CompiledScene& compiled, Ren
   settings.specular_aovs =
       settings.jittered_aovs && (aovs == "specular" || (aovs == "auto" && wantsSpecularAovs(*denoiser)));
   settings.read_features = imageReadsFeatures(settings.view, settings.spp, options);
-  if ((settings.read_features || settings.jittered_aovs) && compiled.emitted.stats.features.count("SDFC_NO_AOVS"))
+  if (settings.read_features && compiled.emitted.stats.features.count("SDFC_NO_AOVS"))
     throw RuntimeError("internal error: a denoised image from a kernel emitted without features");
   const CameraDesc camera = cameraFor(compiled.scene);
   RenderOutput& out = result.out;

@@ -229,9 +229,9 @@ void Renderer::drawBand(Accumulation& acc, uint32_t b, uint32_t count, RenderOut
   const bool read_aovs = final_out || (acc.keep_aovs && acc.passes == 0) || jittered;
   // Beauty passes whose AOVs are not read skip the AOV ray (the image is the same).
   params.skip_aov_ray = jittered ? jitteredAovMode(acc.settings) : !read_aovs && count > 0 && beauty;
-  // The final pass of a render nothing reads the features of: the colour and the
-  // march steps (attachment 2's w) only.
-  const bool features = !final_out || acc.settings.read_features || jittered;
+  // A render nothing reads the features of: the colour and the march steps
+  // (attachment 2's w) only.
+  const bool features = acc.settings.read_features;
   runPass(context_, pipeline_, target_, &params, acc.settings.pass_timeout_seconds, rows,
           !read_aovs ? kReadColor : features ? kReadAll : kReadColor | kReadAlbedoSteps);
   // Everything below reads the staging buffer: --timings' readback.
@@ -261,16 +261,14 @@ void Renderer::drawBand(Accumulation& acc, uint32_t b, uint32_t count, RenderOut
   }
   if (jittered) {
     // Running sums of pass mean * pass samples, in acc's AOV images.
-    if (acc.normal_depth.empty()) {
-      acc.normal_depth = FloatImage(acc.width, acc.height);
+    if (acc.albedo_steps.empty()) {
+      if (features) acc.normal_depth = FloatImage(acc.width, acc.height);
       acc.albedo_steps = FloatImage(acc.width, acc.height);
     }
-    float* nd_sum = acc.normal_depth.rgba.data() + band_base;
     float* as_sum = acc.albedo_steps.rgba.data() + band_base;
-    for (size_t i = 0; count > 0 && i < band_floats; ++i) {
-      nd_sum[i] += normal_depth[i] * float(count);
-      as_sum[i] += albedo_steps[i] * float(count);
-    }
+    for (size_t i = 0; count > 0 && i < band_floats; ++i) as_sum[i] += albedo_steps[i] * float(count);
+    float* nd_sum = features ? acc.normal_depth.rgba.data() + band_base : nullptr;
+    for (size_t i = 0; count > 0 && features && i < band_floats; ++i) nd_sum[i] += normal_depth[i] * float(count);
     if (!final_out) return;
   }
   if (!final_out) {
@@ -301,23 +299,15 @@ void Renderer::drawBand(Accumulation& acc, uint32_t b, uint32_t count, RenderOut
   std::vector<SampleSum>().swap(sum);
   // + 0.0f maps -0 to +0, as the former double accumulation (0.0 + x) did.
   float* as = grow(out.albedo_steps);
-  if (!features) {
-    for (size_t i = 0; i < band_floats; ++i) as[i] = albedo_steps[i] + 0.0f;
-    return;
-  }
-  float* nd = grow(out.normal_depth);
+  float* nd = features ? grow(out.normal_depth) : nullptr;
   if (jittered) {
     const float scale = 1.0f / float(count_done);
-    for (size_t i = 0; i < band_floats; ++i) {
-      nd[i] = acc.normal_depth.rgba[band_base + i] * scale;
-      as[i] = acc.albedo_steps.rgba[band_base + i] * scale;
-    }
+    for (size_t i = 0; i < band_floats; ++i) as[i] = acc.albedo_steps.rgba[band_base + i] * scale;
+    for (size_t i = 0; features && i < band_floats; ++i) nd[i] = acc.normal_depth.rgba[band_base + i] * scale;
     return;
   }
-  for (size_t i = 0; i < band_floats; ++i) {
-    nd[i] = normal_depth[i] + 0.0f;
-    as[i] = albedo_steps[i] + 0.0f;
-  }
+  for (size_t i = 0; i < band_floats; ++i) as[i] = albedo_steps[i] + 0.0f;
+  for (size_t i = 0; features && i < band_floats; ++i) nd[i] = normal_depth[i] + 0.0f;
 }
 
 void Renderer::addPass(Accumulation& acc, uint32_t count) {
@@ -421,16 +411,17 @@ RenderOutput Renderer::render(const CameraDesc& camera, const RenderSettings& se
 }
 
 void resolveJitteredAovs(RenderOutput& out, SampleHalves* halves) {
+  const bool features = !out.normal_depth.empty();  // RenderSettings::read_features
   for (size_t i = 0; i < out.color.pixelCount(); ++i) {
     float& coverage = out.color.rgba[i * 4 + 3];
-    float* nd = &out.normal_depth.rgba[i * 4];
     float* as = &out.albedo_steps.rgba[i * 4];
     const float inverse = coverage > 0.0f ? 1.0f / coverage : 0.0f;
-    for (int c = 0; c < 3; ++c) {
-      nd[c] *= inverse;
-      as[c] *= inverse;
+    for (int c = 0; c < 3; ++c) as[c] *= inverse;
+    if (features) {
+      float* nd = &out.normal_depth.rgba[i * 4];
+      for (int c = 0; c < 3; ++c) nd[c] *= inverse;
+      nd[3] = coverage >= 0.5f ? nd[3] * inverse : -1.0f;
     }
-    nd[3] = coverage >= 0.5f ? nd[3] * inverse : -1.0f;
     coverage = 1.0f;
   }
   if (halves)

@@ -937,7 +937,12 @@ void main() {
   int count = int(frame.sample_count);
 #endif
   vec3 sum = vec3(0.0);
-#ifndef SDFC_NO_AOVS
+#ifdef SDFC_NO_AOVS
+  // kAovJittered (kAovSpecular alike): the steps are the mean over the samples'
+  // first rays, as the full kernel's; there is no AOV ray.
+  bool jittered = frame.skip_aov_ray >= kAovJittered;
+  float steps_sum = 0.0;
+#else
   // kAovJittered: every sample records its first hit and the AOVs are their
   // means (misses count as 0; coverage = hit fraction), as the colour is
   // antialiased over the same jittered rays (docs/denoise.md).
@@ -960,8 +965,9 @@ void main() {
     vec3 ro, rd;
     cameraRay(vec2(pixel) + jitter, !aov, ro, rd);
 #ifdef SDFC_NO_AOVS
-    vec3 l = tracePath(ro, rd, aov ? 0 : int(frame.max_bounces), aov);
+    vec3 l = tracePath(ro, rd, aov ? 0 : int(frame.max_bounces), aov || jittered);
     if (!aov && !any(isnan(l)) && !any(isinf(l))) sum += l;
+    if (jittered) steps_sum += float(g_aov_steps);
 #else
     if (jittered) {
       g_aov_normal = g_aov_albedo = vec3(0.0);
@@ -980,7 +986,7 @@ void main() {
 
 #ifdef SDFC_NO_AOVS
   out_normal_depth = vec4(0.0);
-  out_albedo_steps = vec4(vec3(0.0), float(g_aov_steps));
+  out_albedo_steps = vec4(vec3(0.0), jittered ? steps_sum / float(max(count, 1)) : float(g_aov_steps));
   out_color = vec4(sum / float(max(count, 1)), 1.0);
 #else
   out_normal_depth = vec4(g_aov_normal, g_aov_dist);
