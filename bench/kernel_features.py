@@ -13,6 +13,11 @@ binaries run by run (the order reversed every other repetition). Reports medians
 of the stages the levers touch: the first draw (lavapipe's LLVM compile of the
 kernel), the passes, the readback, and the process's CPU seconds.
 
+The first draw by itself: bench/first_draw's sdfc_first_draw at 1x1 (nearly all
+of it lavapipe's compile), the full and the featureless kernel (--no-aovs)
+alternating, CPU ms, with LLVM unoptimised (GALLIVM_PERF=nopt, as `render` of
+few samples) and optimised.
+
 --check-examples: every example at 64x36, 2 spp, --denoise none, written as EXR
 by both binaries on each driver, compared byte for byte.
 """
@@ -59,6 +64,20 @@ def timed_run(sdfc, scene, out, env):
     return stages
 
 
+def first_draw_cpu(tool, scene, driver, aovs, nopt, reps):
+    env = env_for(driver, "/nonexistent")
+    if nopt:
+        env["GALLIVM_PERF"] = "nopt"
+    cmd = [tool, scene, "--size", "1x1", "--reps", str(reps)] + ([] if aovs else ["--no-aovs"])
+    r = subprocess.run(cmd, env=env, capture_output=True, text=True, timeout=900)
+    if r.returncode != 0:
+        sys.stderr.write(r.stderr)
+        raise SystemExit(f"{' '.join(cmd)} exited {r.returncode}")
+    import json
+    j = json.loads(r.stdout)
+    return j["sizes"][0]["draw1_cpu_ms"], j["spirv_bytes"]
+
+
 def check_examples(binaries, drivers, work):
     """Byte-compares each example's EXR from every binary; returns (compared, differing names)."""
     compared, differing = 0, []
@@ -88,6 +107,9 @@ def main():
     ap.add_argument("--reps", type=int, default=5)
     ap.add_argument("--drivers", nargs="+", default=["bundled", "system"])
     ap.add_argument("--check-examples", action="store_true")
+    ap.add_argument("--first-draw", default=os.path.join(ROOT, "build", "bench", "first_draw", "sdfc_first_draw"))
+    ap.add_argument("--first-draw-rounds", type=int, default=3)
+    ap.add_argument("--skip-render", action="store_true", help="only the first-draw and image sections")
     ap.add_argument("--out", default=os.path.join(HERE, "results", "kernel_features.md"))
     args = ap.parse_args()
     binaries = {"base": args.base, "this": args.sdfc}
@@ -97,7 +119,7 @@ def main():
              f"cache off, sdfc's SPIR-V cache warm; medians of {args.reps} runs, the two binaries alternating "
              f"(base: `{args.base}`). Load average at the start {load_start:.1f} on {os.cpu_count()} cores.", ""]
     with tempfile.TemporaryDirectory(prefix="sdfc kernel features ") as work:
-        for driver in args.drivers:
+        for driver in args.drivers if not args.skip_render else []:
             results = {(s, b): [] for s in SCENES for b in binaries}
             for rep in range(args.reps + 1):  # the first: warms the SPIR-V caches, not counted
                 order = [(s, b) for s in SCENES for b in binaries]
@@ -115,6 +137,24 @@ def main():
                 med = lambda k: statistics.median(r.get(k, float("nan")) for r in runs)
                 lines.append(f"| {scene} {binary} | " + " | ".join(f"{med(s):.1f}" for s in STAGES) +
                              f" | {med('CPU s'):.3f} | {med('wall s'):.3f} |")
+            lines.append("")
+        if args.first_draw_rounds > 0:
+            lines += ["## The first draw by itself (sdfc_first_draw, 1x1, CPU ms)", "",
+                      f"{args.first_draw_rounds} rounds of 2 draws each, full and featureless alternating; medians.", "",
+                      "| driver | scene | LLVM | full kernel, CPU ms | featureless, CPU ms | ratio | SPIR-V bytes full / featureless |",
+                      "|---|---|---|---|---|---|---|"]
+            for driver in args.drivers:
+                for scene in SCENES:
+                    for nopt in (True, False):
+                        got = {True: [], False: []}
+                        size = {}
+                        for rnd in range(args.first_draw_rounds):
+                            for aovs in ((True, False) if rnd % 2 == 0 else (False, True)):
+                                cpu, size[aovs] = first_draw_cpu(args.first_draw, SCENES[scene], driver, aovs, nopt, 2)
+                                got[aovs] += cpu
+                        full, bare = statistics.median(got[True]), statistics.median(got[False])
+                        lines.append(f"| {driver} | {scene} | {'unoptimised' if nopt else 'optimised'} | {full:.0f} | "
+                                     f"{bare:.0f} | {bare / full:.2f} | {size[True]} / {size[False]} |")
             lines.append("")
         if args.check_examples:
             compared, differing = check_examples([args.base, args.sdfc], args.drivers, work)

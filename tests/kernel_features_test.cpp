@@ -75,7 +75,8 @@ TEST(KernelFeatures, OnlyADenoisedBeautyImageReadsThem) {
 TEST(KernelFeatures, SameColourAndStepsAsTheFullKernel) {
   VulkanContext context;
   createContext(context);
-  for (const char* name : {"castle.sdf", "glass_and_metal.sdf", "colonnade.sdf"}) {
+  // glass_and_metal: specular materials; colonnade: a sphere light.
+  for (const char* name : {"glass_and_metal.sdf", "colonnade.sdf"}) {
     SCOPED_TRACE(name);
     const CompiledScene full = compileKernel(name, KernelView::Beauty, true);
     const CompiledScene bare = compileKernel(name, KernelView::Beauty, false);

@@ -600,14 +600,17 @@ vec3 surfaceNormal(vec3 p, vec3 rd, float t, out int material) {
 
 #ifdef SDFC_TRACE
 // ---- path tracer ----
-// Primary-hit data of the path traced with record_aov set. SDFC_NO_AOVS (a
-// beauty render nothing reads the features of: no denoiser): its march steps
-// only, which `render`'s step statistics read (docs/kernel_contract.md).
-int g_aov_steps = 0;
-#ifndef SDFC_NO_AOVS
+// Primary-hit data of the path traced with record_aov set.
+#ifdef SDFC_NO_AOVS
+// No features (a beauty render nothing denoises): the march steps only, which
+// `render`'s step statistics read (docs/kernel_contract.md).
+#else
 vec3 g_aov_normal = vec3(0.0);
 float g_aov_dist = -1.0;
 vec3 g_aov_albedo = vec3(0.0);
+#endif
+int g_aov_steps = 0;
+#ifndef SDFC_NO_AOVS
 #if defined(SDFC_HAS_MIRROR) || defined(SDFC_HAS_GLASS) || defined(SDFC_HAS_METAL)
 
 // FrameParams::skip_aov_ray == kAovSpecular (runtime/renderer.h, gpu::kAovSpecular):
@@ -938,8 +941,8 @@ void main() {
 #endif
   vec3 sum = vec3(0.0);
 #ifdef SDFC_NO_AOVS
-  // kAovJittered (kAovSpecular alike): the steps are the mean over the samples'
-  // first rays, as the full kernel's; there is no AOV ray.
+  // kAovJittered (and the specular mode alike): the steps are the mean over the
+  // samples' first rays, as the full kernel's; there is no AOV ray.
   bool jittered = frame.skip_aov_ray >= kAovJittered;
   float steps_sum = 0.0;
 #else
