@@ -36,6 +36,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 SCENES = {"sphere": os.path.join(ROOT, "examples", "diffuse_sphere.sdf"),
           "castle": os.path.join(ROOT, "examples", "castle.sdf")}
+NOTES_MARK = "<!-- Below this line: kept as written when the script regenerates the tables. -->"
 STAGES = ["first draw (driver's kernel compile)", "passes", "readback"]
 
 
@@ -165,8 +166,14 @@ def main():
     lines.append(f"Load average at the end {os.getloadavg()[0]:.1f}.")
     text = "\n".join(lines) + "\n"
     print(text)
+    notes = ""
+    if os.path.exists(args.out):
+        with open(args.out) as f:
+            old = f.read()
+        if NOTES_MARK in old:
+            notes = "\n" + NOTES_MARK + old.split(NOTES_MARK, 1)[1]
     with open(args.out, "w") as f:
-        f.write(text)
+        f.write(text + notes)
 
 
 if __name__ == "__main__":
