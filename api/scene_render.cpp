@@ -6,6 +6,7 @@
 
 #include "check/checker.h"
 #include "loop_budget.h"
+#include "vk_check.h"
 
 namespace sdfc {
 
@@ -63,6 +64,15 @@ void adaptCompileOptionsToDevice(CompileOptions& options, bool cpu_device, bool 
   if (cpu_device && !force_bounds) options.emit.bounding_volumes = false;
 }
 
+bool imageReadsFeatures(uint32_t view, uint32_t spp, const ImageOptions& options) {
+  if (view != gpu::kViewBeauty) return false;
+  if (options.draw) return true;  // adaptive sampling: its own use of them
+  const Denoiser denoiser = options.denoiser.value_or(Denoiser::Nlr);
+  if (denoiser == Denoiser::None) return false;
+  // A variance-guided denoiser leaves a 1-spp image as it is (no second half).
+  return !needsVariance(denoiser) || spp >= 2;
+}
+
 RenderedImage renderImage(Renderer& renderer, const CompiledScene& compiled, RenderSettings settings,
                           const ImageOptions& options, const ProgressCallback& progress,
                           const std::atomic<bool>* interrupt) {
@@ -83,6 +93,9 @@ RenderedImage renderImage(Renderer& renderer, const CompiledScene& compiled, Ren
   // Through specular first hits (docs/denoise.md).
   settings.specular_aovs =
       settings.jittered_aovs && (aovs == "specular" || (aovs == "auto" && wantsSpecularAovs(*denoiser)));
+  settings.read_features = imageReadsFeatures(settings.view, settings.spp, options);
+  if (settings.read_features && compiled.emitted.stats.features.count("SDFC_NO_AOVS"))
+    throw RuntimeError("internal error: a denoised image from a kernel emitted without features");
   const CameraDesc camera = cameraFor(compiled.scene);
   RenderOutput& out = result.out;
   if (custom) {

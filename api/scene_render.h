@@ -52,6 +52,13 @@ struct ImageOptions {
   std::function<RenderOutput(Renderer&, const CameraDesc&, const RenderSettings&, SampleHalves*)> draw;
 };
 
+// Whether renderImage reads the features (normal, depth, albedo) of a render of
+// `view` at `spp` samples per pixel: only when a denoiser runs on them (the
+// beauty view, a denoiser other than none, and two halves when it needs them).
+// False: the kernel may be emitted without them (EmitOptions::aovs) and the
+// render reads back only the colour and the march steps (read_features).
+bool imageReadsFeatures(uint32_t view, uint32_t spp, const ImageOptions& options);
+
 struct RenderedImage {
   RenderOutput out;        // the samples' mean and features
   FloatImage denoised;     // empty when not denoised

@@ -67,16 +67,17 @@ LoadedScene compileForDevice(const CommandLine& cl, const VulkanContext& context
   return loadScene(cl, diags, true, true, options, true);
 }
 
-LoadedScene compileForCpuDevice(const CommandLine& cl, const RenderOverrides& o) {
+LoadedScene compileForCpuDevice(const CommandLine& cl, const RenderOverrides& o, bool features) {
   CompileOptions options = compileOptionsFrom(cl);
   if (o.height) options.emit.march.image_height = *o.height;
+  options.emit.aovs = features;
   if (!cl.force_bounds) options.emit.bounding_volumes = false;  // as compileForDevice on a CPU
   Diagnostics diags;
   return loadScene(cl, diags, true, true, options, true);
 }
 
 void adaptToDevice(LoadedScene& loaded, const CommandLine& cl, const VulkanContext& context,
-                   const RenderOverrides& o) {
+                   const RenderOverrides& o, bool features) {
   if (loaded.exit_code != kExitOk || cl.force_bounds || cl.no_bounds ||
       context.properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU)
     return;
@@ -84,6 +85,7 @@ void adaptToDevice(LoadedScene& loaded, const CommandLine& cl, const VulkanConte
   const auto start = std::chrono::steady_clock::now();
   CompileOptions options = compileOptionsFrom(cl);
   if (o.height) options.emit.march.image_height = *o.height;
+  options.emit.aovs = features;
   CompiledScene& c = loaded.compiled;
   c.emitted = emitGlsl(c.scene, options.emit);
   SpirvResult spv = options.spirv_cache
@@ -225,13 +227,21 @@ int runRender(const CommandLine& cl) {
       o.width && o.height && (o.spp || o.view != gpu::kViewBeauty) &&
       chooseQuickDriverCompile(uint64_t(*o.width) * uint64_t(*o.height) *
                                uint64_t(o.view == gpu::kViewBeauty ? *o.spp : 1) * times.size());
+  // A beauty render whose image nothing denoises (--denoise none, or 1 spp with
+  // a variance-guided denoiser) gets the kernel without features: smaller to
+  // compile (bench/results/fixed_costs.md). Decided from the command line: the
+  // scene's own spp is not read yet.
+  ImageOptions feature_probe;
+  feature_probe.denoiser = denoiser;
+  const bool features = cl.adaptive || imageReadsFeatures(o.view, o.spp ? uint32_t(*o.spp) : UINT32_MAX,
+                                                          feature_probe);
   std::future<void> device = std::async(std::launch::async, [&] {
     const auto start = std::chrono::steady_clock::now();
     scoped_context.emplace(context_options);
     device_seconds = secondsSince(start);
   });
   const auto compile_start = std::chrono::steady_clock::now();
-  LoadedScene loaded = compileForCpuDevice(cl, o);
+  LoadedScene loaded = compileForCpuDevice(cl, o, features);
   const double compile_seconds = secondsSince(compile_start);
   const auto device_wait_start = std::chrono::steady_clock::now();
   device.get();  // rethrows a device error (exit 3)
@@ -241,12 +251,13 @@ int runRender(const CommandLine& cl) {
               std::to_string(std::lround(compile_seconds * 1000)) + " ms)");
   if (loaded.exit_code != kExitOk) return loaded.exit_code;
   VulkanContext& context = scoped_context->get();
-  adaptToDevice(loaded, cl, context, o);
+  adaptToDevice(loaded, cl, context, o, features);
   const CompiledScene& compiled = loaded.compiled;
   {
     const StageTimes& t = compiled.times;
     timings.add("front end (parse, check, passes)", t.parse + t.check + t.passes);
-    timings.add("emit GLSL", t.emit);
+    timings.add("emit GLSL", t.emit,
+                compiled.emitted.stats.features.count("SDFC_NO_AOVS") ? "(no AOV features: nothing denoises)" : "");
     if (t.spirv_cached) {
       timings.add("SPIR-V from the cache", t.spirv, "(glslang and validation skipped)");
     } else {

@@ -44,8 +44,9 @@ int runRenderShard(const CommandLine& cl, const RenderOverrides& o);
 LoadedScene compileForDevice(const CommandLine& cl, const VulkanContext& context, const RenderOverrides& o);
 // The same before the device is known: compiled for a CPU device (lavapipe);
 // adaptToDevice emits it again, with bounding volumes, when the device is a GPU.
-LoadedScene compileForCpuDevice(const CommandLine& cl, const RenderOverrides& o);
+// `features` false: the kernel without AOV features (EmitOptions::aovs).
+LoadedScene compileForCpuDevice(const CommandLine& cl, const RenderOverrides& o, bool features = true);
 void adaptToDevice(LoadedScene& loaded, const CommandLine& cl, const VulkanContext& context,
-                   const RenderOverrides& o);
+                   const RenderOverrides& o, bool features = true);
 
 }  // namespace sdfc

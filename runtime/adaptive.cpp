@@ -401,7 +401,7 @@ RenderOutput renderAdaptive(Renderer& renderer, const CameraDesc& camera,
         if (draws.empty()) continue;
         st.draws += draws.size();
         const float* pass = renderer.runDraws(w, band_rows, rows, draws, settings.pass_timeout_seconds,
-                                              jittered ? kAttachmentCount : 1);
+                                              jittered ? kReadAll : kReadColor);
         const float* nd = pass + renderer.targetImageFloats();
         const float* as = nd + renderer.targetImageFloats();
         for (size_t j = 0; j < size_t(rows) * w; ++j) {

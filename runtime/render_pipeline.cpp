@@ -377,20 +377,19 @@ void destroyRenderTarget(RenderTarget& target, const VulkanContext& context) {
 
 void runPass(const VulkanContext& context, const RenderPipeline& pipeline, RenderTarget& target,
              const void* push_constants, double timeout_seconds, uint32_t rows,
-             uint32_t readback_count) {
+             uint32_t readback) {
   if (rows == 0 || rows > target.height) rows = target.height;
   PassDraw draw;
   draw.rect = {{0, 0}, {target.width, rows}};
   std::memcpy(&draw.params, push_constants, sizeof(gpu::FrameParams));
-  runPass(context, pipeline, target, &draw, 1, timeout_seconds, rows, readback_count);
+  runPass(context, pipeline, target, &draw, 1, timeout_seconds, rows, readback);
 }
 
 void runPass(const VulkanContext& context, const RenderPipeline& pipeline, RenderTarget& target,
              const PassDraw* draws, size_t draw_count, double timeout_seconds, uint32_t rows,
-             uint32_t readback_count) {
+             uint32_t readback) {
   const auto lock = lockQueue(context);
   if (rows == 0 || rows > target.height) rows = target.height;
-  readback_count = std::min(readback_count, kAttachmentCount);
   const double clamped = std::fmax(0.0, std::fmin(timeout_seconds, 1.0e9));
   const uint64_t timeout_ns = static_cast<uint64_t>(clamped * 1e9);
   if (target.pending) {
@@ -428,7 +427,8 @@ void runPass(const VulkanContext& context, const RenderPipeline& pipeline, Rende
 
   // The render pass left the images in TRANSFER_SRC_OPTIMAL (with a dependency).
   const VkDeviceSize image_bytes = target.floatsPerImage() * sizeof(float);
-  for (uint32_t i = 0; i < readback_count; ++i) {
+  for (uint32_t i = 0; i < kAttachmentCount; ++i) {
+    if (!(readback & (1u << i))) continue;
     VkBufferImageCopy region{};
     region.bufferOffset = image_bytes * i;
     region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};

@@ -13,6 +13,9 @@
 namespace sdfc {
 
 constexpr uint32_t kAttachmentCount = 3;  // locations 0..2, see shader_interface.h
+// Which attachments a pass copies to the staging buffer (runPass's `readback`).
+constexpr uint32_t kReadColor = 1u << 0, kReadNormalDepth = 1u << 1, kReadAlbedoSteps = 1u << 2;
+constexpr uint32_t kReadAll = kReadColor | kReadNormalDepth | kReadAlbedoSteps;
 constexpr VkFormat kAttachmentFormat = VK_FORMAT_R32G32B32A32_SFLOAT;
 
 struct RenderPipeline {
@@ -64,14 +67,14 @@ void createRenderTarget(RenderTarget& target, const VulkanContext& context,
 void destroyRenderTarget(RenderTarget& target, const VulkanContext& context);
 
 // Records, submits and waits for one draw with `push_constants` (sizeof(gpu::FrameParams)
-// bytes) over the target's top `rows` rows (0 = all), followed by the copy of attachments
-// [0, readback_count) to the staging buffer, each packed as width x rows at its usual
+// bytes) over the target's top `rows` rows (0 = all), followed by the copy of the
+// attachments in `readback` (kRead* bits) to the staging buffer, each packed as width x rows at its usual
 // offset (attachment i at mapped + i * floatsPerImage()). Throws RuntimeError when the fence
 // is not signalled within `timeout_seconds`; after that the device may still be busy,
 // so destroy functions wait for idle first.
 void runPass(const VulkanContext& context, const RenderPipeline& pipeline, RenderTarget& target,
              const void* push_constants, double timeout_seconds, uint32_t rows = 0,
-             uint32_t readback_count = kAttachmentCount);
+             uint32_t readback = kReadAll);
 
 // One draw of a multi-draw pass: its own push constants over `rect` (target pixels).
 struct PassDraw {
@@ -84,6 +87,6 @@ struct PassDraw {
 // are undefined in the readback.
 void runPass(const VulkanContext& context, const RenderPipeline& pipeline, RenderTarget& target,
              const PassDraw* draws, size_t draw_count, double timeout_seconds, uint32_t rows = 0,
-             uint32_t readback_count = kAttachmentCount);
+             uint32_t readback = kReadAll);
 
 }  // namespace sdfc

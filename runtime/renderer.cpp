@@ -108,7 +108,7 @@ double Renderer::compileKernel(uint32_t view, VkCommandPool pool) {
     params.view = view;
     params.sample_count = 1;
     params.traversal_visits = kMinTraversalVisits;
-    runPass(context_, pipeline_, pixel, &params, 600.0, 1, 1);
+    runPass(context_, pipeline_, pixel, &params, 600.0, 1, kReadColor);
   } catch (...) {
     destroyRenderTarget(pixel, context_);
     throw;
@@ -141,9 +141,9 @@ void Renderer::renderPass(const gpu::FrameParams& params, double timeout_seconds
 
 const float* Renderer::runDraws(uint32_t width, uint32_t target_rows, uint32_t rows,
                                 const std::vector<PassDraw>& draws, double timeout_seconds,
-                                uint32_t readback_count) {
+                                uint32_t readback) {
   ensureTarget(width, target_rows);
-  runPass(context_, pipeline_, target_, draws.data(), draws.size(), timeout_seconds, rows, readback_count);
+  runPass(context_, pipeline_, target_, draws.data(), draws.size(), timeout_seconds, rows, readback);
   return target_.mapped;
 }
 
@@ -229,8 +229,11 @@ void Renderer::drawBand(Accumulation& acc, uint32_t b, uint32_t count, RenderOut
   const bool read_aovs = final_out || (acc.keep_aovs && acc.passes == 0) || jittered;
   // Beauty passes whose AOVs are not read skip the AOV ray (the image is the same).
   params.skip_aov_ray = jittered ? jitteredAovMode(acc.settings) : !read_aovs && count > 0 && beauty;
+  // A render nothing reads the features of: the colour and the march steps
+  // (attachment 2's w) only.
+  const bool features = acc.settings.read_features;
   runPass(context_, pipeline_, target_, &params, acc.settings.pass_timeout_seconds, rows,
-          read_aovs ? kAttachmentCount : 1);
+          !read_aovs ? kReadColor : features ? kReadAll : kReadColor | kReadAlbedoSteps);
   // Everything below reads the staging buffer: --timings' readback.
   struct ReadbackClock {
     double& total;
@@ -258,16 +261,14 @@ void Renderer::drawBand(Accumulation& acc, uint32_t b, uint32_t count, RenderOut
   }
   if (jittered) {
     // Running sums of pass mean * pass samples, in acc's AOV images.
-    if (acc.normal_depth.empty()) {
-      acc.normal_depth = FloatImage(acc.width, acc.height);
+    if (acc.albedo_steps.empty()) {
+      if (features) acc.normal_depth = FloatImage(acc.width, acc.height);
       acc.albedo_steps = FloatImage(acc.width, acc.height);
     }
-    float* nd_sum = acc.normal_depth.rgba.data() + band_base;
     float* as_sum = acc.albedo_steps.rgba.data() + band_base;
-    for (size_t i = 0; count > 0 && i < band_floats; ++i) {
-      nd_sum[i] += normal_depth[i] * float(count);
-      as_sum[i] += albedo_steps[i] * float(count);
-    }
+    for (size_t i = 0; count > 0 && i < band_floats; ++i) as_sum[i] += albedo_steps[i] * float(count);
+    float* nd_sum = features ? acc.normal_depth.rgba.data() + band_base : nullptr;
+    for (size_t i = 0; count > 0 && features && i < band_floats; ++i) nd_sum[i] += normal_depth[i] * float(count);
     if (!final_out) return;
   }
   if (!final_out) {
@@ -297,20 +298,16 @@ void Renderer::drawBand(Accumulation& acc, uint32_t b, uint32_t count, RenderOut
   if (keep_sums) out.color_sums.insert(out.color_sums.end(), sum.begin(), sum.end());
   std::vector<SampleSum>().swap(sum);
   // + 0.0f maps -0 to +0, as the former double accumulation (0.0 + x) did.
-  float* nd = grow(out.normal_depth);
   float* as = grow(out.albedo_steps);
+  float* nd = features ? grow(out.normal_depth) : nullptr;
   if (jittered) {
     const float scale = 1.0f / float(count_done);
-    for (size_t i = 0; i < band_floats; ++i) {
-      nd[i] = acc.normal_depth.rgba[band_base + i] * scale;
-      as[i] = acc.albedo_steps.rgba[band_base + i] * scale;
-    }
+    for (size_t i = 0; i < band_floats; ++i) as[i] = acc.albedo_steps.rgba[band_base + i] * scale;
+    for (size_t i = 0; features && i < band_floats; ++i) nd[i] = acc.normal_depth.rgba[band_base + i] * scale;
     return;
   }
-  for (size_t i = 0; i < band_floats; ++i) {
-    nd[i] = normal_depth[i] + 0.0f;
-    as[i] = albedo_steps[i] + 0.0f;
-  }
+  for (size_t i = 0; i < band_floats; ++i) as[i] = albedo_steps[i] + 0.0f;
+  for (size_t i = 0; features && i < band_floats; ++i) nd[i] = normal_depth[i] + 0.0f;
 }
 
 void Renderer::addPass(Accumulation& acc, uint32_t count) {
@@ -357,7 +354,10 @@ RenderOutput Renderer::render(const CameraDesc& camera, const RenderSettings& se
   out.color.width = out.normal_depth.width = out.albedo_steps.width = width;
   out.color.height = out.normal_depth.height = out.albedo_steps.height = height;
   out.color.rgba.reserve(n);
-  out.normal_depth.rgba.reserve(n);
+  if (settings.read_features || (settings.jittered_aovs && beauty))
+    out.normal_depth.rgba.reserve(n);
+  else
+    out.normal_depth = FloatImage();  // RenderSettings::read_features
   out.albedo_steps.rgba.reserve(n);
   if (settings.keep_sums) out.color_sums.reserve(n);
 
@@ -411,16 +411,17 @@ RenderOutput Renderer::render(const CameraDesc& camera, const RenderSettings& se
 }
 
 void resolveJitteredAovs(RenderOutput& out, SampleHalves* halves) {
+  const bool features = !out.normal_depth.empty();  // RenderSettings::read_features
   for (size_t i = 0; i < out.color.pixelCount(); ++i) {
     float& coverage = out.color.rgba[i * 4 + 3];
-    float* nd = &out.normal_depth.rgba[i * 4];
     float* as = &out.albedo_steps.rgba[i * 4];
     const float inverse = coverage > 0.0f ? 1.0f / coverage : 0.0f;
-    for (int c = 0; c < 3; ++c) {
-      nd[c] *= inverse;
-      as[c] *= inverse;
+    for (int c = 0; c < 3; ++c) as[c] *= inverse;
+    if (features) {
+      float* nd = &out.normal_depth.rgba[i * 4];
+      for (int c = 0; c < 3; ++c) nd[c] *= inverse;
+      nd[3] = coverage >= 0.5f ? nd[3] * inverse : -1.0f;
     }
-    nd[3] = coverage >= 0.5f ? nd[3] * inverse : -1.0f;
     coverage = 1.0f;
   }
   if (halves)

@@ -77,6 +77,10 @@ struct RenderSettings {
   // non-specular vertex of its path (gpu::kAovSpecular; docs/denoise.md). A
   // kernel without such materials has no specular hits and draws plain jittered AOVs.
   bool specular_aovs = false;
+  // false: nothing reads the features (no denoiser): the final pass reads back
+  // the colour and attachment 2 (its w, the march steps, feeds `render`'s step
+  // statistics) only, and RenderOutput::normal_depth stays empty (0 x 0).
+  bool read_features = true;
   double pass_timeout_seconds = 60;
   // Pixels per band (0 = kBandPixels). An interactive view draws its whole
   // window as one band: one submission and one wait a frame instead of several.
@@ -211,11 +215,11 @@ class Renderer {
 
   // One pass of several scissored draws, each with its own push constants, over the
   // top `rows` rows of a width x target_rows target (kept between passes; adaptive.cpp:
-  // per-block sample counts). Returns the readback: `readback_count` attachments,
+  // per-block sample counts). Returns the readback: the `readback` attachments (kRead*),
   // targetImageFloats() apart, each packed width x rows; valid until the next pass.
   const float* runDraws(uint32_t width, uint32_t target_rows, uint32_t rows,
                         const std::vector<PassDraw>& draws, double timeout_seconds,
-                        uint32_t readback_count);
+                        uint32_t readback);
   size_t targetImageFloats() const { return target_.floatsPerImage(); }
 
   // One raw pass with explicit push constants; fills the three attachments.

@@ -23,6 +23,12 @@ expect 0 "unoptimised" -- "$sdfc" render "$sphere" -o "$work/a.png" --size 512x5
 expect 0 "" -- "$sdfc" render "$sphere" -o "$work/a.png" --size 513x512 --view normal --timings -q
 grep -q "unoptimised" "$work/err" && fail "2^18 + 512 samples compiled unoptimised"
 
+# An image nothing denoises gets the kernel without features (kernel_features_test.cpp
+# checks its colour and steps); a denoised one the full kernel.
+expect 0 "emit GLSL.*no AOV features" -- "$sdfc" render "$sphere" -o "$work/a.png" --size 32x18 --spp 2 --denoise none --timings -q
+expect 0 "" -- "$sdfc" render "$sphere" -o "$work/a.png" --size 32x18 --spp 2 --timings -q
+grep -q "no AOV features" "$work/err" && fail "a denoised render got the kernel without features"
+
 # Unoptimised and optimised kernels write the same floats (EXR: no rounding).
 for scene in castle glass_and_metal; do
   expect 0 "unoptimised" -- "$sdfc" render "$root/examples/$scene.sdf" -o "$work/quick.exr" --size 32x18 --spp 2 --denoise none --timings -q

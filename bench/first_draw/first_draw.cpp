@@ -7,9 +7,11 @@
 // and process CPU times; CPU time holds still on a loaded machine.
 //
 //   sdfc_first_draw SCENE.sdf [--view NAME] [--reps N] [--size WxH]...
-//                   [--write-glsl FILE] [--glsl FILE]
+//                   [--write-glsl FILE] [--glsl FILE] [--no-aovs]
 // --write-glsl saves the kernel as `sdfc view` emits it; --glsl draws FILE (such
 // a kernel, e.g. edited by hand) instead: a quick way to try a kernel change.
+// --no-aovs: the beauty kernel without features (EmitOptions::aovs), as `sdfc
+// render` emits it for an image nothing denoises.
 // Prints one JSON object.
 #include <sys/resource.h>
 
@@ -59,7 +61,7 @@ std::string list(const std::vector<double>& v) {
 }
 
 int usage() {
-  std::fprintf(stderr, "usage: sdfc_first_draw SCENE.sdf [--view NAME] [--glsl FILE] [--write-glsl FILE] [--reps N] [--size WxH]...\n");
+  std::fprintf(stderr, "usage: sdfc_first_draw SCENE.sdf [--view NAME] [--glsl FILE] [--write-glsl FILE] [--no-aovs] [--reps N] [--size WxH]...\n");
   return 2;
 }
 
@@ -69,6 +71,7 @@ int main(int argc, char** argv) {
   using namespace sdfc;
   std::string scene_path, glsl_path, write_glsl_path, view_name = "beauty";
   int reps = 3;
+  bool aovs = true;
   std::vector<std::pair<int, int>> sizes;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -76,6 +79,7 @@ int main(int argc, char** argv) {
     if (a == "--view" && has_value) view_name = argv[++i];
     else if (a == "--glsl" && has_value) glsl_path = argv[++i];
     else if (a == "--write-glsl" && has_value) write_glsl_path = argv[++i];
+    else if (a == "--no-aovs") aovs = false;
     else if (a == "--reps" && has_value) reps = std::max(1, std::atoi(argv[++i]));
     else if (a == "--size" && has_value) {
       const auto size = parseImageSize(argv[++i]);
@@ -99,6 +103,7 @@ int main(int argc, char** argv) {
   CompileOptions options;
   options.emit.view = static_cast<KernelView>(view);
   options.emit.march.image_height = 360;
+  options.emit.aovs = aovs;
   if (context.properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU) options.emit.bounding_volumes = false;
   Diagnostics diags;
   CompiledScene compiled = compileFile(scene_path, options, diags);
@@ -133,9 +138,9 @@ int main(int argc, char** argv) {
   std::printf("{\"camera_inside_us\": %s, \"median_camera_inside_us\": %.1f, ", list(inside_us).c_str(),
               median(inside_us));
   std::printf("\"scene\": \"%s\", \"view\": \"%s\", \"glsl\": \"%s\", \"device\": \"%s\", "
-              "\"driver\": \"%s\", \"spirv_bytes\": %zu, \"sizes\": [",
+              "\"driver\": \"%s\", \"aovs\": %s, \"spirv_bytes\": %zu, \"sizes\": [",
               scene_path.c_str(), view_name.c_str(), glsl_path.c_str(), context.deviceName().c_str(),
-              driverText(context.physical_device).c_str(), spirv.size() * 4);
+              driverText(context.physical_device).c_str(), aovs ? "true" : "false", spirv.size() * 4);
   for (size_t s = 0; s < sizes.size(); ++s) {
     std::vector<double> pipeline, draw1, draw2, draw3, pipeline_cpu, draw1_cpu;
     for (int r = 0; r < reps; ++r) {

@@ -1655,6 +1655,7 @@ EmitResult emitGlsl(const ir::Scene& scene, const EmitOptions& options) {
   result.limits = deriveMarchLimits(scene, options.march);
   result.stats.features = sceneFeatures(scene, options);
   addViewFeatures(options.view, result.stats.features);
+  if (options.view == KernelView::Beauty && !options.aovs) result.stats.features.insert("SDFC_NO_AOVS");
   SceneWriter writer(scene, options);
   const std::string scene_code = writer.write(result.limits, result.stats);
   if (writer.hasAnalyticPlanes()) result.stats.features.insert("SDFC_HAS_PLANES");

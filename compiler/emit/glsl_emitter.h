@@ -50,6 +50,11 @@ struct EmitOptions {
   // does not see analytic surfaces, and a light needs its own surface for
   // shadow rays.
   bool analytic_spheres = true;
+  // false: a beauty kernel that records no features (SDFC_NO_AOVS): no normal,
+  // depth or albedo, no jittered sums; attachment 2's w still holds the AOV
+  // ray's march steps. For a render nothing reads the features of (no
+  // denoiser); a denoiser fed by it would see zeros. Other views ignore it.
+  bool aovs = true;
   // A finite marched part gets a bounding box: march() only steps where the
   // ray is inside it, so rays that miss or leave the scene stop at once
   // (kernel emission only).

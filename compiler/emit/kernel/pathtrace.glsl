@@ -601,10 +601,16 @@ vec3 surfaceNormal(vec3 p, vec3 rd, float t, out int material) {
 #ifdef SDFC_TRACE
 // ---- path tracer ----
 // Primary-hit data of the path traced with record_aov set.
+#ifdef SDFC_NO_AOVS
+// No features (a beauty render nothing denoises): the march steps only, which
+// `render`'s step statistics read (docs/kernel_contract.md).
+#else
 vec3 g_aov_normal = vec3(0.0);
 float g_aov_dist = -1.0;
 vec3 g_aov_albedo = vec3(0.0);
+#endif
 int g_aov_steps = 0;
+#ifndef SDFC_NO_AOVS
 #if defined(SDFC_HAS_MIRROR) || defined(SDFC_HAS_GLASS) || defined(SDFC_HAS_METAL)
 
 // FrameParams::skip_aov_ray == kAovSpecular (runtime/renderer.h, gpu::kAovSpecular):
@@ -623,6 +629,7 @@ bool aovThroughSpecular(Material m) {
   return m.model == MAT_MIRROR || m.model == MAT_GLASS ||
          (m.model == MAT_METAL && m.roughness <= kAovSpecularRoughness);
 }
+#endif
 #endif
 
 // Next-event estimation: with a light and a material that has a smooth lobe.
@@ -671,12 +678,14 @@ vec3 tracePath(vec3 ro, vec3 rd, int max_bounces, bool record_aov) {
   vec3 shadow_origin = vec3(0.0), shadow_dir = vec3(0.0), shadow_radiance = vec3(0.0);
   float shadow_dist = -1.0;
   const int light_samples = kNextEvent ? int(frame.light_samples) : 0;
+#ifndef SDFC_NO_AOVS
 #if defined(SDFC_HAS_MIRROR) || defined(SDFC_HAS_GLASS) || defined(SDFC_HAS_METAL)
   // kAovSpecular: true while the path has met only specular vertices; the
   // features then follow it, their albedo tinted by its throughput, their
   // distance the length of the path (a plane mirror's virtual image's depth).
   bool aov_follow = record_aov && frame.skip_aov_ray == kAovSpecular;
   float aov_path = 0.0;
+#endif
 #endif
   for (int it = loopZero(); it < max_bounces + 1 + max_bounces * light_samples; it++) {
     g_loop_iterations++;
@@ -705,6 +714,9 @@ vec3 tracePath(vec3 ro, vec3 rd, int max_bounces, bool record_aov) {
       float t_light = t < 0.0 ? 3.0e38 : t;
       int light_hit = nearestSphereLight(ro, rd, t_light);
       if (light_hit >= 0) {
+#ifdef SDFC_NO_AOVS
+        if (record_aov && depth == 0) g_aov_steps = steps;
+#else
         if (record_aov && depth == 0) {
           g_aov_normal = normalize(ro + rd * t_light - kSphereLights[light_hit].xyz);
           g_aov_dist = t_light;
@@ -716,6 +728,7 @@ vec3 tracePath(vec3 ro, vec3 rd, int max_bounces, bool record_aov) {
           g_aov_dist = aov_path + t_light;
           g_aov_albedo = vec3(0.0);  // as a light seen directly
         }
+#endif
 #endif
         radiance += throughput * kSphereLightRadiance[light_hit] *
                     misBsdfWeight(prev_pdf, lightPdf(kSunLights + light_hit, prev_pos));
@@ -758,6 +771,9 @@ vec3 tracePath(vec3 ro, vec3 rd, int max_bounces, bool record_aov) {
         m = sdMaterial(surface_material);
 #endif
       }
+#ifdef SDFC_NO_AOVS
+      if (record_aov && depth == 0) g_aov_steps = steps;
+#else
       if (record_aov && depth == 0) {
         g_aov_normal = n;
         g_aov_dist = t;
@@ -774,6 +790,7 @@ vec3 tracePath(vec3 ro, vec3 rd, int max_bounces, bool record_aov) {
         }
         aov_follow = depth < kAovSpecularDepth && aovThroughSpecular(m);
       }
+#endif
 #endif
       radiance += throughput * m.emission;  // emitters found by BSDF sampling: weight 1
       if (depth >= max_bounces || m.model == MAT_EMISSIVE) break;
@@ -923,6 +940,12 @@ void main() {
   int count = int(frame.sample_count);
 #endif
   vec3 sum = vec3(0.0);
+#ifdef SDFC_NO_AOVS
+  // kAovJittered (and the specular mode alike): the steps are the mean over the
+  // samples' first rays, as the full kernel's; there is no AOV ray.
+  bool jittered = frame.skip_aov_ray >= kAovJittered;
+  float steps_sum = 0.0;
+#else
   // kAovJittered: every sample records its first hit and the AOVs are their
   // means (misses count as 0; coverage = hit fraction), as the colour is
   // antialiased over the same jittered rays (docs/denoise.md).
@@ -933,6 +956,7 @@ void main() {
 #endif
   vec4 aov_nd = vec4(0.0), aov_as = vec4(0.0);
   float coverage = 0.0;
+#endif
   // s = -1 is the unjittered primary ray for the AOVs (pass-split independent;
   // skipped on request when they are not read); sharing the loop keeps one
   // inlined copy of the tracer.
@@ -943,6 +967,11 @@ void main() {
     vec2 jitter = aov ? vec2(0.5) : rand2();
     vec3 ro, rd;
     cameraRay(vec2(pixel) + jitter, !aov, ro, rd);
+#ifdef SDFC_NO_AOVS
+    vec3 l = tracePath(ro, rd, aov ? 0 : int(frame.max_bounces), aov || jittered);
+    if (!aov && !any(isnan(l)) && !any(isinf(l))) sum += l;
+    if (jittered) steps_sum += float(g_aov_steps);
+#else
     if (jittered) {
       g_aov_normal = g_aov_albedo = vec3(0.0);
       g_aov_dist = -1.0;
@@ -955,8 +984,14 @@ void main() {
       aov_as += vec4(g_aov_albedo, float(g_aov_steps));
       coverage += hit ? 1.0 : 0.0;
     }
+#endif
   }
 
+#ifdef SDFC_NO_AOVS
+  out_normal_depth = vec4(0.0);
+  out_albedo_steps = vec4(vec3(0.0), jittered ? steps_sum / float(max(count, 1)) : float(g_aov_steps));
+  out_color = vec4(sum / float(max(count, 1)), 1.0);
+#else
   out_normal_depth = vec4(g_aov_normal, g_aov_dist);
   out_albedo_steps = vec4(g_aov_albedo, float(g_aov_steps));
   vec3 color = sum / float(max(count, 1));
@@ -982,6 +1017,7 @@ void main() {
 #endif
 #endif
   out_color = vec4(color, jittered ? coverage / float(max(count, 1)) : 1.0);
+#endif
 }
 #else
 // A debug view's main (normal, steps, depth or albedo): the primary ray alone,
