@@ -133,6 +133,7 @@ int traversalsPerEvaluation(const ir::Node& n, const ir::Node* free_set) {
   if (n.kind == ir::NodeKind::Instances) return &n == free_set ? 0 : 1;
   int sum = 0;
   for (const ir::NodeRef& c : n.children) sum += traversalsPerEvaluation(*c, free_set);
+  if (n.kind == ir::NodeKind::RepeatPolar && n.count.x > 1) sum *= 3;
   if (n.kind == ir::NodeKind::Repeat && sum > 0)
     for (int a = 0; a < 3; ++a)
       if (repeatNeedsNeighbours(n, a)) sum *= 3;
@@ -547,15 +548,24 @@ class SceneWriter {
                << ", 0.0));\n";
         return mat ? "vec2(" + r + ", " + c + ".y)" : r;
       }
-      case ir::NodeKind::Twist: {
-        // As the evaluator: the twisted field over its Lipschitz factor within
+      case ir::NodeKind::Twist:
+      case ir::NodeKind::Bend: {
+        // As the evaluator: the deformed field over its Lipschitz factor within
         // the radius holding the child, the cylinder's distance outside.
-        needHelper("rotate", kRotateHelper);
         needHelper("sdBox2", box2Glsl());
         const Aabb& b = n.children[0]->bounds;
         const std::string q = var(f, "p");
-        f.code << "  vec3 " << q << " = sdRotateInverse(" << p << ", vec3(0.0, 1.0, 0.0), radians(" << n.amount.glsl()
-               << " * " << p << ".y));" << lineComment(n) << " twist\n";
+        if (n.kind == ir::NodeKind::Twist) {
+          needHelper("rotate", kRotateHelper);
+          f.code << "  vec3 " << q << " = sdRotateInverse(" << p << ", vec3(0.0, 1.0, 0.0), radians("
+                 << n.amount.glsl() << " * " << p << ".y));" << lineComment(n) << " twist\n";
+        } else {
+          const std::string a = var(f, "a");
+          f.code << "  float " << a << " = radians(" << n.amount.glsl() << " * " << p << ".x);" << lineComment(n)
+                 << " bend\n";
+          f.code << "  vec3 " << q << " = vec3(cos(" << a << ") * " << p << ".x - sin(" << a << ") * " << p
+                 << ".z, " << p << ".y, sin(" << a << ") * " << p << ".x + cos(" << a << ") * " << p << ".z);\n";
+        }
         std::string c = node(*n.children[0], q, f, mat, mine);
         if (mat && !isIdentifier(c)) c = keep(f, c);
         const std::string r = var(f, "r"), d = var(f, "d");
@@ -565,6 +575,55 @@ class SceneWriter {
                << " - " << glslFloat(n.deform_radius) << ", abs(" << p << ".y - " << glslFloat((b.lo.y + b.hi.y) / 2)
                << ") - " << glslFloat((b.hi.y - b.lo.y) / 2) << "));\n";
         return mat ? "vec2(" + d + ", " + c + ".y)" : d;
+      }
+      case ir::NodeKind::Displace: {
+        // The octaves unrolled: a loop would count against lavapipe's cap at
+        // every march step.
+        if (helper_names_.insert("noise").second) helpers_ << "\n" << embeddedSource("kernel/noise.glsl") << "\n";
+        std::string c = node(*n.children[0], p, f, mat, mine);
+        if (mat && !isIdentifier(c)) c = keep(f, c);
+        const std::string q = var(f, "p"), d = var(f, "d");
+        f.code << "  vec3 " << q << " = " << p << " * " << n.vec.x.glsl() << ";" << lineComment(n) << " displace\n";
+        double weight = 0;
+        std::string sum;
+        for (int i = 0; i < n.count.x; ++i) {
+          const double amplitude = std::ldexp(1.0, -i);
+          weight += amplitude;
+          sum += (i ? " + " : "") + (i ? glslFloat(amplitude) + " * " : std::string()) + "sdGradientNoise(" +
+                 (i ? glslFloat(std::ldexp(1.0, i)) + " * " : std::string()) + q + ")";
+        }
+        f.code << "  float " << d << " = (" << (mat ? c + ".x" : c) << " + " << n.amount.glsl() << " * ("
+               << sum << ")" << (n.count.x > 1 ? " * " + glslFloat(1 / weight) : std::string()) << ") * "
+               << glslFloat(1 / n.deform_lipschitz) << ";\n";
+        return mat ? "vec2(" + d + ", " + c + ".y)" : d;
+      }
+      case ir::NodeKind::RepeatPolar: {
+        if (n.count.x == 1) return node(*n.children[0], p, f, mat, mine);
+        // The point's sector and its two neighbours, each turned back onto
+        // sector 0, the child evaluated through one function.
+        const ir::Node& c = *n.children[0];
+        const std::string w = glslFloat(2 * M_PI / n.count.x), i = var(f, "i");
+        f.code << "  float " << i << " = round(atan(" << p << ".z, " << p << ".x) / " << w << ");" << lineComment(n)
+               << " repeat_polar\n";
+        const std::string label = c.definition.empty() ? "sector" : c.definition;
+        const std::string acc = var(f, "d");
+        for (int d = -1; d <= 1; ++d) {
+          const std::string a = var(f, "a"), q = var(f, "p");
+          f.code << "  float " << a << " = (" << i << (d < 0 ? " - 1.0" : d > 0 ? " + 1.0" : "") << ") * " << w
+                 << ";\n";
+          f.code << "  vec3 " << q << " = vec3(cos(" << a << ") * " << p << ".x + sin(" << a << ") * " << p << ".z, "
+                 << p << ".y, cos(" << a << ") * " << p << ".z - sin(" << a << ") * " << p << ".x);\n";
+          const std::string e = callFunction(c, q, f, mat, mine, label);
+          if (d == -1) {
+            f.code << "  " << (mat ? "vec2 " : "float ") << acc << " = " << e << ";\n";
+          } else {
+            const std::string r = var(f, "r");
+            f.code << "  " << (mat ? "vec2 " : "float ") << r << " = " << e << ";\n";
+            if (mat) f.code << "  if (" << r << ".x < " << acc << ".x) " << acc << " = " << r << ";\n";
+            else f.code << "  " << acc << " = min(" << acc << ", " << r << ");\n";
+          }
+        }
+        return acc;
       }
       case ir::NodeKind::Revolve: {
         const std::string q = var(f, "p");
@@ -1557,7 +1616,8 @@ class SceneWriter {
           << scene_.materials[i].name << "\n";
     out << "  return " << literal(scene_.materials[0]) << ";  // " << scene_.materials[0].name << "\n}\n";
     bool unassigned = false;
-    emitFieldMaterials(scene_, usedMaterials(scene_, unassigned), texture_bases_, out);
+    emitFieldMaterials(scene_, usedMaterials(scene_, unassigned), texture_bases_, out,
+                       helper_names_.count("noise") > 0);
   }
 
   void sky(std::ostringstream& out) {
