@@ -6,6 +6,7 @@
 
 #include "lsp/catalogue.h"
 #include "lsp/features.h"
+#include "passes/deform.h"
 
 namespace sdfc::lsp {
 namespace {
@@ -34,14 +35,14 @@ std::string whyBound(const ir::Node& n) {
       char buf[160];
       std::snprintf(buf, sizeof buf, "a twist stretches space by up to %.4g within radius %.4g of the axis; "
                                      "the distance is divided by that, and outside it is the bounding cylinder's",
-                    n.deform_lipschitz, n.deform_radius);
+                    n.deform_lipschitz, deformReach(n));
       return buf;
     }
     case ir::NodeKind::Bend: {
       char buf[160];
       std::snprintf(buf, sizeof buf, "a bend stretches space by up to %.4g within radius %.4g of the axis; "
                                      "the distance is divided by that, and outside it is the bounding cylinder's",
-                    n.deform_lipschitz, n.deform_radius);
+                    n.deform_lipschitz, deformReach(n));
       return buf;
     }
     case ir::NodeKind::Displace: {

@@ -11,6 +11,7 @@
 #include "emit/color_field_glsl.h"
 #include "emit/embedded_sources.h"
 #include "emit/feature_filter.h"
+#include "passes/deform.h"
 #include "shapes/polygon.h"
 
 namespace sdfc {
@@ -95,6 +96,15 @@ float sdBound(vec3 p, vec3 center, vec3 half_size) {
   return length(max(abs(p - center) - half_size, 0.0));
 }
 )";
+
+// The most a subtree's field is divided by on its way down (twist, bend and
+// displace divide theirs by their stretch; passes/analyze.cpp).
+double stretchBelow(const ir::Node& n) {
+  double below = 1;
+  for (const ir::NodeRef& c : n.children) below = std::max(below, stretchBelow(*c));
+  const bool divides = n.kind == ir::NodeKind::Twist || n.kind == ir::NodeKind::Bend || n.kind == ir::NodeKind::Displace;
+  return divides ? below * n.deform_lipschitz : below;
+}
 
 // Which single material a subtree's surfaces carry, given the inherited one;
 // kMixed when they differ.
@@ -570,7 +580,7 @@ class SceneWriter {
         if (mat && !isIdentifier(c)) c = keep(f, c);
         const std::string r = var(f, "r"), d = var(f, "d");
         f.code << "  float " << r << " = length(" << p << ".xz);\n";
-        f.code << "  float " << d << " = " << r << " <= " << glslFloat(n.deform_radius) << " ? "
+        f.code << "  float " << d << " = " << r << " <= " << glslFloat(deformReach(n)) << " ? "
                << (mat ? c + ".x" : c) << " * " << glslFloat(1 / n.deform_lipschitz) << " : sdBox2(vec2(" << r
                << " - " << glslFloat(n.deform_radius) << ", abs(" << p << ".y - " << glslFloat((b.lo.y + b.hi.y) / 2)
                << ") - " << glslFloat((b.hi.y - b.lo.y) / 2) << "));\n";
@@ -1392,8 +1402,11 @@ class SceneWriter {
         b = var(f, "b");
         const dvec3 half = c.bounds.halfSize();
         const double margin = 0.1 * glm::length(half);
+        // Under a deformation the child's field is its raw field (at least the
+        // box distance) over the stretch: so is the box distance used for it.
+        const double stretch = stretchBelow(c);
         f.code << "  float " << b << " = sdBound(" << p << ", " << vec3Literal(c.bounds.center()) << ", "
-               << vec3Literal(half) << ");\n";
+               << vec3Literal(half) << ")" << (stretch > 1 ? " * " + glslFloat(1 / stretch) : std::string()) << ";\n";
         // subgroupAny makes the condition uniform: lavapipe (and GPUs) then
         // branch around the subtree when every lane of the group may skip it;
         // a per-lane condition would only mask the lanes and run it anyway.

@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "eval/noise.h"
+#include "passes/deform.h"
 #include "passes/passes.h"
 
 namespace sdfc {
@@ -261,7 +262,7 @@ EvalResult Evaluator::evalNode(const ir::Node& n, const dvec3& p, int inherited)
       // by its Lipschitz factor; outside, the distance to that cylinder.
       const Aabb& b = n.children[0]->bounds;
       const double r = std::sqrt(p.x * p.x + p.z * p.z);
-      if (r > n.deform_radius) {
+      if (r > deformReach(n)) {
         const glm::dvec2 w(r - n.deform_radius, std::fabs(p.y - (b.lo.y + b.hi.y) / 2) - (b.hi.y - b.lo.y) / 2);
         return {std::min(std::max(w.x, w.y), 0.0) + glm::length(glm::max(w, glm::dvec2(0))), mat};
       }

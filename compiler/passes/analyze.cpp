@@ -5,6 +5,7 @@
 #include <unordered_set>
 
 #include "eval/noise.h"
+#include "passes/deform.h"
 #include "passes/passes.h"
 
 namespace sdfc {
@@ -273,13 +274,16 @@ class Analyzer {
     const double radius = std::sqrt(x * x + z * z);
     const ir::Interval rate = n.amount.range();
     const double k = std::max(std::fabs(rate.lo), std::fabs(rate.hi)) * M_PI / 180;
-    const double kr = k * radius;
+    // Within reach (1/16 beyond the radius, passes/deform.h) the deformed
+    // field over L(reach); beyond, the cylinder's distance, at least radius / 16.
     n.deform_radius = radius;
-    n.deform_lipschitz = bend ? bendLipschitz(k, radius) : (kr + std::sqrt(kr * kr + 4)) / 2;
+    const double reach = deformReach(n), kr = k * reach;
+    n.deform_radius = radius;
+    n.deform_lipschitz = bend ? bendLipschitz(k, reach) : (kr + std::sqrt(kr * kr + 4)) / 2;
     n.bounds = {dvec3(-radius, b.lo.y, -radius), dvec3(radius, b.hi.y, radius)};
     // At |z| = 1/k the map folds (its Jacobian is singular): points on both
     // sides read the same child point, so the shape shows twice.
-    if (bend && kr >= 1)
+    if (bend && k * radius >= 1)
       diags_.warning(n.range, "bend-fold", "'bend' folds space at |z| = " + fmtNumber(1 / k) + " (1 / rate in radians), "
                                            "inside the shape's radius " + fmtNumber(radius) + " about y; the shape "
                                            "is mirrored into itself there (bend less, or keep the shape nearer the "
