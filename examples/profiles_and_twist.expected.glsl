@@ -370,7 +370,7 @@ float sdScene(vec3 p) {
   vec3 p17 = sdRotateInverse(p16, vec3(0.0, 1.0, 0.0), radians(90.0 * p16.y));  // line 22 twist
   float d18 = sdBox(p17, vec3(0.7, 2.0, 0.7), 0.0);  // line 22 box
   float r19 = length(p16.xz);
-  float d20 = r19 <= 0.494974747 ? d18 * 0.684154224 : sdBox2(vec2(r19 - 0.494974747, abs(p16.y - 0.0) - 1.0));
+  float d20 = r19 <= 0.525910669 ? d18 * 0.668897908 : sdBox2(vec2(r19 - 0.494974747, abs(p16.y - 0.0) - 1.0));
   d0 = min(d0, d20);
   return d0;
 }
@@ -404,7 +404,7 @@ vec2 sdSceneMaterial(vec3 p) {
   vec3 p18 = sdRotateInverse(p17, vec3(0.0, 1.0, 0.0), radians(90.0 * p17.y));  // line 22 twist
   float d19 = sdBox(p18, vec3(0.7, 2.0, 0.7), 0.0);  // line 22 box
   float r20 = length(p17.xz);
-  float d21 = r20 <= 0.494974747 ? d19 * 0.684154224 : sdBox2(vec2(r20 - 0.494974747, abs(p17.y - 0.0) - 1.0));
+  float d21 = r20 <= 0.525910669 ? d19 * 0.668897908 : sdBox2(vec2(r20 - 0.494974747, abs(p17.y - 0.0) - 1.0));
   vec2 m22 = vec2(d21, 2.0);
   d0 = vec2(min(d0.x, m22.x), m22.x < d0.x ? m22.y : d0.y);
   return d0;

@@ -6,6 +6,7 @@
 
 #include "lsp/catalogue.h"
 #include "lsp/features.h"
+#include "passes/deform.h"
 
 namespace sdfc::lsp {
 namespace {
@@ -34,9 +35,23 @@ std::string whyBound(const ir::Node& n) {
       char buf[160];
       std::snprintf(buf, sizeof buf, "a twist stretches space by up to %.4g within radius %.4g of the axis; "
                                      "the distance is divided by that, and outside it is the bounding cylinder's",
-                    n.deform_lipschitz, n.deform_radius);
+                    n.deform_lipschitz, deformReach(n));
       return buf;
     }
+    case ir::NodeKind::Bend: {
+      char buf[160];
+      std::snprintf(buf, sizeof buf, "a bend stretches space by up to %.4g within radius %.4g of the axis; "
+                                     "the distance is divided by that, and outside it is the bounding cylinder's",
+                    n.deform_lipschitz, deformReach(n));
+      return buf;
+    }
+    case ir::NodeKind::Displace: {
+      char buf[160];
+      std::snprintf(buf, sizeof buf, "noise displacement stretches the field by up to %.4g; the distance is "
+                                     "divided by that", n.deform_lipschitz);
+      return buf;
+    }
+    case ir::NodeKind::RepeatPolar: return "the shape reaches past its sector, so farther copies may be nearer";
     default: return "a transform of a bound";
   }
 }

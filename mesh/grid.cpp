@@ -36,6 +36,9 @@ const char* nodeName(const ir::Node& n) {
     case ir::NodeKind::Extrude: return "extrude";
     case ir::NodeKind::Revolve: return "revolve";
     case ir::NodeKind::Twist: return "twist";
+    case ir::NodeKind::Bend: return "bend";
+    case ir::NodeKind::Displace: return "displace";
+    case ir::NodeKind::RepeatPolar: return "repeat_polar";
     case ir::NodeKind::Instances: return "instances";
     case ir::NodeKind::Mesh: return "mesh";
   }

@@ -111,6 +111,12 @@ std::vector<SceneCase> operatorScenes() {
       {"profile by time", "scene { extrude(depth: 0.5 + 0.2 * sin(time)) { shell(thickness: 0.1) { circle(radius: 0.6) } } }"},
       {"twist", "scene { twist(rate: 90) { box(size: [1.2, 1.6, 0.4]) } }"},
       {"twist by time", "scene { twist(rate: 60 * sin(time)) { translate([0.2, 0, 0]) { hexprism(radius: 0.3, depth: 1) } } }"},
+      {"bend", "scene { bend(rate: 40) { box(size: [1.6, 0.3, 0.4]) } }"},
+      {"bend by time", "scene { bend(rate: 30 + 20 * sin(time)) { translate([0, 0, 0.2]) { capsule(radius: 0.15, height: 1) } } }"},
+      {"displace", "scene { displace(amplitude: 0.08, scale: 3, octaves: 3) { sphere(radius: 0.7) } }"},
+      {"displace by time", "scene { displace(amplitude: 0.05 * sin(time), scale: 2 + cos(time)) { box(size: [1, 0.8, 0.6]) } }"},
+      {"repeat_polar", "scene { repeat_polar(count: 6) { translate([0.7, 0, 0]) { box(size: [0.3, 0.5, 0.2]) } } }"},
+      {"repeat_polar crossing", "scene { repeat_polar(count: 5) { translate([0.5, 0.1, 0.3]) { sphere(radius: 0.3) } } }"},
       {"shell", "scene { shell(thickness: 0.1) { subtract { sphere(radius: 0.8) box(size: [2, 0.5, 2]) } } }"},
       {"transform chain",
        "scene { translate([0.2, 0.1, 0]) { rotate(axis: [0, 0, 1], degrees: 30) { scale(1.5) {\n"

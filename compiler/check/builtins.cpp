@@ -81,6 +81,18 @@ const std::vector<BuiltinSignature>& builtinSignatures() {
       {"twist", BuiltinCategory::Operator,
        {{"rate", ArgType::Number, ValueRule::Any, kRequired, kTime}},
        "twist about the y axis by `rate` degrees per unit of height (a bound)"},
+      {"bend", BuiltinCategory::Operator,
+       {{"rate", ArgType::Number, ValueRule::Any, kRequired, kTime}},
+       "bend about the y axis by `rate` degrees per unit along x: the ends of a bar on x curl towards -z (a bound)"},
+      {"displace", BuiltinCategory::Operator,
+       {{"amplitude", ArgType::Number, ValueRule::Any, kRequired, kTime},
+        {"scale", ArgType::Number, ValueRule::Positive, kOptional, kTime},
+        {"octaves", ArgType::Number, ValueRule::Positive, kOptional, kConstant}},
+       "move the surface by `amplitude` times gradient noise of the point times `scale`, summed over `octaves` "
+       "(a bound)"},
+      {"repeat_polar", BuiltinCategory::Operator,
+       {{"count", ArgType::Number, ValueRule::Positive, kRequired, kConstant}},
+       "`count` copies evenly around the y axis, the shape as placed (off the axis on +x) being one"},
       // Materials.
       {"diffuse", BuiltinCategory::Material, {surfaceColour("albedo")}, "Lambertian"},
       {"mirror", BuiltinCategory::Material, {surfaceColour("tint")}, "perfect specular reflection"},

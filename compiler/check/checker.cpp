@@ -1445,18 +1445,57 @@ class Checker {
         if (!s) return {};
         node->amount = *s;
       }
-    } else if (name == "twist") {
+    } else if (name == "twist" || name == "bend") {
       auto s = numberArg(*arg(0), sig.args[0], name);
       if (!s) return {};
       if (!s->range().bounded()) {
-        diags_->error(arg(0)->range, "twist 'rate' is unbounded over time, so no step size is safe; keep it in a "
+        diags_->error(arg(0)->range, name + " 'rate' is unbounded over time, so no step size is safe; keep it in a "
                                      "range, e.g. with clamp() or sin()");
         return {};
       }
-      node->kind = ir::NodeKind::Twist;
+      node->kind = name == "twist" ? ir::NodeKind::Twist : ir::NodeKind::Bend;
       node->amount = *s;
-      diags_->warning(e.name_range, "bound", "'twist' gives a distance bound, not an exact distance (marching "
-                                             "divides it by the twist's stretch)");
+      diags_->warning(e.name_range, "bound", "'" + name + "' gives a distance bound, not an exact distance (marching "
+                                             "divides it by the " + name + "'s stretch)");
+    } else if (name == "displace") {
+      auto a = numberArg(*arg(0), sig.args[0], name);
+      if (!a) return {};
+      std::optional<Scalar> scale = ir::constant(1);
+      if (const Value* v = arg(1)) scale = numberArg(*v, sig.args[1], name);
+      if (!scale) return {};
+      for (const auto& [s, what, i] : {std::tuple{*a, "amplitude", 0}, std::tuple{*scale, "scale", 1}}) {
+        if (!s.range().bounded()) {
+          diags_->error(arg(i)->range, std::string("displace '") + what + "' is unbounded over time, so no step "
+                                       "size is safe; keep it in a range, e.g. with clamp() or sin()");
+          return {};
+        }
+      }
+      node->count.x = 1;
+      if (const Value* v = arg(2)) {
+        auto o = numberArg(*v, sig.args[2], name);
+        if (!o) return {};
+        if (o->value != std::floor(o->value) || o->value > kMaxDisplaceOctaves) {
+          diags_->error(v->range, "'octaves' of 'displace' must be a whole number from 1 to " +
+                                      std::to_string(kMaxDisplaceOctaves) + ", got " + fmt(o->value));
+          return {};
+        }
+        node->count.x = static_cast<int>(o->value);
+      }
+      node->kind = ir::NodeKind::Displace;
+      node->amount = *a;
+      node->vec = {*scale, ir::constant(0), ir::constant(0)};
+      diags_->warning(e.name_range, "bound", "'displace' gives a distance bound, not an exact distance (marching "
+                                             "divides it by the noise's stretch)");
+    } else if (name == "repeat_polar") {
+      auto c = numberArg(*arg(0), sig.args[0], name);
+      if (!c) return {};
+      if (c->value != std::floor(c->value) || c->value > kMaxRepeatCount) {
+        diags_->error(arg(0)->range, "'count' of 'repeat_polar' must be a whole number from 1 to " +
+                                         std::to_string(kMaxRepeatCount) + ", got " + fmt(c->value));
+        return {};
+      }
+      node->kind = ir::NodeKind::RepeatPolar;
+      node->count.x = static_cast<int>(c->value);
     } else if (name == "round" || name == "shell") {
       auto s = numberArg(*arg(0), sig.args[0], name);
       if (!s) return {};

@@ -19,6 +19,8 @@ struct CheckOptions {
 
 // Limits that keep the emitted shader sane; the messages quote them.
 constexpr int kMaxRepeatCount = 10000;
+// displace's octaves are unrolled in the shader (no loop against lavapipe's cap).
+constexpr int kMaxDisplaceOctaves = 8;
 constexpr int kMaxImageSide = 16384;
 constexpr int kMaxSamples = 1 << 20;
 constexpr int kMaxBounces = 64;

@@ -19,6 +19,7 @@ inline constexpr WarningInfo kWarnings[] = {
     {"time-range", "a value that depends on 'time' leaves its valid range at some times"},
     {"energy", "an albedo or tint above 1 reflects more light than arrives"},
     {"repeat-reach", "a repeated shape reaches further than the neighbouring cells checked"},
+    {"bend-fold", "a 'bend' strong enough to fold space inside the shape (it shows twice there)"},
     {"subtract-nothing", "'subtract' with one shape"},
     {"setting-again", "a setting given twice (the last one wins)"},
     {"mesh-open", "a mesh(file: ...) with boundary edges: its winding number decides inside, which "

@@ -72,12 +72,13 @@ std::map<const ir::TextureImage*, size_t> appendTextureData(const ir::Scene& sce
 }
 
 void emitFieldMaterials(const ir::Scene& scene, const std::vector<bool>& used,
-                        const std::map<const ir::TextureImage*, size_t>& texture_bases, std::ostringstream& out) {
+                        const std::map<const ir::TextureImage*, size_t>& texture_bases, std::ostringstream& out,
+                        bool noise_emitted) {
   bool any = false;
   for (size_t i = 0; i < scene.materials.size(); ++i) any = any || hasField(scene, used, i);
   if (!any) return;
   const size_t n = scene.materials.size();
-  if (usesKind(scene, used, ir::FieldKind::Noise)) out << "\n" << embeddedSource("kernel/noise.glsl");
+  if (usesKind(scene, used, ir::FieldKind::Noise) && !noise_emitted) out << "\n" << embeddedSource("kernel/noise.glsl");
   if (usesKind(scene, used, ir::FieldKind::Texture)) out << "\n" << embeddedSource("kernel/texture.glsl");
   out << "\n// Colour fields: of the world point, once per shading point.\n";
   out << "Material sdMaterialAt(int id, vec3 p, vec3 n) {\n  Material m = sdMaterial(id);\n";

@@ -18,8 +18,10 @@ void addFieldFeatures(const ir::Scene& scene, const std::vector<bool>& used, std
 // returns where each image starts, in vec4s.
 std::map<const ir::TextureImage*, size_t> appendTextureData(const ir::Scene& scene, const std::vector<bool>& used,
                                                            std::vector<float>& data);
-// Writes sdMaterialAt for the used materials that have fields.
+// Writes sdMaterialAt for the used materials that have fields
+// (`noise_emitted`: the scene code already holds kernel/noise.glsl, for displace).
 void emitFieldMaterials(const ir::Scene& scene, const std::vector<bool>& used,
-                        const std::map<const ir::TextureImage*, size_t>& texture_bases, std::ostringstream& out);
+                        const std::map<const ir::TextureImage*, size_t>& texture_bases, std::ostringstream& out,
+                        bool noise_emitted = false);
 
 }  // namespace sdfc

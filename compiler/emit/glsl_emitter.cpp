@@ -11,6 +11,7 @@
 #include "emit/color_field_glsl.h"
 #include "emit/embedded_sources.h"
 #include "emit/feature_filter.h"
+#include "passes/deform.h"
 #include "shapes/polygon.h"
 
 namespace sdfc {
@@ -96,6 +97,15 @@ float sdBound(vec3 p, vec3 center, vec3 half_size) {
 }
 )";
 
+// The most a subtree's field is divided by on its way down (twist, bend and
+// displace divide theirs by their stretch; passes/analyze.cpp).
+double stretchBelow(const ir::Node& n) {
+  double below = 1;
+  for (const ir::NodeRef& c : n.children) below = std::max(below, stretchBelow(*c));
+  const bool divides = n.kind == ir::NodeKind::Twist || n.kind == ir::NodeKind::Bend || n.kind == ir::NodeKind::Displace;
+  return divides ? below * n.deform_lipschitz : below;
+}
+
 // Which single material a subtree's surfaces carry, given the inherited one;
 // kMixed when they differ.
 constexpr int kMixed = -2;
@@ -133,6 +143,7 @@ int traversalsPerEvaluation(const ir::Node& n, const ir::Node* free_set) {
   if (n.kind == ir::NodeKind::Instances) return &n == free_set ? 0 : 1;
   int sum = 0;
   for (const ir::NodeRef& c : n.children) sum += traversalsPerEvaluation(*c, free_set);
+  if (n.kind == ir::NodeKind::RepeatPolar && n.count.x > 1) sum *= 3;
   if (n.kind == ir::NodeKind::Repeat && sum > 0)
     for (int a = 0; a < 3; ++a)
       if (repeatNeedsNeighbours(n, a)) sum *= 3;
@@ -547,24 +558,82 @@ class SceneWriter {
                << ", 0.0));\n";
         return mat ? "vec2(" + r + ", " + c + ".y)" : r;
       }
-      case ir::NodeKind::Twist: {
-        // As the evaluator: the twisted field over its Lipschitz factor within
+      case ir::NodeKind::Twist:
+      case ir::NodeKind::Bend: {
+        // As the evaluator: the deformed field over its Lipschitz factor within
         // the radius holding the child, the cylinder's distance outside.
-        needHelper("rotate", kRotateHelper);
         needHelper("sdBox2", box2Glsl());
         const Aabb& b = n.children[0]->bounds;
         const std::string q = var(f, "p");
-        f.code << "  vec3 " << q << " = sdRotateInverse(" << p << ", vec3(0.0, 1.0, 0.0), radians(" << n.amount.glsl()
-               << " * " << p << ".y));" << lineComment(n) << " twist\n";
+        if (n.kind == ir::NodeKind::Twist) {
+          needHelper("rotate", kRotateHelper);
+          f.code << "  vec3 " << q << " = sdRotateInverse(" << p << ", vec3(0.0, 1.0, 0.0), radians("
+                 << n.amount.glsl() << " * " << p << ".y));" << lineComment(n) << " twist\n";
+        } else {
+          const std::string a = var(f, "a");
+          f.code << "  float " << a << " = radians(" << n.amount.glsl() << " * " << p << ".x);" << lineComment(n)
+                 << " bend\n";
+          f.code << "  vec3 " << q << " = vec3(cos(" << a << ") * " << p << ".x - sin(" << a << ") * " << p
+                 << ".z, " << p << ".y, sin(" << a << ") * " << p << ".x + cos(" << a << ") * " << p << ".z);\n";
+        }
         std::string c = node(*n.children[0], q, f, mat, mine);
         if (mat && !isIdentifier(c)) c = keep(f, c);
         const std::string r = var(f, "r"), d = var(f, "d");
         f.code << "  float " << r << " = length(" << p << ".xz);\n";
-        f.code << "  float " << d << " = " << r << " <= " << glslFloat(n.deform_radius) << " ? "
+        f.code << "  float " << d << " = " << r << " <= " << glslFloat(deformReach(n)) << " ? "
                << (mat ? c + ".x" : c) << " * " << glslFloat(1 / n.deform_lipschitz) << " : sdBox2(vec2(" << r
                << " - " << glslFloat(n.deform_radius) << ", abs(" << p << ".y - " << glslFloat((b.lo.y + b.hi.y) / 2)
                << ") - " << glslFloat((b.hi.y - b.lo.y) / 2) << "));\n";
         return mat ? "vec2(" + d + ", " + c + ".y)" : d;
+      }
+      case ir::NodeKind::Displace: {
+        // The octaves unrolled: a loop would count against lavapipe's cap at
+        // every march step.
+        if (helper_names_.insert("noise").second) helpers_ << "\n" << embeddedSource("kernel/noise.glsl") << "\n";
+        std::string c = node(*n.children[0], p, f, mat, mine);
+        if (mat && !isIdentifier(c)) c = keep(f, c);
+        const std::string q = var(f, "p"), d = var(f, "d");
+        f.code << "  vec3 " << q << " = " << p << " * " << n.vec.x.glsl() << ";" << lineComment(n) << " displace\n";
+        double weight = 0;
+        std::string sum;
+        for (int i = 0; i < n.count.x; ++i) {
+          const double amplitude = std::ldexp(1.0, -i);
+          weight += amplitude;
+          sum += (i ? " + " : "") + (i ? glslFloat(amplitude) + " * " : std::string()) + "sdGradientNoise(" +
+                 (i ? glslFloat(std::ldexp(1.0, i)) + " * " : std::string()) + q + ")";
+        }
+        f.code << "  float " << d << " = (" << (mat ? c + ".x" : c) << " + " << n.amount.glsl() << " * ("
+               << sum << ")" << (n.count.x > 1 ? " * " + glslFloat(1 / weight) : std::string()) << ") * "
+               << glslFloat(1 / n.deform_lipschitz) << ";\n";
+        return mat ? "vec2(" + d + ", " + c + ".y)" : d;
+      }
+      case ir::NodeKind::RepeatPolar: {
+        if (n.count.x == 1) return node(*n.children[0], p, f, mat, mine);
+        // The point's sector and its two neighbours, each turned back onto
+        // sector 0, the child evaluated through one function.
+        const ir::Node& c = *n.children[0];
+        const std::string w = glslFloat(2 * M_PI / n.count.x), i = var(f, "i");
+        f.code << "  float " << i << " = round(atan(" << p << ".z, " << p << ".x) / " << w << ");" << lineComment(n)
+               << " repeat_polar\n";
+        const std::string label = c.definition.empty() ? "sector" : c.definition;
+        const std::string acc = var(f, "d");
+        for (int d = -1; d <= 1; ++d) {
+          const std::string a = var(f, "a"), q = var(f, "p");
+          f.code << "  float " << a << " = (" << i << (d < 0 ? " - 1.0" : d > 0 ? " + 1.0" : "") << ") * " << w
+                 << ";\n";
+          f.code << "  vec3 " << q << " = vec3(cos(" << a << ") * " << p << ".x + sin(" << a << ") * " << p << ".z, "
+                 << p << ".y, cos(" << a << ") * " << p << ".z - sin(" << a << ") * " << p << ".x);\n";
+          const std::string e = callFunction(c, q, f, mat, mine, label);
+          if (d == -1) {
+            f.code << "  " << (mat ? "vec2 " : "float ") << acc << " = " << e << ";\n";
+          } else {
+            const std::string r = var(f, "r");
+            f.code << "  " << (mat ? "vec2 " : "float ") << r << " = " << e << ";\n";
+            if (mat) f.code << "  if (" << r << ".x < " << acc << ".x) " << acc << " = " << r << ";\n";
+            else f.code << "  " << acc << " = min(" << acc << ", " << r << ");\n";
+          }
+        }
+        return acc;
       }
       case ir::NodeKind::Revolve: {
         const std::string q = var(f, "p");
@@ -1333,8 +1402,11 @@ class SceneWriter {
         b = var(f, "b");
         const dvec3 half = c.bounds.halfSize();
         const double margin = 0.1 * glm::length(half);
+        // Under a deformation the child's field is its raw field (at least the
+        // box distance) over the stretch: so is the box distance used for it.
+        const double stretch = stretchBelow(c);
         f.code << "  float " << b << " = sdBound(" << p << ", " << vec3Literal(c.bounds.center()) << ", "
-               << vec3Literal(half) << ");\n";
+               << vec3Literal(half) << ")" << (stretch > 1 ? " * " + glslFloat(1 / stretch) : std::string()) << ";\n";
         // subgroupAny makes the condition uniform: lavapipe (and GPUs) then
         // branch around the subtree when every lane of the group may skip it;
         // a per-lane condition would only mask the lanes and run it anyway.
@@ -1557,7 +1629,8 @@ class SceneWriter {
           << scene_.materials[i].name << "\n";
     out << "  return " << literal(scene_.materials[0]) << ";  // " << scene_.materials[0].name << "\n}\n";
     bool unassigned = false;
-    emitFieldMaterials(scene_, usedMaterials(scene_, unassigned), texture_bases_, out);
+    emitFieldMaterials(scene_, usedMaterials(scene_, unassigned), texture_bases_, out,
+                       helper_names_.count("noise") > 0);
   }
 
   void sky(std::ostringstream& out) {

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <limits>
 
+#include "eval/noise.h"
+#include "passes/deform.h"
 #include "passes/passes.h"
 
 namespace sdfc {
@@ -18,6 +20,20 @@ double smoothMin(double a, double b, double k) {
 }
 
 double smoothMax(double a, double b, double k) { return -smoothMin(-a, -b, k); }
+
+dvec3 twistPoint(const dvec3& p, double degrees_per_unit) {
+  return glm::transpose(rotationMatrix(dvec3(0, 1, 0), degrees_per_unit * p.y)) * p;
+}
+
+dvec3 bendPoint(const dvec3& p, double degrees_per_unit) {
+  const double a = glm::radians(degrees_per_unit * p.x), c = std::cos(a), s = std::sin(a);
+  return {c * p.x - s * p.z, p.y, s * p.x + c * p.z};
+}
+
+dvec3 polarPoint(const dvec3& p, double radians) {
+  const double c = std::cos(radians), s = std::sin(radians);
+  return {c * p.x + s * p.z, p.y, c * p.z - s * p.x};
+}
 
 double repeatCellIndex(double x, double cell, int count) {
   if (count == 0) return std::round(x / cell);
@@ -240,18 +256,35 @@ EvalResult Evaluator::evalNode(const ir::Node& n, const dvec3& p, int inherited)
       r.distance = std::min(std::max(w.x, w.y), 0.0) + glm::length(glm::max(w, glm::dvec2(0)));
       return r;
     }
-    case ir::NodeKind::Twist: {
-      // Within the radius R that holds the child, the twisted field divided
+    case ir::NodeKind::Twist:
+    case ir::NodeKind::Bend: {
+      // Within the radius R that holds the child, the deformed field divided
       // by its Lipschitz factor; outside, the distance to that cylinder.
       const Aabb& b = n.children[0]->bounds;
       const double r = std::sqrt(p.x * p.x + p.z * p.z);
-      if (r > n.deform_radius) {
+      if (r > deformReach(n)) {
         const glm::dvec2 w(r - n.deform_radius, std::fabs(p.y - (b.lo.y + b.hi.y) / 2) - (b.hi.y - b.lo.y) / 2);
         return {std::min(std::max(w.x, w.y), 0.0) + glm::length(glm::max(w, glm::dvec2(0))), mat};
       }
-      EvalResult e = child(0, glm::transpose(rotationMatrix(dvec3(0, 1, 0), n.amount.at(t) * p.y)) * p);
+      EvalResult e = child(0, n.kind == ir::NodeKind::Twist ? twistPoint(p, n.amount.at(t)) : bendPoint(p, n.amount.at(t)));
       e.distance /= n.deform_lipschitz;
       return e;
+    }
+    case ir::NodeKind::Displace: {
+      EvalResult e = child(0, p);
+      e.distance = (e.distance + n.amount.at(t) * fractalNoise(p * n.vec.x.at(t), n.count.x)) / n.deform_lipschitz;
+      return e;
+    }
+    case ir::NodeKind::RepeatPolar: {
+      const int count = n.count.x;
+      if (count == 1) return child(0, p);
+      const double w = 2 * M_PI / count, i = std::round(std::atan2(p.z, p.x) / w);
+      EvalResult best{std::numeric_limits<double>::infinity(), mat};
+      for (int d = -1; d <= 1; ++d) {
+        EvalResult e = child(0, polarPoint(p, (i + d) * w));
+        if (e.distance < best.distance) best = e;
+      }
+      return best;
     }
     case ir::NodeKind::Revolve:
       return child(0, dvec3(std::sqrt(p.x * p.x + p.z * p.z) - n.amount.at(t), p.y, 0));

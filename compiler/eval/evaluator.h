@@ -42,5 +42,12 @@ double smoothMax(double a, double b, double k);
 // The cell a repeated point falls in, for cell size `cell` and `count`
 // copies (0 = infinite), and its offset inside that cell.
 double repeatCellIndex(double x, double cell, int count);
+// Where twist, bend and repeat_polar read their child (docs/language.md):
+// p turned about y by -rate * p.y degrees; p turned about y so that its
+// (x, z) angle grows by rate * p.x degrees; p turned back by `radians` of
+// (x, z) angle (onto sector 0).
+glm::dvec3 twistPoint(const glm::dvec3& p, double degrees_per_unit);
+glm::dvec3 bendPoint(const glm::dvec3& p, double degrees_per_unit);
+glm::dvec3 polarPoint(const glm::dvec3& p, double radians);
 
 }  // namespace sdfc

@@ -18,6 +18,21 @@
 
 namespace sdfc {
 
+// Bounds on the noise and its gradient, for displace (passes/analyze.cpp).
+// Write n = sum_k w_k c_k, c_k = g_k . (f - o_k), w_k the fade weights. Along
+// x (t = f.x, u = fade(t)), at each (y, z) corner the two x corners give
+// g_0x (1 - u - u' t) + g_1x (u - u' (1 - t)) + u' (a_1 - a_0), a_o the y, z
+// part of c_o. A cube-edge gradient with g_x != 0 has one of g_y, g_z, and
+// with g_x = 0 both, so corner o adds at most
+// max(|alpha_o| + u' max(dy, dz), u' (dy + dz)), dy = |f.y - o.y|; summed with
+// the (y, z) weights this bounds |dn/dx| by B_x(f), and |grad n| by
+// |(B_x, B_y, B_z)|. Its maximum over a 401^3 grid of the cell is 6.4952, at
+// the centre (3.75 sqrt(3)); sampled gradients reach 3.20
+// (tests/deform_test.cpp recomputes both). Likewise |n| <= sum_k w_k (the
+// two largest |f - o_k| components), at most 1.0364 on the grid.
+constexpr double kNoiseGradientBound = 6.5;
+constexpr double kNoiseRangeBound = 1.05;
+
 uint32_t noiseHash(int32_t x, int32_t y, int32_t z);
 double gradientNoise(const glm::dvec3& p);
 double fractalNoise(const glm::dvec3& p, int octaves);

@@ -37,6 +37,9 @@ const char* kindName(NodeKind k) {
     case NodeKind::Extrude: return "extrude";
     case NodeKind::Revolve: return "revolve";
     case NodeKind::Twist: return "twist";
+    case NodeKind::Bend: return "bend";
+    case NodeKind::Displace: return "displace";
+    case NodeKind::RepeatPolar: return "repeat_polar";
     case NodeKind::Instances: return "instances";
     case NodeKind::Mesh: return "mesh";
   }
@@ -142,6 +145,14 @@ std::string dumpNode(const Node& n, int indent) {
       case NodeKind::Extrude: out << " half-depth=" << n.amount.text(); break;
       case NodeKind::Revolve: out << " offset=" << n.amount.text(); break;
       case NodeKind::Twist: out << " degrees-per-unit=" << n.amount.text(); break;
+      case NodeKind::Bend:
+        out << " degrees-per-unit=" << n.amount.text() << " stretch=" << n.deform_lipschitz;
+        break;
+      case NodeKind::Displace:
+        out << " amplitude=" << n.amount.text() << " scale=" << n.vec.x.text() << " octaves=" << n.count.x
+            << " stretch=" << n.deform_lipschitz;
+        break;
+      case NodeKind::RepeatPolar: out << " count=" << n.count.x; break;
       case NodeKind::Instances: {
         const InstanceSet& set = *n.instances;
         out << " " << set.size() << " (data form: " << set.origin << "; " << set.nodes.size()

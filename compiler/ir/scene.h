@@ -43,6 +43,9 @@ enum class NodeKind {
   Extrude,                     // a 2D profile (z = 0) extruded along z over |z| <= amount
   Revolve,                     // a 2D profile at (|p.xz| - amount, p.y, 0): revolved about y
   Twist,                       // child(p turned about y by -amount * p.y degrees): a bound
+  Bend,                        // child(p turned about y by amount * p.x degrees): a bound
+  Displace,                    // child + amplitude * noise(p * scale), octaves: a bound
+  RepeatPolar,                 // count copies around y, nearest of three sectors
   Instances,                   // union of placed copies of children[0], as data
   Mesh,                        // a triangle mesh read from a file (meshin/)
 };
@@ -63,13 +66,15 @@ struct Node {
   Scalar smooth;
   // Translate: offset. Rotate: axis (unit). ScaleNonUniform: factors. Reflect:
   // normal (unit). Repeat: cell size (0 = not repeated along that axis).
-  // Elongate: half extents.
+  // Elongate: half extents. Displace: x is the noise scale.
   Vec3 vec;
   // Rotate: angle in degrees; Scale: factor; Reflect: offset; Morph: t;
   // Round: radius; Shell: half the wall's thickness; Extrude: half the
-  // depth; Revolve: the offset from the axis.
+  // depth; Revolve: the offset from the axis; Twist, Bend: degrees per unit;
+  // Displace: the amplitude (vec.x holds its scale).
   Scalar amount;
-  // Repeat: copies per axis (0 = infinite).
+  // Repeat: copies per axis (0 = infinite). RepeatPolar: count.x copies.
+  // Displace: count.x octaves.
   glm::ivec3 count{0};
   // Affine: local = linear * p + offset; distance = scale * child(local).
   glm::dmat3 linear{1.0};
@@ -78,9 +83,10 @@ struct Node {
 
   std::vector<NodeRef> children;
 
-  // Twist (filled by passes/analyze.cpp): the radius about the y axis that
-  // holds the child, and the Lipschitz factor of the twisted field within
-  // it, which the twist divides by (docs/language.md, "Deformations").
+  // Twist, Bend (filled by passes/analyze.cpp): the radius about the y axis
+  // that holds the child, and the Lipschitz factor of the deformed field
+  // within it, which the node divides by (docs/language.md, "Deformations").
+  // Displace: deform_lipschitz only (the noise's stretch holds everywhere).
   double deform_radius = 0;
   double deform_lipschitz = 1;
 

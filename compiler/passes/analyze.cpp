@@ -4,6 +4,8 @@
 #include <cstdio>
 #include <unordered_set>
 
+#include "eval/noise.h"
+#include "passes/deform.h"
 #include "passes/passes.h"
 
 namespace sdfc {
@@ -16,6 +18,25 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 double upper(const ir::Scalar& s) {
   const ir::Interval r = s.range();
   return r.bounded() ? r.hi : kInf;
+}
+
+// bend's Lipschitz factor within radius R of the y axis, k in radians per
+// unit. The child is read at q = R_y(k x) p, whose Jacobian is
+// R (I + k (-z, 0, x) e_x^T): in the (x, z) plane [[1 - k z, 0], [k x, 1]],
+// y untouched. Its largest singular value is convex in (x, z) (a norm of an
+// affine map), so over the disc x^2 + z^2 <= R^2 it peaks on the rim; sampled
+// there, plus the most it can rise between samples (the entries move k times
+// as fast as the point, a norm no faster): R k pi / samples.
+double bendLipschitz(double k, double radius) {
+  constexpr int kSamples = 720;
+  double best = 1;
+  for (int i = 0; i < kSamples; ++i) {
+    const double phi = 2 * M_PI * i / kSamples;
+    const double a = 1 - k * radius * std::sin(phi), b = k * radius * std::cos(phi);
+    const double t = a * a + b * b + 1;
+    best = std::max(best, std::sqrt((t + std::sqrt(std::max(t * t - 4 * a * a, 0.0))) / 2));
+  }
+  return best + k * radius * M_PI / kSamples;
 }
 
 class Analyzer {
@@ -139,7 +160,10 @@ class Analyzer {
         break;
       }
       case ir::NodeKind::Revolve: revolve(n); break;
-      case ir::NodeKind::Twist: twist(n); break;
+      case ir::NodeKind::Twist:
+      case ir::NodeKind::Bend: twist(n); break;
+      case ir::NodeKind::Displace: displace(n); break;
+      case ir::NodeKind::RepeatPolar: repeatPolar(n); break;
       case ir::NodeKind::Morph: {
         const ir::Interval t = n.amount.range();
         n.exact = false;
@@ -230,13 +254,19 @@ class Analyzer {
   // point stays in it) the field is L-Lipschitz with L at r = R; the twist
   // divides by L there, and outside R uses the cylinder's distance (a lower
   // bound: the shape is inside it). tests/twist_test.cpp samples gradients.
+  //
+  // bend(rate) shares all but the factor: the child is read at q = R_y(k x) p
+  // (docs/language.md), which also keeps the distance from the y axis and the
+  // height, so the same cylinder holds the bent shape (bendLipschitz).
   void twist(ir::Node& n) {
     const Aabb& b = n.children[0]->bounds;
+    const bool bend = n.kind == ir::NodeKind::Bend;
+    const char* name = bend ? "bend" : "twist";
     n.exact = false;
     n.cost += 1;
     if (!b.finite()) {
-      diags_.error(n.range, "'twist' needs a bounded shape: its stretch grows with the distance from the axis, "
-                            "so an unbounded shape has no safe step");
+      diags_.error(n.range, std::string("'") + name + "' needs a bounded shape: its stretch grows with the distance "
+                            "from the axis, so an unbounded shape has no safe step");
       n.bounds = Aabb::infinite();
       return;
     }
@@ -244,10 +274,74 @@ class Analyzer {
     const double radius = std::sqrt(x * x + z * z);
     const ir::Interval rate = n.amount.range();
     const double k = std::max(std::fabs(rate.lo), std::fabs(rate.hi)) * M_PI / 180;
-    const double kr = k * radius;
+    // Within reach (1/16 beyond the radius, passes/deform.h) the deformed
+    // field over L(reach); beyond, the cylinder's distance, at least radius / 16.
     n.deform_radius = radius;
-    n.deform_lipschitz = (kr + std::sqrt(kr * kr + 4)) / 2;
+    const double reach = deformReach(n), kr = k * reach;
+    n.deform_radius = radius;
+    n.deform_lipschitz = bend ? bendLipschitz(k, reach) : (kr + std::sqrt(kr * kr + 4)) / 2;
     n.bounds = {dvec3(-radius, b.lo.y, -radius), dvec3(radius, b.hi.y, radius)};
+    // At |z| = 1/k the map folds (its Jacobian is singular): points on both
+    // sides read the same child point, so the shape shows twice.
+    if (bend && k * radius >= 1)
+      diags_.warning(n.range, "bend-fold", "'bend' folds space at |z| = " + fmtNumber(1 / k) + " (1 / rate in radians), "
+                                           "inside the shape's radius " + fmtNumber(radius) + " about y; the shape "
+                                           "is mirrored into itself there (bend less, or keep the shape nearer the "
+                                           "y axis)");
+  }
+
+  // displace: g = d(p) + a N(s p), N the fractal noise. |grad N(s p)| <= s
+  // G_o with G_o = o G / (2 - 2^(1 - o)) for o octaves (octave i weighs 0.5^i
+  // at frequency 2^i, over the weights' sum), G = kNoiseGradientBound. So g is
+  // (L_child + |a| s G_o)-Lipschitz everywhere; dividing by 1 + |a| s G_o keeps
+  // it under L_child (>= 1, which the root's step scale covers). N stays within
+  // kNoiseRangeBound, so the surface moves at most |a| times that.
+  void displace(ir::Node& n) {
+    const ir::Node& c = *n.children[0];
+    const ir::Interval a = n.amount.range(), s = n.vec.x.range();
+    const double amp = std::max(std::fabs(a.lo), std::fabs(a.hi)), scale = std::max(std::fabs(s.lo), std::fabs(s.hi));
+    const int o = n.count.x;
+    const double g_octaves = o * kNoiseGradientBound / (2 - std::pow(2.0, 1 - o));
+    n.deform_lipschitz = 1 + amp * scale * g_octaves;
+    n.exact = false;
+    n.bounds = c.bounds.finite() ? c.bounds.grow(amp * kNoiseRangeBound) : c.bounds;
+    n.cost += 1.5 * o;
+  }
+
+  // repeat_polar(count): the point's sector i = round(atan2(z, x) / w), w =
+  // 2 pi / count, and its neighbours i - 1 and i + 1, each turned back onto
+  // sector 0. For every point s of the child, the copy of s nearest p is the
+  // one nearest in angle (same radius and height); with the child inside the
+  // wedge |atan2(z, x)| <= w / 2 that copy is in sector i - 1, i or i + 1, so
+  // the minimum over the three is the exact distance of an exact child.
+  void repeatPolar(ir::Node& n) {
+    const Aabb& b = n.children[0]->bounds;
+    const int count = n.count.x;
+    n.cost = count == 1 ? n.children[0]->cost : 3 * n.children[0]->cost + 0.5;
+    if (!b.finite()) {
+      n.bounds = Aabb::infinite();
+      n.exact = false;
+      if (count > 1)
+        diags_.warning(n.range, "repeat-reach", "the shape of 'repeat_polar' is unbounded, so it crosses its "
+                                                "sector's edges and its distance may be too large");
+      return;
+    }
+    double r = 0;
+    bool inside = true;
+    const double half = M_PI / count;
+    for (int i = 0; i < 4; ++i) {
+      const double x = (i & 1) ? b.hi.x : b.lo.x, z = (i & 2) ? b.hi.z : b.lo.z;
+      r = std::max(r, std::sqrt(x * x + z * z));
+      // The wedge is convex (count >= 2), so its corners decide.
+      if ((x != 0 || z != 0) && std::fabs(std::atan2(z, x)) > half * (1 + 1e-12)) inside = false;
+    }
+    n.bounds = count == 1 ? b : Aabb{dvec3(-r, b.lo.y, -r), dvec3(r, b.hi.y, r)};
+    if (count == 1 || inside) return;
+    n.exact = false;
+    diags_.warning(n.range, "repeat-reach", "the shape of 'repeat_polar' reaches past its sector (within " +
+                                                fmtNumber(180.0 / count) + " degrees of +x, seen from the y "
+                                                "axis); copies beyond the neighbouring sectors are not checked, "
+                                                "so its distance may be too large (keep the shape in its sector)");
   }
 
   // The profile's x is the distance from the axis minus the offset, so only
