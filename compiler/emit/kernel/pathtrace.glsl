@@ -536,6 +536,15 @@ float cameraSide(vec3 ro) {
 // evaluation, all in one loop: sdSceneMaterial is inlined once for the taps and
 // the material (each call site of a scene function is a whole inlined copy, and
 // lavapipe's compile of it at the first draw is most of a reload's latency).
+#ifdef SDFC_HAS_GLASS
+// -1 while the ray that hit was marched inside a solid (tracePath sets it).
+// Such a ray whose point ahead lies inside another solid met a face the two
+// share (a glass resting on a table): that face is the glass's, glass to a
+// thin air gap (docs/design/glass_contact.md), so the normal is the one left
+// (the other solid's outward normal, negated) and the material the glass's.
+// (Always 1 in the debug views: they march from the camera only.)
+float g_hit_side = 1.0;
+#endif
 vec3 surfaceNormal(vec3 p, vec3 rd, float t, out int material) {
   float h = max(16.0 * fpEps(maxComponent(abs(p)), 0.0), 0.01 * t * kScenePixelCone);
   float ahead = 2.0 * h + 2.0 * g_hit_offness;
@@ -576,7 +585,12 @@ vec3 surfaceNormal(vec3 p, vec3 rd, float t, out int material) {
     // (+,-,-), (-,-,+), (-,+,-), (+,+,+): the even-parity cube corners
     vec3 k = vec3(i == 0 || i == 3, i >= 2, i == 1 || i == 3) * 2.0 - 1.0;
     // The 5th: where the material is read, ahead when that is inside a solid.
+#ifdef SDFC_HAS_GLASS
+    // A contact (g_hit_side < 0, field < 0) reads the solid the ray leaves.
+    vec3 q = i < 4 ? centre + k * h : (field < 0.0 && g_hit_side > 0.0 ? centre : p - rd * ahead);
+#else
     vec3 q = i < 4 ? centre + k * h : (field < 0.0 ? centre : p - rd * ahead);
+#endif
 #if defined(SDFC_TRACE) || defined(SDFC_VIEW_ALBEDO)
     vec2 dm = sdSceneMaterial(q);
 #else
@@ -595,6 +609,9 @@ vec3 surfaceNormal(vec3 p, vec3 rd, float t, out int material) {
   // A degenerate field (coplanar CSG faces make a zero-width sheet whose
   // taps cancel) has no gradient: a NaN here would poison the denoisers.
   float len = length(n);
+#ifdef SDFC_HAS_GLASS
+  if (g_hit_side < 0.0 && field < 0.0) n = -n;
+#endif
   return len > 0.0 ? n / len : vec3(0.0, 1.0, 0.0);
 }
 
@@ -750,6 +767,9 @@ vec3 tracePath(vec3 ro, vec3 rd, int max_bounces, bool record_aov) {
 #ifdef SDFC_COUNT_EVENTS
         g_event_kind = g_event_kind < 0 ? -1 : 3;
         countEvent(0);
+#endif
+#ifdef SDFC_HAS_GLASS
+        g_hit_side = side;
 #endif
         n = surfaceNormal(p, rd, t, surface_material);
 #ifdef SDFC_HAS_FIELDS
@@ -933,6 +953,11 @@ void main() {
 #endif
   vec4 aov_nd = vec4(0.0), aov_as = vec4(0.0);
   float coverage = 0.0;
+#ifdef SDFC_LAYERS
+  // --layers: the samples' squared luminance, whose mean a carries out (its
+  // exact sums add across passes and shards): the variance layer (docs/layers.md).
+  float sum_y2 = 0.0;
+#endif
   // s = -1 is the unjittered primary ray for the AOVs (pass-split independent;
   // skipped on request when they are not read); sharing the loop keeps one
   // inlined copy of the tracer.
@@ -949,6 +974,12 @@ void main() {
     }
     vec3 l = tracePath(ro, rd, aov ? 0 : int(frame.max_bounces), aov || jittered);
     if (!aov && !any(isnan(l)) && !any(isinf(l))) sum += l;
+#ifdef SDFC_LAYERS
+    if (!aov && !any(isnan(l)) && !any(isinf(l))) {
+      float y = dot(l, vec3(0.2126, 0.7152, 0.0722));
+      sum_y2 += y * y;
+    }
+#endif
     if (jittered) {
       bool hit = g_aov_dist >= 0.0;
       aov_nd += vec4(g_aov_normal, hit ? g_aov_dist : 0.0);
@@ -982,6 +1013,9 @@ void main() {
 #endif
 #endif
   out_color = vec4(color, jittered ? coverage / float(max(count, 1)) : 1.0);
+#ifdef SDFC_LAYERS
+  out_color.a = sum_y2 / float(max(count, 1));
+#endif
 }
 #else
 // A debug view's main (normal, steps, depth or albedo): the primary ray alone,
