@@ -8,10 +8,14 @@ face it rests on: the mean there and the worst of its four column strips, each
 with its difference in standard errors. The blocks' pixels are those whose
 primary hit is glass (`--view albedo` is 1, 1, 1 there: untinted glass).
 
-    /tmp/venv/bin/python bench/glass_contact_check.py [--sdfc build/cli/sdfc]
+    /tmp/venv/bin/python bench/glass_contact_check.py [check|reference|test] [--sdfc build/cli/sdfc]
         [--size 160x120] [--spp 256] [--mitsuba-spp 1024] [--bounces 6]
         [--cache DIR]   keep Mitsuba's renders there (keyed by scene and settings)
+    check       both renderers now, the figures in bench/RESULTS.md
+    reference   Mitsuba's block means at 64x36 -> tests/glass_contact_reference.json
+    test        sdfc at 64x36 against that file (CTest; no Mitsuba needed)
 """
+import json
 import argparse
 import hashlib
 import os
@@ -26,6 +30,8 @@ sys.path.insert(0, HERE)
 import mitsuba_check as mc  # noqa: E402
 
 SCENE = "glass_resting"
+REFERENCE_JSON = os.path.join(HERE, "..", "tests", "glass_contact_reference.json")
+TEST_SIZE = (64, 36)
 
 
 def mitsuba_pair(w, h, spp, bounces, cache):
@@ -68,8 +74,64 @@ def region(a1, a2, mask):
     return mean, se
 
 
+def sdfc_blocks(sdfc, w, h, spp, bounces):
+    """sdfc's pair of renders and the blocks' lower-half masks."""
+    with tempfile.TemporaryDirectory() as tmp:
+        (s1, _, _), (s2, _, _) = mc.sdfc_pair(sdfc, SCENE, w, h, spp, bounces, tmp)
+        masks = block_masks(sdfc, os.path.join(tmp, f"{SCENE}.sdf"), tmp)
+    return s1, s2, masks
+
+
+def cmd_reference(args):
+    w, h = TEST_SIZE
+    m1, m2 = mitsuba_pair(w, h, args.mitsuba_spp, args.bounces, args.cache)
+    _, _, masks = sdfc_blocks(args.sdfc, w, h, 1, args.bounces)
+    import mitsuba as mi
+    data = {"mitsuba": mi.__version__, "variant": "scalar_rgb", "spp": args.mitsuba_spp, "width": w,
+            "height": h, "bounces": args.bounces, "scene": mc.sdf_source(SCENE, w, h, 0, args.bounces),
+            "blocks": {}}
+    for name, mask in masks.items():
+        mean, se = region(m1, m2, mask)
+        data["blocks"][name] = {"mask": np.flatnonzero(mask).tolist(), "mean": mean.tolist(),
+                                "standard_error": se.tolist()}
+        print(f"{name}: {mean} +- {se}")
+    with open(REFERENCE_JSON, "w") as f:
+        json.dump(data, f, indent=1)
+        f.write("\n")
+    print("wrote", REFERENCE_JSON)
+    return 0
+
+
+def cmd_test(args):
+    """sdfc's block means against the stored Mitsuba ones: within 4 combined
+    standard errors and 2% (the old floor-shaded contact was 16-26% dark)."""
+    with open(REFERENCE_JSON) as f:
+        ref = json.load(f)
+    w, h, bounces = ref["width"], ref["height"], ref["bounces"]
+    if ref["scene"] != mc.sdf_source(SCENE, w, h, 0, bounces):
+        print(f"the scene changed since the reference was rendered; run `{sys.argv[0]} reference`")
+        return 1
+    s1, s2, _ = sdfc_blocks(args.sdfc, w, h, args.spp, bounces)
+    failures = 0
+    for name, r in ref["blocks"].items():
+        mask = np.zeros(w * h, dtype=bool)
+        mask[r["mask"]] = True
+        mask = mask.reshape(h, w)
+        a, ea = region(s1, s2, mask)
+        b, eb = np.array(r["mean"]), np.array(r["standard_error"])
+        d = (a - b) / b * 100
+        z = mc.z_scores(a, ea, b, eb)
+        ok = bool(np.all((z < 4) | (np.abs(d) < 2)))
+        failures += not ok
+        print(f"{'ok  ' if ok else 'FAIL'} block {name}: sdfc {np.array2string(a, precision=4)} Mitsuba "
+              f"{np.array2string(b, precision=4)}: {np.array2string(d, precision=2)} % "
+              f"({np.array2string(z, precision=1)} s.e.)")
+    return 1 if failures else 0
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("command", nargs="?", default="check", choices=["check", "reference", "test"])
     ap.add_argument("--sdfc", default=os.path.join(HERE, "..", "build", "cli", "sdfc"))
     ap.add_argument("--size", default="160x120")
     ap.add_argument("--spp", type=int, default=256)
@@ -77,11 +139,12 @@ def main():
     ap.add_argument("--bounces", type=int, default=6)
     ap.add_argument("--cache", default=None)
     args = ap.parse_args()
+    if args.command == "reference":
+        return cmd_reference(args)
+    if args.command == "test":
+        return cmd_test(args)
     w, h = map(int, args.size.split("x"))
-    with tempfile.TemporaryDirectory() as tmp:
-        (s1, _, _), (s2, _, _) = mc.sdfc_pair(args.sdfc, SCENE, w, h, args.spp, args.bounces, tmp)
-        scene_path = os.path.join(tmp, f"{SCENE}.sdf")
-        masks = block_masks(args.sdfc, scene_path, tmp)
+    s1, s2, masks = sdfc_blocks(args.sdfc, w, h, args.spp, args.bounces)
     m1, m2 = mitsuba_pair(w, h, args.mitsuba_spp, args.bounces, args.cache)
     ms, ses = mc.mean_and_error(s1, s2)
     mm, sem = mc.mean_and_error(m1, m2)
