@@ -621,6 +621,12 @@ float cameraSide(vec3 ro) {
   return frame.camera_inside != 0u ? -1.0 : 1.0;
 }
 
+// -1 while the ray that hit was marched inside a solid (tracePath sets it).
+// Such a ray whose point ahead lies inside another solid met a face the two
+// share (a glass resting on a table): that face is the glass's, glass to a
+// thin air gap (docs/design/glass_contact.md), so the normal is the one left
+// (the other solid's outward normal, negated) and the material the glass's.
+float g_hit_side = 1.0;
 // The surface a marched ray hit at p = ro + t rd (not an analytic plane): its
 // outward normal, and its material id (kernels that shade: the path tracer
 // and the albedo view; the other views read no material).
@@ -638,13 +644,6 @@ float cameraSide(vec3 ro) {
 // evaluation, all in one loop: sdSceneMaterial is inlined once for the taps and
 // the material (each call site of a scene function is a whole inlined copy, and
 // lavapipe's compile of it at the first draw is most of a reload's latency).
-// -1 while the ray that hit was marched inside a solid (tracePath sets it).
-// Such a ray whose point ahead lies inside another solid met a face the two
-// share (a glass resting on a table): that face is the glass's, glass to a
-// thin air gap (docs/design/glass_contact.md), so the normal is the one left
-// (the other solid's outward normal, negated) and the material the glass's.
-// (Always 1 in the debug views: they march from the camera only.)
-float g_hit_side = 1.0;
 vec3 surfaceNormal(vec3 p, vec3 rd, float t, out int material) {
   float h = max(16.0 * fpEps(maxComponent(abs(p)), 0.0), 0.01 * t * kScenePixelCone);
   float ahead = 2.0 * h + 2.0 * g_hit_offness;

@@ -525,7 +525,6 @@ float cameraSide(vec3 ro) {
 // share (a glass resting on a table): that face is the glass's, glass to a
 // thin air gap (docs/design/glass_contact.md), so the normal is the one left
 // (the other solid's outward normal, negated) and the material the glass's.
-// (Always 1 in the debug views: they march from the camera only.)
 float g_hit_side = 1.0;
 #endif
 // The surface a marched ray hit at p = ro + t rd (not an analytic plane): its
@@ -1051,6 +1050,9 @@ void main() {
     } else
 #endif
     {
+#ifdef SDFC_HAS_GLASS
+      g_hit_side = side;  // a camera inside glass sees a contact as the path tracer does
+#endif
       normal = surfaceNormal(ro + rd * t, rd, t, material);
     }
 #ifdef SDFC_VIEW_ALBEDO
