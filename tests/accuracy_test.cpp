@@ -257,7 +257,7 @@ TEST(Accuracy, CameraOnASphereLookingAway) {
 // 4. Coplanar contact: seen from inside the glass, the contact is the glass's
 // bottom face (glass to a thin air gap; docs/design/glass_contact.md): its
 // albedo and its outward normal -y, at the exact depth.
-TEST(Accuracy, GlassRestingOnTheGroundShowsTheGroundAtTheContact) {
+TEST(Accuracy, GlassRestingOnTheGroundShowsItsBottomFaceAtTheContact) {
   const Stats s = measure("i17_glass_on_ground.sdf", {box({0, -0.5, 0}, {8, 1, 8}, {0.6, 0.55, 0.5}),
                                                       box({0, 0.25, 0}, {1, 0.5, 1}, dvec3(1))});
   EXPECT_EQ(s.disagree, 0);
