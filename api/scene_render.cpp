@@ -67,6 +67,7 @@ void adaptCompileOptionsToDevice(CompileOptions& options, bool cpu_device, bool 
 bool imageReadsFeatures(uint32_t view, uint32_t spp, const ImageOptions& options) {
   if (view != gpu::kViewBeauty) return false;
   if (options.draw) return true;  // adaptive sampling: its own use of them
+  if (options.layers) return true;
   const Denoiser denoiser = options.denoiser.value_or(Denoiser::Nlr);
   if (denoiser == Denoiser::None) return false;
   // A variance-guided denoiser leaves a 1-spp image as it is (no second half).

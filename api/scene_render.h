@@ -50,11 +50,14 @@ struct ImageOptions {
   // Draws the samples instead of renderHalves (adaptive sampling, cli/); called
   // with halves that it fills.
   std::function<RenderOutput(Renderer&, const CameraDesc&, const RenderSettings&, SampleHalves*)> draw;
+  // --layers: the caller writes the primary ray's normal, depth and albedo.
+  bool layers = false;
 };
 
 // Whether renderImage reads the features (normal, depth, albedo) of a render of
 // `view` at `spp` samples per pixel: only when a denoiser runs on them (the
-// beauty view, a denoiser other than none, and two halves when it needs them).
+// beauty view, a denoiser other than none, and two halves when it needs them),
+// or when the caller writes them as layers.
 // False: the kernel may be emitted without them (EmitOptions::aovs) and the
 // render reads back only the colour and the march steps (read_features).
 bool imageReadsFeatures(uint32_t view, uint32_t spp, const ImageOptions& options);

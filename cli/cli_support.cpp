@@ -37,6 +37,7 @@ CompileOptions compileOptionsFrom(const CommandLine& cl) {
   o.spirv_cache = !cl.no_cache && cl.timings == 0;
   // The kernel holds only the code of the view it draws (docs/kernel_contract.md).
   o.emit.view = kernelViewFromName(cl.view).value_or(KernelView::Beauty);
+  o.emit.layers = cl.layers;
   return o;
 }
 

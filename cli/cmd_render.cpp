@@ -14,6 +14,7 @@
 #include "cli_support.h"
 #include "commands.h"
 #include "image_io.h"
+#include "render_layers.h"
 #include "progress.h"
 #include "scene_render.h"
 #include "pipeline_cache.h"
@@ -133,6 +134,32 @@ int runRender(const CommandLine& cl) {
                  "whole first phase)\n";
     return kExitUsage;
   }
+  if (cl.layers) {
+    // One multi-channel EXR of the raw samples and the primary ray's layers
+    // (docs/layers.md): nothing else holds them, and a filtered beauty would
+    // no longer match its own variance.
+    const char* other = cl.view != "beauty" && !cl.view.empty() ? "--view"
+                        : cl.adaptive                          ? "--adaptive"
+                        : cl.shards > 0 || cl.shard_index >= 0  ? "--shards"
+                        : !cl.denoiser.empty() && cl.denoiser != "none" ? "--denoise"
+                                                                        : nullptr;
+    if (other) {
+      std::cerr << "sdfc: error: --layers does not go with " << other
+                << ": it writes the raw mean of uniform samples and the primary ray's layers "
+                   "(docs/layers.md)\n";
+      return kExitUsage;
+    }
+    bool exr = false;
+    try {
+      exr = imageFormatFromPath(cl.output) == ImageFormat::Exr;
+    } catch (const std::exception&) {
+    }
+    if (!exr) {
+      std::cerr << "sdfc: error: --layers writes one multi-channel EXR: -o '" << cl.output
+                << "' must end in .exr\n";
+      return kExitUsage;
+    }
+  }
   if (cl.shards > 0 || cl.shard_index >= 0) {
     // A shard holds raw sample sums and `sdfc merge` writes them undenoised and
     // untoned: flags that act on the finished image would be dropped unseen.
@@ -183,7 +210,8 @@ int runRender(const CommandLine& cl) {
   }
   // Beauty renders are denoised by default: nlr's weights fade with the
   // estimated variance, so a converged pixel is left as it is (docs/denoise.md).
-  const auto denoiser = parseDenoiser(cl.denoiser.empty() ? "nlr" : cl.denoiser);
+  // --layers: the raw mean (a compositor's denoiser wants it and the variance).
+  const auto denoiser = parseDenoiser(cl.layers ? "none" : cl.denoiser.empty() ? "nlr" : cl.denoiser);
   // Check the output's extension (a usage error) and directory before any work.
   if (!checkImageExtension(cl.output)) return kExitUsage;
   checkWritablePath(frame_numbers.empty() ? cl.output : farm::framePath(cl.output, frame_numbers[0]));
@@ -233,6 +261,7 @@ int runRender(const CommandLine& cl) {
   // scene's own spp is not read yet.
   ImageOptions feature_probe;
   feature_probe.denoiser = denoiser;
+  feature_probe.layers = cl.layers;
   const bool features = cl.adaptive || imageReadsFeatures(o.view, o.spp ? uint32_t(*o.spp) : UINT32_MAX,
                                                           feature_probe);
   std::future<void> device = std::async(std::launch::async, [&] {
@@ -305,6 +334,7 @@ int runRender(const CommandLine& cl) {
     image_options.denoiser = denoiser;
     image_options.denoise_aovs = cl.denoise_aovs;
     image_options.denoise_select = cl.denoise_select;
+    image_options.layers = cl.layers;
     AdaptiveStats adaptive_stats;
     AdaptiveParams params;
     double cost_seconds = 0;
@@ -364,7 +394,10 @@ int runRender(const CommandLine& cl) {
     const FloatImage& image = denoised.empty() ? out.color : denoised;
     const std::string path = frame_numbers.empty() ? cl.output : farm::framePath(cl.output, frame_numbers[f]);
     const auto encode_start = std::chrono::steady_clock::now();
-    if (o.view != gpu::kViewBeauty && imageFormatFromPath(path) == ImageFormat::Png) {
+    if (cl.layers) {
+      writeExrChannels(path, settings.width, settings.height,
+                       renderLayers(compiled, cameraFor(compiled.scene), settings, out));
+    } else if (o.view != gpu::kViewBeauty && imageFormatFromPath(path) == ImageFormat::Png) {
       // A debug view's PNG: raw depths and counts mapped into a range a display
       // shows, no tone curve (EXR and PFM keep the raw values; docs/debug_views.md).
       writeImage(path, debugViewForDisplay(o.view, image, debugViewBudget(uint32_t(compiled.emitted.limits.max_steps), settings)),

@@ -108,6 +108,8 @@ void registerCommands(CLI::App& app, CommandLine& cl) {
                      "takes the one of least error estimated against the other half (docs/denoise.md)")
       ->delimiter(',')
       ->check(numberIn(0, 1000, /*open_low=*/true));
+  render->add_flag("--layers", cl.layers,
+                   "-o x.exr: also albedo, N, Z, material, object and variance channels (docs/layers.md)");
   render->add_flag("--adaptive", cl.adaptive,
                    "adaptive sampling: --spp is the mean; a first share uniform, the rest where the "
                    "estimated error after denoising is (docs/adaptive.md)");

@@ -46,6 +46,7 @@ struct CommandLine {
   std::vector<float> denoise_select;  // nlm/nlr last-pass strengths chosen per pixel; empty: off
   // Adaptive sampling at the same mean spp (runtime/adaptive.h, docs/adaptive.md).
   bool adaptive = false;
+  bool layers = false;  // render --layers: one multi-channel EXR (docs/layers.md)
   std::string adaptive_estimate = "variance";  // uniform | variance | denoised
   float adaptive_share = 0.25f;                // first phase, of spp
   float adaptive_cap = 8.0f;                   // a pixel's total, x the first phase

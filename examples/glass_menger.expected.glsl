@@ -245,8 +245,8 @@ float sdPlanesHit(vec3 ro, vec3 rd, out int index) {
   index = -1;
   {
     float c = dot(rd, vec3(0.0, 1.0, 0.0)), h = dot(ro, vec3(0.0, 1.0, 0.0)) - 0.0;
-    if (c < 0.0 && h > 0.0 && -h / c < t) {
-      t = -h / c;
+    if (c < 0.0 && h > -0.01 * (1.0 + max(abs(ro.x), max(abs(ro.y), abs(ro.z)))) && max(-h / c, 0.0) < t) {
+      t = max(-h / c, 0.0);
       index = 0;
     }
   }
@@ -621,6 +621,12 @@ float cameraSide(vec3 ro) {
   return frame.camera_inside != 0u ? -1.0 : 1.0;
 }
 
+// -1 while the ray that hit was marched inside a solid (tracePath sets it).
+// Such a ray whose point ahead lies inside another solid met a face the two
+// share (a glass resting on a table): that face is the glass's, glass to a
+// thin air gap (docs/design/glass_contact.md), so the normal is the one left
+// (the other solid's outward normal, negated) and the material the glass's.
+float g_hit_side = 1.0;
 // The surface a marched ray hit at p = ro + t rd (not an analytic plane): its
 // outward normal, and its material id (kernels that shade: the path tracer
 // and the albedo view; the other views read no material).
@@ -651,7 +657,8 @@ vec3 surfaceNormal(vec3 p, vec3 rd, float t, out int material) {
     // (+,-,-), (-,-,+), (-,+,-), (+,+,+): the even-parity cube corners
     vec3 k = vec3(i == 0 || i == 3, i >= 2, i == 1 || i == 3) * 2.0 - 1.0;
     // The 5th: where the material is read, ahead when that is inside a solid.
-    vec3 q = i < 4 ? centre + k * h : (field < 0.0 ? centre : p - rd * ahead);
+    // A contact (g_hit_side < 0, field < 0) reads the solid the ray leaves.
+    vec3 q = i < 4 ? centre + k * h : (field < 0.0 && g_hit_side > 0.0 ? centre : p - rd * ahead);
     vec2 dm = sdSceneMaterial(q);
     if (i < 4) {
       n += k * dm.x;
@@ -663,6 +670,7 @@ vec3 surfaceNormal(vec3 p, vec3 rd, float t, out int material) {
   // A degenerate field (coplanar CSG faces make a zero-width sheet whose
   // taps cancel) has no gradient: a NaN here would poison the denoisers.
   float len = length(n);
+  if (g_hit_side < 0.0 && field < 0.0) n = -n;
   return len > 0.0 ? n / len : vec3(0.0, 1.0, 0.0);
 }
 
@@ -759,6 +767,7 @@ vec3 tracePath(vec3 ro, vec3 rd, int max_bounces, bool record_aov) {
       } else
       {
         int surface_material;
+        g_hit_side = side;
         n = surfaceNormal(p, rd, t, surface_material);
         m = sdMaterial(surface_material);
       }

@@ -334,6 +334,7 @@ class SceneWriter {
   bool has_sphere_normals_ = false;  // sdRootSphereNormal was emitted
   bool has_sphere_material_ = false;  // and kRootSphereMaterial: the scene has one material
   bool has_sphere_hit_ = false;  // march() keeps the slot of a met sphere (g_hit_sphere)
+  bool has_glass_ = false;  // the scene uses glass (SDFC_HAS_GLASS): planes take contact rays
 
   // A top-level sphere with constant radius, bare or under one Affine that is
   // a similarity (scale * linear orthonormal), of a non-emissive material in a
@@ -384,11 +385,17 @@ class SceneWriter {
     out << "// Nearest hit from outside a solid, or 3e38; `index` names it.\n";
     out << "float sdPlanesHit(vec3 ro, vec3 rd, out int index) {\n  float t = 3.0e38;\n  index = -1;\n";
     int index = 0;
+    // With glass, a ray that left a glass resting on the plane starts a ray
+    // offset below it, heading in: it meets the plane at once (t = 0), as a
+    // thin air gap's light meets the floor (docs/design/glass_contact.md).
+    // Only within 1% of the scale: a ray far below is no such ray.
+    const std::string above = has_glass_ ? "h > -0.01 * (1.0 + max(abs(ro.x), max(abs(ro.y), abs(ro.z))))" : "h > 0.0";
+    const std::string hit_t = has_glass_ ? "max(-h / c, 0.0)" : "-h / c";
     for (const auto& pl : planes_) {
       const std::string n = vec3Literal(pl.normal);
       out << "  {\n    float c = dot(rd, " << n << "), h = dot(ro, " << n << ") - " << glslFloat(pl.offset)
-          << ";\n    if (c < 0.0 && h > 0.0 && -h / c < t) {\n      t = -h / c;\n      index = " << index++
-          << ";\n    }\n  }\n";
+          << ";\n    if (c < 0.0 && " << above << " && " << hit_t << " < t) {\n      t = " << hit_t
+          << ";\n      index = " << index++ << ";\n    }\n  }\n";
     }
     for (const auto& sp : spheres_) {
       // From outside (c > 0) and heading in (b < 0): the near root. A ray
@@ -417,6 +424,7 @@ class SceneWriter {
   }
 
  public:
+  void setGlass(bool glass) { has_glass_ = glass; }
   bool hasAnalyticPlanes() const { return !planes_.empty() || !spheres_.empty(); }
   bool hasSceneBox() const { return has_scene_box_; }
   bool hasRaySkip() const { return ray_skip_set_ != nullptr; }
@@ -1729,7 +1737,10 @@ EmitResult emitGlsl(const ir::Scene& scene, const EmitOptions& options) {
   result.stats.features = sceneFeatures(scene, options);
   addViewFeatures(options.view, result.stats.features);
   if (options.view == KernelView::Beauty && !options.aovs) result.stats.features.insert("SDFC_NO_AOVS");
+  if (options.layers && options.with_kernel && options.view == KernelView::Beauty)
+    result.stats.features.insert("SDFC_LAYERS");
   SceneWriter writer(scene, options);
+  writer.setGlass(result.stats.features.count("SDFC_HAS_GLASS") > 0);
   const std::string scene_code = writer.write(result.limits, result.stats);
   if (writer.hasAnalyticPlanes()) result.stats.features.insert("SDFC_HAS_PLANES");
   if (writer.hasSceneBox()) result.stats.features.insert("SDFC_HAS_SCENE_BOX");

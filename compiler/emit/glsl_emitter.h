@@ -32,6 +32,9 @@ struct EmitOptions {
   bool line_directives = false;   // #line so glslang errors point at the .sdf
   bool sobol = true;              // low-discrepancy sampler (else PCG hash)
   bool with_kernel = true;        // false: scene code only (for tests and tools)
+  // `render --layers` (docs/layers.md): the beauty kernel's a is the mean of the
+  // samples' squared luminance (SDFC_LAYERS), the variance layer's moment.
+  bool layers = false;
   MarchPolicy march;
   // Subtrees at least this costly (in primitive evaluations) get a bound check.
   double bound_cost_threshold = 3;

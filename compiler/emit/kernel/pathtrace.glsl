@@ -519,6 +519,14 @@ float cameraSide(vec3 ro) {
 #endif
 }
 
+#ifdef SDFC_HAS_GLASS
+// -1 while the ray that hit was marched inside a solid (tracePath sets it).
+// Such a ray whose point ahead lies inside another solid met a face the two
+// share (a glass resting on a table): that face is the glass's, glass to a
+// thin air gap (docs/design/glass_contact.md), so the normal is the one left
+// (the other solid's outward normal, negated) and the material the glass's.
+float g_hit_side = 1.0;
+#endif
 // The surface a marched ray hit at p = ro + t rd (not an analytic plane): its
 // outward normal, and its material id (kernels that shade: the path tracer
 // and the albedo view; the other views read no material).
@@ -576,7 +584,12 @@ vec3 surfaceNormal(vec3 p, vec3 rd, float t, out int material) {
     // (+,-,-), (-,-,+), (-,+,-), (+,+,+): the even-parity cube corners
     vec3 k = vec3(i == 0 || i == 3, i >= 2, i == 1 || i == 3) * 2.0 - 1.0;
     // The 5th: where the material is read, ahead when that is inside a solid.
+#ifdef SDFC_HAS_GLASS
+    // A contact (g_hit_side < 0, field < 0) reads the solid the ray leaves.
+    vec3 q = i < 4 ? centre + k * h : (field < 0.0 && g_hit_side > 0.0 ? centre : p - rd * ahead);
+#else
     vec3 q = i < 4 ? centre + k * h : (field < 0.0 ? centre : p - rd * ahead);
+#endif
 #if defined(SDFC_TRACE) || defined(SDFC_VIEW_ALBEDO)
     vec2 dm = sdSceneMaterial(q);
 #else
@@ -595,6 +608,9 @@ vec3 surfaceNormal(vec3 p, vec3 rd, float t, out int material) {
   // A degenerate field (coplanar CSG faces make a zero-width sheet whose
   // taps cancel) has no gradient: a NaN here would poison the denoisers.
   float len = length(n);
+#ifdef SDFC_HAS_GLASS
+  if (g_hit_side < 0.0 && field < 0.0) n = -n;
+#endif
   return len > 0.0 ? n / len : vec3(0.0, 1.0, 0.0);
 }
 
@@ -763,6 +779,9 @@ vec3 tracePath(vec3 ro, vec3 rd, int max_bounces, bool record_aov) {
 #ifdef SDFC_COUNT_EVENTS
         g_event_kind = g_event_kind < 0 ? -1 : 3;
         countEvent(0);
+#endif
+#ifdef SDFC_HAS_GLASS
+        g_hit_side = side;
 #endif
         n = surfaceNormal(p, rd, t, surface_material);
 #ifdef SDFC_HAS_FIELDS
@@ -956,6 +975,11 @@ void main() {
 #endif
   vec4 aov_nd = vec4(0.0), aov_as = vec4(0.0);
   float coverage = 0.0;
+#ifdef SDFC_LAYERS
+  // --layers: the samples' squared luminance, whose mean a carries out (its
+  // exact sums add across passes and shards): the variance layer (docs/layers.md).
+  float sum_y2 = 0.0;
+#endif
 #endif
   // s = -1 is the unjittered primary ray for the AOVs (pass-split independent;
   // skipped on request when they are not read); sharing the loop keeps one
@@ -978,6 +1002,12 @@ void main() {
     }
     vec3 l = tracePath(ro, rd, aov ? 0 : int(frame.max_bounces), aov || jittered);
     if (!aov && !any(isnan(l)) && !any(isinf(l))) sum += l;
+#ifdef SDFC_LAYERS
+    if (!aov && !any(isnan(l)) && !any(isinf(l))) {
+      float y = dot(l, vec3(0.2126, 0.7152, 0.0722));
+      sum_y2 += y * y;
+    }
+#endif
     if (jittered) {
       bool hit = g_aov_dist >= 0.0;
       aov_nd += vec4(g_aov_normal, hit ? g_aov_dist : 0.0);
@@ -1017,6 +1047,9 @@ void main() {
 #endif
 #endif
   out_color = vec4(color, jittered ? coverage / float(max(count, 1)) : 1.0);
+#ifdef SDFC_LAYERS
+  out_color.a = sum_y2 / float(max(count, 1));
+#endif
 #endif
 }
 #else
@@ -1053,6 +1086,9 @@ void main() {
     } else
 #endif
     {
+#ifdef SDFC_HAS_GLASS
+      g_hit_side = side;  // a camera inside glass sees a contact as the path tracer does
+#endif
       normal = surfaceNormal(ro + rd * t, rd, t, material);
     }
 #ifdef SDFC_VIEW_ALBEDO
