@@ -903,7 +903,13 @@ class Checker {
         out.file = &a;
         continue;
       }
-      Value v = evalExpr(*a.value);
+      // A string given to a name that is no parameter (sky(mop: "x.exr")):
+      // the error is the name, with a suggestion, not the string.
+      bool unknown_name = !a.name.empty() && a.name != "material";
+      for (const ArgSpec& spec : specs) unknown_name = unknown_name && a.name != spec.name;
+      Value v = file_param && unknown_name && a.value->kind == ast::ExprKind::String
+                    ? number(ir::constant(0), a.value->range)
+                    : evalExpr(*a.value);
       // A material given to a call with errors was still meant for it: no
       // "never used" warning on top of the error.
       if (a.name == "material" && v.type == Value::Type::Material) material_used_[v.material] = true;

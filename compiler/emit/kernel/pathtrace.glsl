@@ -418,8 +418,10 @@ float misBsdfWeight(float bsdf_pdf, float light_pdf) {
 #ifdef SDFC_HAS_ENVMAP
 // The pdf of next-event estimation choosing light `index` and direction wi
 // from p: lightPdf, or the environment map's, which varies with wi.
+// The map's pdf of the direction sampleLight drew last (not recomputed from wi).
+float g_env_sample_pdf = 0.0;
 float neeLightPdf(int index, vec3 p, vec3 wi) {
-  if (index == kLightCount - 1) return envLightPdf(wi) / float(kLightCount);
+  if (index == kLightCount - 1) return g_env_sample_pdf / float(kLightCount);
   return lightPdf(index, p);
 }
 
@@ -428,9 +430,8 @@ float neeLightPdf(int index, vec3 p, vec3 wi) {
 bool sampleLight(int index, vec3 p, vec2 u, out vec3 wi, out float dist, out vec3 radiance) {
 #ifdef SDFC_HAS_ENVMAP
   if (index == kLightCount - 1) {
-    float pdf;
     dist = 3.0e38;  // to infinity, as the sun
-    return sampleEnvLight(u, wi, pdf, radiance);
+    return sampleEnvLight(u, wi, g_env_sample_pdf, radiance);
   }
 #endif
 #ifdef SDFC_HAS_SUN
@@ -748,7 +749,7 @@ vec3 tracePath(vec3 ro, vec3 rd, int max_bounces, bool record_aov) {
         vec3 sky = sdSky(rd);
 #ifdef SDFC_HAS_ENVMAP
         // The map is a light of next-event estimation too: MIS-weighted.
-        sky *= misBsdfWeight(prev_pdf, envLightPdf(rd) / float(kLightCount));
+        if (prev_pdf > 0.0) sky *= misBsdfWeight(prev_pdf, envLightPdf(rd) / float(kLightCount));
 #endif
 #ifdef SDFC_HAS_SUN
         // sdSky holds no sun disc: the kernel adds it, MIS-weighted against NEE.
@@ -847,7 +848,7 @@ vec3 tracePath(vec3 ro, vec3 rd, int max_bounces, bool record_aov) {
         }
 #endif
 #ifdef SDFC_HAS_ENVMAP
-        // A map's pdf is 0 only in a cell of no light, met by float rounding.
+        // The map's pdf of the drawn direction (0: nothing was drawn).
         float light_pdf = neeLightPdf(index, origin, wi);
         if (!blocked && light_pdf > 0.0) {
 #else
