@@ -39,7 +39,8 @@ SKY = "sky(top: [0.32, 0.52, 0.92], bottom: [0.85, 0.88, 0.92])"
 
 
 def run_measured(cmd, env=None):
-    """Wall seconds, CPU seconds and peak RSS (MiB) of one sdfc process, and its stderr."""
+    """Wall seconds, CPU seconds and ru_maxrss (MiB; not the process's own peak: Linux
+    counts the forking parent's) of one sdfc process, and its stderr."""
     env = dict(os.environ if env is None else env, SDFC_NO_CACHE="1")
     env.setdefault("GALLIVM_PERF", "")
     with tempfile.TemporaryFile("w+") as err:
@@ -98,15 +99,14 @@ def cost(args, tmp, lines):
               "map load), paired run by run. `sdfc compile --emit ir` reads and checks the map; `--emit glsl` also builds "
               "its distribution and the scene data.", "",
               "| scene | median CPU s of N - 1 samples | paired samples per CPU s vs the castle | median spp/s (wall) | "
-              "check CPU s | check + emit CPU s | emit peak RSS MiB |",
-              "|---|---|---|---|---|---|---|"]
+              "check CPU s | check + emit CPU s |",
+              "|---|---|---|---|---|---|"]
     for name in scenes:
         ratio = statistics.median(b / a for a, b in zip(cpus[name], cpus[base_name]))
         lines.append(f"| {name} | {statistics.median(cpus[name]):.2f} | {ratio:.3f} | "
                      f"{statistics.median(speeds[name]):.3f} | "
                      f"{statistics.median(l[0] for l in loads[name]):.2f} | "
-                     f"{statistics.median(l[1] for l in loads[name]):.2f} | "
-                     f"{statistics.median(l[2] for l in loads[name]):.0f} |")
+                     f"{statistics.median(l[1] for l in loads[name]):.2f} |")
     lines += ["", "CPU s per run: " + "; ".join(f"{k}: {', '.join(f'{v:.2f}' for v in s)}" for k, s in cpus.items()), ""]
 
 
