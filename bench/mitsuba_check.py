@@ -17,6 +17,9 @@ integration of the same pixels (which sdfc matches within 1%).
         reference      render Mitsuba at high spp, write tests/mitsuba_reference.json
         test           sdfc against the stored reference (CTest; no Mitsuba needed)
         efficiency     equal-error wall time, sdfc against Mitsuba
+        envmap         an environment-lit scene (sky(map:) / Mitsuba's envmap, the
+                       same EXR, rotated): the map seen directly (0 bounces), then
+                       the lit scene; mean within 1%, every block within 3%
 """
 import argparse
 import hashlib
@@ -347,15 +350,84 @@ def cmd_efficiency(args):
     return 0
 
 
+# The environment-lit scene: a diffuse sphere, a rough metal box and the
+# ground under the procedural studio map (tools/envmap.py), turned 30 degrees.
+ENV_SDF = """
+  plane(normal: [0, 1, 0], offset: 0, material: diffuse(albedo: [0.5, 0.5, 0.5]))
+  translate([-0.55, 0.5, 0]) { sphere(radius: 0.5, material: diffuse(albedo: [0.8, 0.3, 0.25])) }
+  translate([0.6, 0.4, -0.2]) { sphere(radius: 0.4, material: diffuse(albedo: [0.3, 0.6, 0.8])) }
+"""
+ENV_ROTATION = 30
+ENV_WIDTH = 128
+
+
+def render_mitsuba_env(map_path, w, h, spp, bounces, seed, with_shapes):
+    import mitsuba as mi
+    mi.set_variant("scalar_rgb")
+    from mitsuba import ScalarTransform4f as T
+    c = CAMERA
+    shapes = {}
+    if with_shapes:
+        shapes = {"ground": {"type": "rectangle", "to_world": T().rotate([1, 0, 0], -90).scale(1e5),
+                             "bsdf": diffuse([0.5, 0.5, 0.5])},
+                  "a": {"type": "sphere", "center": [-0.55, 0.5, 0], "radius": 0.5, "bsdf": diffuse([0.8, 0.3, 0.25])},
+                  "b": {"type": "sphere", "center": [0.6, 0.4, -0.2], "radius": 0.4, "bsdf": diffuse([0.3, 0.6, 0.8])}}
+    scene = mi.load_dict({
+        "type": "scene",
+        "integrator": {"type": "path", "max_depth": bounces + 1},
+        "sensor": {"type": "perspective", "fov": c["fov"], "fov_axis": "y", "far_clip": 1e9,
+                   "to_world": T().look_at(origin=c["position"], target=c["target"], up=[0, 1, 0]),
+                   "film": {"type": "hdrfilm", "width": w, "height": h, "rfilter": {"type": "box"}},
+                   "sampler": {"type": "independent", "sample_count": spp, "seed": seed}},
+        "sky": {"type": "envmap", "filename": map_path, "to_world": T().rotate([0, 1, 0], ENV_ROTATION)},
+        **shapes,
+    })
+    return np.array(mi.render(scene, spp=spp, seed=seed))[:, :, :3]
+
+
+def cmd_envmap(args):
+    sys.path.insert(0, os.path.join(HERE, "..", "tools"))
+    import envmap
+    w, h = args.width, args.height
+    c = CAMERA
+    ok = True
+    with tempfile.TemporaryDirectory(prefix="sdfc envmap check ") as tmp:
+        map_path = os.path.join(tmp, "studio.exr")
+        envmap.write_exr(map_path, envmap.studio(ENV_WIDTH))
+        for label, shapes, bounces in [("the map seen directly", "translate([0, -1000, 0]) { sphere(radius: 0.01) }", 0),
+                                       ("the lit scene", ENV_SDF, args.bounces)]:
+            path = os.path.join(tmp, "scene.sdf")
+            with open(path, "w") as f:
+                f.write(f"render(size: [{w}, {h}], spp: {args.spp}, bounces: {bounces})\n"
+                        f"camera(position: {c['position']}, target: {c['target']}, fov: {c['fov']})\n"
+                        f'sky(map: "studio.exr", rotation: {ENV_ROTATION})\nscene {{' + shapes + "}\n")
+            s, ts, _ = render_sdfc(args.sdfc, path, 1, os.path.join(tmp, "s.pfm"))
+            start = time.perf_counter()
+            m = render_mitsuba_env(map_path, w, h, args.mitsuba_spp, bounces, 1, bounces > 0)
+            tm = time.perf_counter() - start
+            mean = float(s.mean() / m.mean() - 1)
+            by, bx = h // 4, w // 4  # 16 blocks
+            bs = s[:by * 4, :bx * 4].reshape(4, by, 4, bx, 3).mean(axis=(1, 3, 4))
+            bm = m[:by * 4, :bx * 4].reshape(4, by, 4, bx, 3).mean(axis=(1, 3, 4))
+            block = float(np.abs(bs / bm - 1).max())
+            good = abs(mean) < 0.01 and block < 0.03
+            ok = ok and good
+            print(f"{label}: sdfc ({args.spp} spp, {ts:.1f} s) / Mitsuba ({args.mitsuba_spp} spp, {tm:.1f} s): "
+                  f"mean {100 * mean:+.2f}% (within 1%), worst of 16 blocks {100 * block:.2f}% (within 3%) "
+                  f"{'ok' if good else 'FAIL'}")
+    return 0 if ok else 1
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("command", nargs="?", default="check", choices=["check", "reference", "test", "efficiency"])
+    ap.add_argument("command", nargs="?", default="check", choices=["check", "reference", "test", "efficiency", "envmap"])
     ap.add_argument("--sdfc", default=os.path.join(HERE, "..", "build", "cli", "sdfc"))
     ap.add_argument("--size", default="160x120")
     ap.add_argument("--spp", type=int, default=None,
                     help="check: 256; reference: 8192 (Mitsuba); test: 512 (sdfc)")
     ap.add_argument("--spp-list", default="16,64,256", help="efficiency: sample counts")
     ap.add_argument("--bounces", type=int, default=3)
+    ap.add_argument("--mitsuba-spp", type=int, default=1024, help="envmap: Mitsuba's samples per pixel")
     ap.add_argument("--scenes", default=",".join(SCENES))
     ap.add_argument("--reference", default=REFERENCE_JSON)
     ap.add_argument("--json", default=None, help="efficiency: write the table here")
@@ -368,7 +440,7 @@ def main():
     if args.spp is None:
         args.spp = {"check": 256, "reference": 8192, "test": 512}.get(args.command, 256)
     return {"check": cmd_check, "reference": cmd_reference, "test": cmd_test,
-            "efficiency": cmd_efficiency}[args.command](args)
+            "efficiency": cmd_efficiency, "envmap": cmd_envmap}[args.command](args)
 
 
 if __name__ == "__main__":

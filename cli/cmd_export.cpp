@@ -2,6 +2,7 @@
 // in WebGL2 (runtime/web/page.html), or as code for a Shadertoy image tab
 // (docs/export.md). The kernel is the one `sdfc render` runs, rewritten as
 // GLSL ES 3.00 (emit/glsl_es.h) and checked by glslang before it is written.
+#include <filesystem>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
@@ -162,6 +163,14 @@ int runExport(const CommandLine& cl) {
   LoadedScene loaded = loadScene(cl, diags, true, false, options, true);
   if (loaded.exit_code != kExitOk) return loaded.exit_code;
   const CompiledScene& c = loaded.compiled;
+  if (c.scene.sky.map) {
+    // The page has no importance sampling of its own, nor room for a large map.
+    std::cerr << "sdfc: error: the scene is lit by an environment map (sky(map: \""
+              << std::filesystem::path(c.scene.sky.map->path).filename().string()
+              << "\")), which sdfc export does not support yet; render it with sdfc render, or give "
+                 "the exported scene sky(color: ...) or sky(top: ..., bottom: ...)\n";
+    return kExitScene;
+  }
   const std::vector<float>& data = c.emitted.scene_data;
   const size_t vec4s = data.size() / 4;
 

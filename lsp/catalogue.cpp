@@ -60,6 +60,9 @@ void settingFacts(const std::string& callee, ParamDoc& d) {
   }
   if (key == "sky.top" || key == "sky.color") d.fallback = vec(sky.top);
   if (key == "sky.bottom") d.fallback = vec(sky.bottom);
+  if (key == "sky.map") d.type = "string naming an EXR or .hdr image (equirectangular, 2:1, y up)";
+  if (key == "sky.rotation") d.fallback = number(sky.rotation_degrees) + " (degrees about y)";
+  if (key == "sky.strength") d.fallback = number(sky.strength);
   if (key == "sun.direction") d.fallback = vec(sun.direction);
   if (key == "sun.angle") d.fallback = number(sun.angle_degrees);
   if (key == "light.radius") d.fallback = number(light.radius);

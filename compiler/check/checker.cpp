@@ -18,6 +18,7 @@
 #include "check/builtins.h"
 #include "check/imports.h"
 #include "check/parametric.h"
+#include "check/env_map_file.h"
 #include "check/image_file.h"
 #include "check/other_spellings.h"
 #include "check/point_file.h"
@@ -882,10 +883,13 @@ class Checker {
     std::vector<std::optional<Value>> values;
     std::optional<Value> material;
     bool ok = true;
+    // The argument named file_param, its string read from the syntax (a file
+    // name is no value of the language): sky(map: "studio.exr").
+    const ast::Argument* file = nullptr;
   };
 
   BoundArgs bindArguments(const ast::Expr& e, const std::vector<ArgSpec>& specs,
-                          bool allow_material) {
+                          bool allow_material, const char* file_param = nullptr) {
     BoundArgs out;
     out.values.resize(specs.size());
     size_t next_positional = 0;
@@ -893,7 +897,22 @@ class Checker {
     size_t extra_positional = 0;
     const ast::Argument* first_extra = nullptr;
     for (const ast::Argument& a : e.arguments) {
-      Value v = evalExpr(*a.value);
+      if (file_param && a.name == file_param) {
+        seen_named = true;
+        if (out.file) {
+          diags_->error(a.name_range, "'" + a.name + "' is given twice");
+          out.ok = false;
+        }
+        out.file = &a;
+        continue;
+      }
+      // A string given to a name that is no parameter (sky(mop: "x.exr")):
+      // the error is the name, with a suggestion, not the string.
+      bool unknown_name = !a.name.empty() && a.name != "material";
+      for (const ArgSpec& spec : specs) unknown_name = unknown_name && a.name != spec.name;
+      Value v = file_param && unknown_name && a.value->kind == ast::ExprKind::String
+                    ? number(ir::constant(0), a.value->range)
+                    : evalExpr(*a.value);
       // A material given to a call with errors was still meant for it: no
       // "never used" warning on top of the error.
       if (a.name == "material" && v.type == Value::Type::Material) material_used_[v.material] = true;
@@ -1821,7 +1840,8 @@ class Checker {
 
   Value evalMaterial(const ast::Expr& e, const BuiltinSignature& sig) {
     if (e.has_block) diags_->error(e.range, "'" + e.name + "' is a material and takes no block");
-    BoundArgs args = bindArguments(e, sig.args, false);  // a failed one: the others are still checked
+    // a failed one: the others are still checked
+    BoundArgs args = bindArguments(e, sig.args, false, e.name == "sky" ? "map" : nullptr);
     ir::Material m;
     m.range = e.range;
     auto vec = [&](size_t i, dvec3 fallback) -> std::optional<dvec3> {
@@ -2102,12 +2122,36 @@ class Checker {
     scene_.root = root;
   }
 
+  // sky(map: "studio.exr"): the file is read, and refused with its reason
+  // (missing, unreadable, not 2:1, a texel not a finite non-negative radiance).
+  void checkSkyMap(const ast::Argument& a, double rotation, double strength) {
+    const ast::Expr& name = *a.value;
+    if (name.kind != ast::ExprKind::String) {
+      diags_->error(name.range, "'map' of 'sky' must be a string naming an EXR or Radiance HDR image, as in "
+                                "sky(map: \"studio.exr\")");
+      return;
+    }
+    const std::string path = resolveBesides(name.range.file ? name.range.file->path : source_.path, name.name);
+    EnvMapFile map = readEnvMapFile(path);
+    if (!map.image) {
+      std::error_code ignored;
+      const std::string tried = std::filesystem::absolute(path, ignored).lexically_normal().string();
+      diags_->error(name.range, "cannot use '" + name.name + "' as an environment map: " + map.reason +
+                                    " (looked for '" + tried + "')");
+      return;
+    }
+    scene_.sky.map = std::move(map.image);
+    scene_.sky.rotation_degrees = rotation;
+    scene_.sky.strength = strength;
+  }
+
   void checkSetting(const ast::Expr& e) {
     const BuiltinSignature& sig = *findBuiltin(e.name);
     if (e.has_block) diags_->error(e.range, "'" + e.name + "' takes no block");
     if (e.name != "light" && !seen_settings_.insert(e.name).second)
       diags_->warning(e.name_range, "setting-again", "'" + e.name + "' is set again; the last one wins");
-    BoundArgs args = bindArguments(e, sig.args, false);  // a failed one: the others are still checked
+    // a failed one: the others are still checked
+    BoundArgs args = bindArguments(e, sig.args, false, e.name == "sky" ? "map" : nullptr);
     auto vec = [&](size_t i) -> std::optional<dvec3> {
       if (!args.values[i]) return std::nullopt;
       auto v = vectorArg(*args.values[i], sig.args[i], e.name);
@@ -2170,9 +2214,16 @@ class Checker {
     } else if (e.name == "sky") {
       auto color = vec(0), top = vec(1), bottom = vec(2);
       if (color && (top || bottom)) diags_->error(e.range, "'sky' takes 'color', or 'top' and 'bottom'");
+      if (args.file && (color || top || bottom))
+        diags_->error(args.file->name_range, "'sky' takes 'map', or colours ('color', 'top', 'bottom'), not both");
       if (color) scene_.sky.top = scene_.sky.bottom = *color;
       if (top) scene_.sky.top = *top;
       if (bottom) scene_.sky.bottom = *bottom;
+      const auto rotation = num(4), strength = num(5);
+      if (!args.file && (rotation || strength))
+        diags_->error(args.values[rotation ? 4 : 5]->range, std::string("'") + (rotation ? "rotation" : "strength") +
+                                                                "' of 'sky' applies to a map: sky(map: \"studio.exr\", ...)");
+      if (args.file) checkSkyMap(*args.file, rotation.value_or(0), strength.value_or(1));
     } else if (e.name == "sun") {
       ir::Sun s;
       if (auto v = vec(0)) s.direction = glm::normalize(*v);

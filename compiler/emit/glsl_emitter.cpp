@@ -10,6 +10,7 @@
 
 #include "emit/color_field_glsl.h"
 #include "emit/embedded_sources.h"
+#include "emit/env_map_glsl.h"
 #include "emit/feature_filter.h"
 #include "passes/deform.h"
 #include "shapes/polygon.h"
@@ -273,6 +274,7 @@ class SceneWriter {
       bool unassigned = false;
       texture_bases_ = appendTextureData(scene_, usedMaterials(scene_, unassigned), data_);
     }
+    if (scene_.sky.map) env_map_ = appendEnvMapData(scene_.sky, data_);
     if (!data_.empty()) {
       out << "\n// Instance hierarchies and records (the runtime binds the compiler's scene data).\n";
       out << "layout(std430, set = 0, binding = 0) readonly buffer SdfcSceneData { vec4 sd_data[]; };\n";
@@ -297,7 +299,7 @@ class SceneWriter {
     out << "\n// ---- scene distance ----\n";
     out << functions_.str();
     materials(out);
-    sky(out);
+    sky(out, stats.features);
     return out.str();
   }
 
@@ -328,6 +330,7 @@ class SceneWriter {
   };
   std::vector<AnalyticSphere> spheres_;
   bool has_scene_box_ = false;
+  EnvMapLayout env_map_;  // where sky(map: ...)'s data lie (when it has one)
   // The instance set whose grid computes g_ray_skip (SDFC_HAS_RAY_SKIP), if any.
   const ir::Node* ray_skip_set_ = nullptr;
   bool packed_slots_ = false;  // its fixed slots hold centres only (kPackedSlotVec4 a cell)
@@ -1641,9 +1644,11 @@ class SceneWriter {
                        helper_names_.count("noise") > 0);
   }
 
-  void sky(std::ostringstream& out) {
+  void sky(std::ostringstream& out, const std::set<std::string>& features) {
     const ir::Sky& s = scene_.sky;
-    if (!s.gradient()) {
+    if (s.map) {
+      emitEnvMap(s, env_map_, features, out);
+    } else if (!s.gradient()) {
       out << "vec3 sdSky(vec3 dir) { return " << vec3Literal(s.top) << "; }\n";
     } else {
       out << "vec3 sdSky(vec3 dir) { return mix(" << vec3Literal(s.bottom) << ", " << vec3Literal(s.top)
@@ -1681,6 +1686,7 @@ std::set<std::string> sceneFeatures(const ir::Scene& scene, const EmitOptions& o
   for (size_t i = 0; i < used.size(); ++i)
     if (used[i]) f.insert(kNames[static_cast<int>(scene.materials[i].model)]);
   if (scene.sun) f.insert("SDFC_HAS_SUN");
+  if (scene.sky.map) f.insert("SDFC_HAS_ENVMAP");
   if (!scene.lights.empty()) f.insert("SDFC_HAS_SPHERE_LIGHTS");
   if (scene.uses_time) f.insert("SDFC_USES_TIME");
   if (scene.camera.aperture > 0) f.insert("SDFC_HAS_APERTURE");

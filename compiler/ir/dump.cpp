@@ -225,7 +225,11 @@ std::string dump(const Scene& s) {
       << " focus=" << num(c.focus_distance) << "\n";
   out << "render size=" << s.render.width << "x" << s.render.height << " spp=" << s.render.spp
       << " bounces=" << s.render.bounces << " light_samples=" << s.render.light_samples << "\n";
-  out << "sky top=" << vec(s.sky.top) << " bottom=" << vec(s.sky.bottom) << "\n";
+  if (s.sky.map)
+    out << "sky map=" << s.sky.map->width << "x" << s.sky.map->height << " rotation=" << num(s.sky.rotation_degrees)
+        << " strength=" << num(s.sky.strength) << "\n";
+  else
+    out << "sky top=" << vec(s.sky.top) << " bottom=" << vec(s.sky.bottom) << "\n";
   if (s.sun)
     out << "sun direction=" << vec(s.sun->direction) << " angle=" << num(s.sun->angle_degrees)
         << " radiance=" << vec(s.sun->radiance) << "\n";

@@ -188,6 +188,10 @@ struct Camera {
 struct Sky {
   glm::dvec3 top{0.6, 0.75, 1.0}, bottom{0.6, 0.75, 1.0};  // equal: constant sky
   bool gradient() const { return top != bottom; }
+  // sky(map: "studio.exr"): an equirectangular HDR image, y up, in place of
+  // the colours (docs/lighting.md); rotation turns it about +y, in degrees.
+  std::shared_ptr<const TextureImage> map;
+  double rotation_degrees = 0, strength = 1;
 };
 
 struct Sun {

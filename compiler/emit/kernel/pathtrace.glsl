@@ -380,9 +380,14 @@ float sphereConeOneMinusCos(vec3 p, vec4 s) {
 #else
 const int kSphereLightCount = 0;
 #endif
+#ifdef SDFC_HAS_ENVMAP
+// The environment map is the last light (kernel/envmap.glsl).
+const int kLightCount = kSunLights + kSphereLightCount + 1;
+#else
 const int kLightCount = kSunLights + kSphereLightCount;
+#endif
 
-#if defined(SDFC_HAS_SUN) || defined(SDFC_HAS_SPHERE_LIGHTS)
+#if defined(SDFC_HAS_SUN) || defined(SDFC_HAS_SPHERE_LIGHTS) || defined(SDFC_HAS_ENVMAP)
 // Solid-angle pdf of next-event estimation choosing light `index` (uniform choice)
 // and then direction dir from p (both lights are sampled uniformly in their cone).
 float lightPdf(int index, vec3 p) {
@@ -410,8 +415,25 @@ float misBsdfWeight(float bsdf_pdf, float light_pdf) {
   return powerHeuristic(bsdf_pdf, float(frame.light_samples) * light_pdf);
 }
 
+#ifdef SDFC_HAS_ENVMAP
+// The pdf of next-event estimation choosing light `index` and direction wi
+// from p: lightPdf, or the environment map's, which varies with wi.
+// The map's pdf of the direction sampleLight drew last (not recomputed from wi).
+float g_env_sample_pdf = 0.0;
+float neeLightPdf(int index, vec3 p, vec3 wi) {
+  if (index == kLightCount - 1) return g_env_sample_pdf / float(kLightCount);
+  return lightPdf(index, p);
+}
+
+#endif
 // Direction toward light `index` from p, its distance and radiance; pdf via lightPdf.
 bool sampleLight(int index, vec3 p, vec2 u, out vec3 wi, out float dist, out vec3 radiance) {
+#ifdef SDFC_HAS_ENVMAP
+  if (index == kLightCount - 1) {
+    dist = 3.0e38;  // to infinity, as the sun
+    return sampleEnvLight(u, wi, g_env_sample_pdf, radiance);
+  }
+#endif
 #ifdef SDFC_HAS_SUN
   if (index == 0) {
     wi = toWorld(sampleUniformCone(u, 1.0 - kSunCosAngle), kSunDir);
@@ -649,7 +671,7 @@ bool aovThroughSpecular(Material m) {
 #endif
 
 // Next-event estimation: with a light and a material that has a smooth lobe.
-#if defined(SDFC_HAS_SUN) || defined(SDFC_HAS_SPHERE_LIGHTS)
+#if defined(SDFC_HAS_SUN) || defined(SDFC_HAS_SPHERE_LIGHTS) || defined(SDFC_HAS_ENVMAP)
 #if defined(SDFC_HAS_DIFFUSE) || defined(SDFC_HAS_METAL)
 const bool kNextEvent = true;
 #else
@@ -754,6 +776,10 @@ vec3 tracePath(vec3 ro, vec3 rd, int max_bounces, bool record_aov) {
       if (t < 0.0) {
         if (record_aov && depth == 0) g_aov_steps = steps;
         vec3 sky = sdSky(rd);
+#ifdef SDFC_HAS_ENVMAP
+        // The map is a light of next-event estimation too: MIS-weighted.
+        if (prev_pdf > 0.0) sky *= misBsdfWeight(prev_pdf, envLightPdf(rd) / float(kLightCount));
+#endif
 #ifdef SDFC_HAS_SUN
         // sdSky holds no sun disc: the kernel adds it, MIS-weighted against NEE.
         if (dot(rd, kSunDir) >= kSunCosAngle) sky += kSunRadiance * misBsdfWeight(prev_pdf, lightPdf(0, prev_pos));
@@ -829,7 +855,7 @@ vec3 tracePath(vec3 ro, vec3 rd, int max_bounces, bool record_aov) {
     }
     vec3 wo = -rd;
 
-#if defined(SDFC_HAS_SUN) || defined(SDFC_HAS_SPHERE_LIGHTS)
+#if defined(SDFC_HAS_SUN) || defined(SDFC_HAS_SPHERE_LIGHTS) || defined(SDFC_HAS_ENVMAP)
 #if defined(SDFC_HAS_DIFFUSE) || defined(SDFC_HAS_METAL)
     // Light sample light_j: its shadow ray is the next iteration's march.
     shadow_ray = light_j < light_samples;
@@ -857,8 +883,14 @@ vec3 tracePath(vec3 ro, vec3 rd, int max_bounces, bool record_aov) {
           }
         }
 #endif
+#ifdef SDFC_HAS_ENVMAP
+        // The map's pdf of the drawn direction (0: nothing was drawn).
+        float light_pdf = neeLightPdf(index, origin, wi);
+        if (!blocked && light_pdf > 0.0) {
+#else
         if (!blocked) {
           float light_pdf = lightPdf(index, origin);
+#endif
           float w = powerHeuristic(n_light * light_pdf, bsdf_pdf);
           shadow_radiance = throughput * f_cos * le * (w / (n_light * light_pdf));
           shadow_valid = true;

@@ -1,0 +1,119 @@
+#include "check/env_map_file.h"
+
+#include <stb_image.h>
+#include <tinyexr.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <sstream>
+
+namespace sdfc {
+namespace {
+
+std::string lowerExtension(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return ext;
+}
+
+// The size is checked from the header, before the pixels are decoded.
+std::string badSize(int w, int h) {
+  std::ostringstream s;
+  if (w != 2 * h)
+    s << "it is " << w << " x " << h << " texels, not 2:1 (an equirectangular map is twice as wide as high)";
+  else if (w > kMaxEnvMapWidth)
+    s << "it is " << w << " x " << h << " texels; at most " << kMaxEnvMapWidth << " x " << kMaxEnvMapWidth / 2
+      << " fit the shader's scene data";
+  else if (w < 4)
+    s << "it is " << w << " x " << h << " texels; at least 4 x 2";
+  return s.str();
+}
+
+}  // namespace
+
+EnvMapFile readEnvMapFile(const std::string& path) {
+  EnvMapFile out;
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) {
+    out.reason = std::filesystem::exists(path, ec) ? "it is not a regular file" : "no such file";
+    return out;
+  }
+  auto image = std::make_shared<ir::TextureImage>();
+  image->path = path;
+  const std::string ext = lowerExtension(path);
+  if (ext == ".exr") {
+    EXRVersion version;
+    EXRHeader header;
+    if (ParseEXRVersionFromFile(&version, path.c_str()) != TINYEXR_SUCCESS) {
+      out.reason = "it is not an EXR file";
+      return out;
+    }
+    InitEXRHeader(&header);
+    const char* err = nullptr;
+    if (ParseEXRHeaderFromFile(&header, &version, path.c_str(), &err) != TINYEXR_SUCCESS) {
+      out.reason = err ? err : "its EXR header cannot be read";
+      FreeEXRErrorMessage(err);
+      return out;
+    }
+    const int w = header.data_window.max_x - header.data_window.min_x + 1;
+    const int h = header.data_window.max_y - header.data_window.min_y + 1;
+    FreeEXRHeader(&header);
+    out.reason = badSize(w, h);
+    if (!out.reason.empty()) return out;
+    float* rgba = nullptr;
+    int width = 0, height = 0;
+    if (LoadEXR(&rgba, &width, &height, path.c_str(), &err) != TINYEXR_SUCCESS) {
+      out.reason = err ? err : "it cannot be decoded";
+      FreeEXRErrorMessage(err);
+      return out;
+    }
+    image->width = width;
+    image->height = height;
+    image->rgb.resize(size_t(width) * height * 3);
+    for (size_t i = 0; i < size_t(width) * height; ++i)
+      for (int c = 0; c < 3; ++c) image->rgb[i * 3 + c] = rgba[i * 4 + c];
+    std::free(rgba);
+  } else if (ext == ".hdr") {
+    int w = 0, h = 0, channels = 0;
+    if (!stbi_info(path.c_str(), &w, &h, &channels) || !stbi_is_hdr(path.c_str())) {
+      out.reason = "it is not a Radiance HDR image";
+      return out;
+    }
+    out.reason = badSize(w, h);
+    if (!out.reason.empty()) return out;
+    float* data = stbi_loadf(path.c_str(), &w, &h, &channels, 3);
+    if (!data) {
+      out.reason = std::string("it cannot be decoded (") + stbi_failure_reason() + ")";
+      return out;
+    }
+    image->width = w;
+    image->height = h;
+    image->rgb.assign(data, data + size_t(w) * h * 3);
+    stbi_image_free(data);
+  } else {
+    out.reason = "an environment map is an HDR image: an .exr or .hdr file";
+    return out;
+  }
+  // Every texel a finite, non-negative radiance: name the first that is not.
+  size_t bad = 0, first = 0;
+  for (size_t i = 0; i < image->rgb.size(); ++i)
+    if (!std::isfinite(image->rgb[i]) || image->rgb[i] < 0) {
+      if (bad++ == 0) first = i;
+    }
+  if (bad) {
+    const size_t texel = first / 3;
+    std::ostringstream s;
+    s << "texel (" << texel % image->width << ", " << texel / image->width << ") has "
+      << "RGB"[first % 3] << " = " << image->rgb[first] << "; a radiance must be finite and non-negative ("
+      << bad << (bad == 1 ? " value is not)" : " values are not)");
+    out.reason = s.str();
+    return out;
+  }
+  out.image = std::move(image);
+  return out;
+}
+
+}  // namespace sdfc

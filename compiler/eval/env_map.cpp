@@ -1,0 +1,150 @@
+#include "eval/env_map.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <glm/gtc/packing.hpp>
+
+namespace sdfc {
+namespace {
+
+constexpr float kPi = 3.14159265358979f;
+constexpr float kHalfMax = 65504.0f;
+
+float luminance(const glm::vec3& c) { return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b; }
+
+// The first index in cdf[0, n) whose value exceeds u (cdf ends at 1 > u): as
+// the kernel's loop, a fixed log2(n) + 1 halvings.
+int findInterval(const float* cdf, int n, float u) {
+  int lo = 0, hi = n - 1;
+  while (lo < hi) {
+    const int mid = (lo + hi) / 2;
+    if (cdf[mid] > u) hi = mid;
+    else lo = mid + 1;
+  }
+  return lo;
+}
+
+}  // namespace
+
+EnvMapData buildEnvMap(const ir::TextureImage& image, bool uniform) {
+  EnvMapData m;
+  m.width = image.width;
+  m.height = image.height;
+  m.cells_x = m.width - 1;
+  m.cells_y = m.height - 1;
+  const size_t n = size_t(m.width) * m.height;
+  float peak = 0;
+  for (float v : image.rgb) peak = std::max(peak, v);
+  if (peak > kHalfMax) m.scale = peak / kHalfMax * 1.0001f;
+  const float inv_scale = 1.0f / m.scale;
+  m.texels.resize(2 * n);
+  for (size_t i = 0; i < n; ++i) {
+    const float* c = &image.rgb[3 * i];
+    m.texels[2 * i] = glm::packHalf2x16(glm::vec2(c[0], c[1]) * inv_scale);
+    m.texels[2 * i + 1] = glm::packHalf2x16(glm::vec2(c[2] * inv_scale, 0.0f));
+  }
+  // A cell lies between four texel centres; its weight is their mean
+  // luminance as stored (the kernel's radiance) times sin(theta) at its
+  // centre, so that it is positive wherever the bilinear radiance is. A
+  // black map falls back to uniform weights, keeping its CDFs defined (its
+  // samples carry no light).
+  const size_t cells = size_t(m.cells_x) * m.cells_y;
+  std::vector<double> weights(cells), row_sum(m.cells_y, 0.0);
+  std::vector<double> lum(n);
+  for (int y = 0; y < m.height; ++y)
+    for (int x = 0; x < m.width; ++x) lum[size_t(y) * m.width + x] = luminance(envMapTexel(m, x, y));
+  for (int y = 0; y < m.cells_y; ++y) {
+    const double sin_theta = std::sin(M_PI * (y + 0.5) / m.cells_y);
+    for (int x = 0; x < m.cells_x; ++x) {
+      const size_t t = size_t(y) * m.width + x;
+      const double corners = 0.25 * (lum[t] + lum[t + 1] + lum[t + m.width] + lum[t + m.width + 1]);
+      weights[size_t(y) * m.cells_x + x] = (uniform ? 1.0 : corners) * sin_theta;
+      row_sum[y] += weights[size_t(y) * m.cells_x + x];
+    }
+    m.total_weight += row_sum[y];
+  }
+  if (m.total_weight <= 0) {
+    for (int y = 0; y < m.cells_y; ++y) {
+      row_sum[y] = 0;
+      for (int x = 0; x < m.cells_x; ++x) row_sum[y] += weights[size_t(y) * m.cells_x + x] = 1;
+    }
+  }
+  m.column_cdf.resize(cells);
+  for (int y = 0; y < m.cells_y; ++y) {
+    double acc = 0;
+    float* row = &m.column_cdf[size_t(y) * m.cells_x];
+    for (int x = 0; x < m.cells_x; ++x) {
+      acc += weights[size_t(y) * m.cells_x + x];
+      // A row of weight 0 is never drawn and its pdf is 0 whatever its
+      // columns are: uniform ones keep its CDF increasing.
+      row[x] = row_sum[y] > 0 ? float(acc / row_sum[y]) : float(double(x + 1) / m.cells_x);
+    }
+    row[m.cells_x - 1] = 1.0f;
+  }
+  double total = 0;
+  for (double r : row_sum) total += r;
+  m.row_cdf.resize(m.cells_y);
+  double acc = 0;
+  for (int y = 0; y < m.cells_y; ++y) {
+    acc += row_sum[y];
+    m.row_cdf[y] = float(acc / total);
+  }
+  m.row_cdf[m.cells_y - 1] = 1.0f;
+  return m;
+}
+
+glm::vec3 envMapTexel(const EnvMapData& m, int x, int y) {
+  const size_t i = size_t(y) * m.width + x;
+  const glm::vec2 rg = glm::unpackHalf2x16(m.texels[2 * i]);
+  return glm::vec3(rg, glm::unpackHalf2x16(m.texels[2 * i + 1]).x);
+}
+
+namespace {
+glm::vec2 uvOf(const glm::vec3& d) {
+  float u = std::atan2(d.x, -d.z) / (2 * kPi);
+  u -= std::floor(u);
+  return {u, std::acos(std::clamp(d.y, -1.0f, 1.0f)) / kPi};
+}
+}  // namespace
+
+glm::vec3 envMapRadiance(const EnvMapData& m, const glm::vec3& d) {
+  const glm::vec2 uv = uvOf(d);
+  const float s = uv.x * float(m.cells_x), t = uv.y * float(m.cells_y);
+  const int x0 = std::min(int(s), m.cells_x - 1), y0 = std::min(int(t), m.cells_y - 1);
+  const float a = s - float(x0), b = t - float(y0);
+  const glm::vec3 top = glm::mix(envMapTexel(m, x0, y0), envMapTexel(m, x0 + 1, y0), a);
+  const glm::vec3 bottom = glm::mix(envMapTexel(m, x0, y0 + 1), envMapTexel(m, x0 + 1, y0 + 1), a);
+  return glm::mix(top, bottom, b) * m.scale;
+}
+
+bool sampleEnvMap(const EnvMapData& m, glm::vec2 u, glm::vec3& dir, float& pdf) {
+  pdf = 0;
+  const int y = findInterval(m.row_cdf.data(), m.cells_y, u.y);
+  const float r0 = y > 0 ? m.row_cdf[y - 1] : 0.0f, p_row = m.row_cdf[y] - r0;
+  const float* row = &m.column_cdf[size_t(y) * m.cells_x];
+  const int x = findInterval(row, m.cells_x, u.x);
+  const float c0 = x > 0 ? row[x - 1] : 0.0f, p_col = row[x] - c0;
+  if (p_row <= 0 || p_col <= 0) return false;
+  const float uu = (float(x) + (u.x - c0) / p_col) / float(m.cells_x);
+  const float vv = (float(y) + (u.y - r0) / p_row) / float(m.cells_y);
+  const float theta = kPi * vv, phi = 2 * kPi * uu;
+  const float sin_theta = std::sin(theta);
+  if (sin_theta <= 0) return false;
+  dir = glm::vec3(sin_theta * std::sin(phi), std::cos(theta), -sin_theta * std::cos(phi));
+  pdf = p_row * p_col * float(m.cells_x) * float(m.cells_y) / (2 * kPi * kPi * sin_theta);
+  return true;
+}
+
+float envMapPdf(const EnvMapData& m, const glm::vec3& d) {
+  const glm::vec2 uv = uvOf(d);
+  const int x = std::min(int(uv.x * m.cells_x), m.cells_x - 1), y = std::min(int(uv.y * m.cells_y), m.cells_y - 1);
+  const float p_row = m.row_cdf[y] - (y > 0 ? m.row_cdf[y - 1] : 0.0f);
+  const float* row = &m.column_cdf[size_t(y) * m.cells_x];
+  const float p_col = row[x] - (x > 0 ? row[x - 1] : 0.0f);
+  const float sin_theta = std::sqrt(d.x * d.x + d.z * d.z);
+  if (sin_theta <= 0) return 0;
+  return p_row * p_col * float(m.cells_x) * float(m.cells_y) / (2 * kPi * kPi * sin_theta);
+}
+
+}  // namespace sdfc
