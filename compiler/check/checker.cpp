@@ -2132,6 +2132,7 @@ class Checker {
       return;
     }
     const std::string path = resolveBesides(name.range.file ? name.range.file->path : source_.path, name.name);
+    scene_.data_files.push_back(path);
     EnvMapFile map = readEnvMapFile(path);
     if (!map.image) {
       std::error_code ignored;
