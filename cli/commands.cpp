@@ -46,6 +46,10 @@ void registerCommands(CLI::App& app, CommandLine& cl) {
     sub->add_flag("--no-fuse", cl.no_fuse, "do not fuse transform chains");
     sub->add_flag("--no-analytic-spheres", cl.no_analytic_spheres,
                   "march top-level spheres instead of intersecting them in closed form");
+    sub->add_option("--mesh-mode", cl.mesh_mode,
+                    "how mesh(file: ...) is drawn: exact (its triangles) or grid (a sampled distance); "
+                    "default: the compiler chooses per mesh and --emit ir says which")
+        ->check(CLI::IsMember({"exact", "grid"}));
     sub->add_flag("-O,--optimize", cl.optimize, "run spirv-opt's performance passes");
     sub->add_flag("--no-cache", cl.no_cache,
                   "compile the kernel even when the SPIR-V cache ($XDG_CACHE_HOME/sdfc) holds it, "
