@@ -21,7 +21,7 @@ def sphere_stl(path, rings, segments):
         for i in range(rings):
             for j in range(segments):
                 a, b, c, d = p(i, j), p(i + 1, j), p(i + 1, j + 1), p(i, j + 1)
-                for t in ((a, b, c), (a, c, d)):
+                for t in ((a, c, b), (a, d, c)):  # counter-clockwise seen from outside
                     body += struct.pack('<12fH', 0, 0, 0, *t[0], *t[1], *t[2], 0)
                     count += 1
         f.write(struct.pack('<I', count))

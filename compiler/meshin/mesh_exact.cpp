@@ -133,8 +133,10 @@ std::string meshExactGlsl(const std::string& name, const MeshDistance& mesh, con
   for (int j = 0; j < 3; ++j) o << "    if (sp > 0 && sd[sp - 1] > best2 * " << tie << ") sp--;\n";
   o << "  }\n";
   o << "  float d = sqrt(best2);\n";
-  o << "  // Out of visits: the least box left bounds the distance from below.\n";
-  o << "  if (sp > 0) d = min(d, sqrt(sm[sp - 1]));\n";
+  o << "  // Out of visits: the distance is between the least box left and the best so\n"
+       "  // far; the grid's value, kept in that interval, is within its bound of it\n"
+       "  // (the grid mode's step, where a bare lower bound could stall the march).\n";
+  o << "  if (sp > 0) d = min(max(abs(g), sqrt(sm[sp - 1])), d);\n";
   o << "  // The grid's sign where it is sure (|g| above its error bound), else the nearest face's.\n";
   o << "  float s = abs(g) > " << eb << " ? g : side;\n";
   o << "  return s < 0.0 ? -d : d;\n}\n";
