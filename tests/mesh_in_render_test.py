@@ -134,7 +134,8 @@ def main():
         part = os.path.join(d, name + ' part.sdf')
         with open(part, 'w') as o:
             o.write(SCENE.format(shape=shape).replace('  plane(normal: [0, 1, 0], offset: -1)\n', ''))
-        run([sdfc, 'mesh', part, '-o', stl, '--resolution', '32'])
+        # --mesh-mode is accepted and ignored: mesh uses the float64 distance.
+        run([sdfc, 'mesh', part, '-o', stl, '--resolution', '32', '--mesh-mode', 'grid'])
         n, edges = read_stl_edges(stl)
         open_edges = sum(1 for c in edges.values() if c != 2)
         print('%s: %d triangles, %d edges not shared by two' % (name, n, open_edges))
