@@ -21,7 +21,7 @@ def sphere_stl(path, rings, segments):
         for i in range(rings):
             for j in range(segments):
                 a, b, c, d = p(i, j), p(i + 1, j), p(i + 1, j + 1), p(i, j + 1)
-                for t in ((a, b, c), (a, c, d)):
+                for t in ((a, c, b), (a, d, c)):  # counter-clockwise seen from outside
                     body += struct.pack('<12fH', 0, 0, 0, *t[0], *t[1], *t[2], 0)
                     count += 1
         f.write(struct.pack('<I', count))
@@ -37,10 +37,14 @@ scene {{
 }}
 """
 
-def timed(cmd, stdin=None):
-    """Wall seconds and peak resident KB of one run (GNU time)."""
-    t = subprocess.run(['/usr/bin/time', '-f', '%e %M'] + cmd, input=stdin, capture_output=True, check=True)
-    wall, kb = t.stderr.decode().strip().splitlines()[-1].split()
+CPU = {}  # command name -> CPU seconds (user + sys) of each run
+
+def timed(cmd, stdin=None, key=None):
+    """Wall seconds and peak resident KB of one run (GNU time); its CPU seconds into CPU[key]."""
+    t = subprocess.run(['/usr/bin/time', '-f', '%e %M %U %S'] + cmd, input=stdin, capture_output=True, check=True)
+    wall, kb, user, sys_ = t.stderr.decode().strip().splitlines()[-1].split()
+    if key:
+        CPU.setdefault(key, []).append(float(user) + float(sys_))
     return float(wall), int(kb), t.stdout
 
 def main():
@@ -63,21 +67,28 @@ def main():
         scene = os.path.join(d, name + '.sdf')
         with open(scene, 'w') as f:
             f.write(SCENE.format(shape='mesh(file: "%s.stl", material: clay)' % name))
-        check, comp, render_m, render_s, mem = [], [], [], [], []
+        check, comp, render_m, render_s, render_x, mem = [], [], [], [], [], []
+        CPU.clear()
         for _ in range(a.runs):
-            w, kb, _ = timed([sdfc, 'check', scene]); check.append(w)
-            w, kb, _ = timed([sdfc, 'compile', '--no-cache', '--emit', 'glsl', scene, '-o', os.devnull]); comp.append(w); mem.append(kb)
-            w, _, _ = timed([sdfc, 'render', '--no-cache', '--denoise', 'none', scene, '-o', os.path.join(d, name + '.png')]); render_m.append(w)
-            w, _, _ = timed([sdfc, 'render', '--no-cache', '--denoise', 'none', os.path.join(d, 'sphere.sdf'), '-o', os.path.join(d, 's.png')]); render_s.append(w)
+            w, kb, _ = timed([sdfc, 'check', scene], key='check'); check.append(w)
+            w, kb, _ = timed([sdfc, 'compile', '--no-cache', '--emit', 'glsl', scene, '-o', os.devnull], key='compile'); comp.append(w); mem.append(kb)
+            w, _, _ = timed([sdfc, 'render', '--no-cache', '--denoise', 'none', scene, '-o', os.path.join(d, name + '.png')], key='mesh'); render_m.append(w)
+            w, _, _ = timed([sdfc, 'render', '--no-cache', '--denoise', 'none', os.path.join(d, 'sphere.sdf'), '-o', os.path.join(d, 's.png')], key='sphere'); render_s.append(w)
+            if name == '100k':
+                w, _, _ = timed([sdfc, 'render', '--no-cache', '--denoise', 'none', '--mesh-mode', 'exact', scene, '-o', os.path.join(d, name + ' exact.png')], key='exact'); render_x.append(w)
         med = statistics.median
+        cpu = lambda k: '%.2f' % med(CPU[k])
         lines += ['## %s triangles (%d)' % (name, n), '',
-                  '| measure | median (s) | runs |', '|---|---|---|',
-                  '| check (read, weld, hierarchy) | %.2f | %s |' % (med(check), ' '.join('%.2f' % x for x in check)),
-                  '| compile to GLSL (check + grid build + emit) | %.2f | %s |' % (med(comp), ' '.join('%.2f' % x for x in comp)),
-                  '| peak memory of compile | %.0f MB | |' % (max(mem) / 1024),
-                  '| first image 640x360 1 spp, whole process | %.2f | %s |' % (med(render_m), ' '.join('%.2f' % x for x in render_m)),
-                  '| the same with sphere(radius: 1) | %.2f | %s |' % (med(render_s), ' '.join('%.2f' % x for x in render_s)),
-                  '| ratio mesh / sphere | %.2f | |' % (med(render_m) / med(render_s)), '']
+                  '| measure | median wall (s) | median CPU (s) | runs (wall) |', '|---|---|---|---|',
+                  '| check (read, weld, hierarchy) | %.2f | %s | %s |' % (med(check), cpu('check'), ' '.join('%.2f' % x for x in check)),
+                  '| compile to GLSL (check + grid build + emit) | %.2f | %s | %s |' % (med(comp), cpu('compile'), ' '.join('%.2f' % x for x in comp)),
+                  '| peak memory of compile | %.0f MB | | |' % (max(mem) / 1024),
+                  '| first image 640x360 1 spp, whole process (default mode) | %.2f | %s | %s |' % (med(render_m), cpu('mesh'), ' '.join('%.2f' % x for x in render_m)),
+                  '| the same with sphere(radius: 1) | %.2f | %s | %s |' % (med(render_s), cpu('sphere'), ' '.join('%.2f' % x for x in render_s)),
+                  '| ratio mesh / sphere | %.2f | %.2f | |' % (med(render_m) / med(render_s), med(CPU['mesh']) / med(CPU['sphere']))]
+        if render_x:
+            lines += ['| first image, --mesh-mode exact | %.2f | %s | %s |' % (med(render_x), cpu('exact'), ' '.join('%.2f' % x for x in render_x))]
+        lines += ['']
         if name == '100k':
             pts = os.path.join(d, 'points.txt')
             import random

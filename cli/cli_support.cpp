@@ -31,6 +31,7 @@ CompileOptions compileOptionsFrom(const CommandLine& cl) {
   // The paper marches every surface; --no-analytic-spheres for A/B runs.
   o.emit.analytic_spheres = !cl.paper_baseline && !cl.no_analytic_spheres;
   o.fuse_transforms = !cl.no_fuse;
+  if (!cl.mesh_mode.empty()) o.check.mesh_mode = cl.mesh_mode == "exact" ? MeshMode::Exact : MeshMode::Grid;
   o.instancing.threshold = cl.instance_threshold;
   o.optimize_spirv = cl.optimize;
   // `compile --timings N` measures glslang itself: no cache there.

@@ -46,6 +46,10 @@ void registerCommands(CLI::App& app, CommandLine& cl) {
     sub->add_flag("--no-fuse", cl.no_fuse, "do not fuse transform chains");
     sub->add_flag("--no-analytic-spheres", cl.no_analytic_spheres,
                   "march top-level spheres instead of intersecting them in closed form");
+    sub->add_option("--mesh-mode", cl.mesh_mode,
+                    "how mesh(file: ...) is drawn: exact (its triangles) or grid (a sampled distance); "
+                    "default: the compiler chooses per mesh and --emit ir says which")
+        ->check(CLI::IsMember({"exact", "grid"}));
     sub->add_flag("-O,--optimize", cl.optimize, "run spirv-opt's performance passes");
     sub->add_flag("--no-cache", cl.no_cache,
                   "compile the kernel even when the SPIR-V cache ($XDG_CACHE_HOME/sdfc) holds it, "
@@ -210,9 +214,17 @@ void registerCommands(CLI::App& app, CommandLine& cl) {
   eval->add_option("--time", cl.time, "scene time in seconds");
   eval->add_flag("--gradient", cl.gradient, "also print the gradient");
   eval->add_flag("--material", cl.material, "also print the material name and its colour at the point");
+  // Accepted so render's flags can be reused, and ignored: eval and mesh use the float64 distance.
+  auto ignored_mesh_mode = [](CLI::App* sub) {
+    sub->add_option_function<std::string>("--mesh-mode", [](const std::string&) {},
+                                          "ignored: meshes are always their exact float64 distance here")
+        ->check(CLI::IsMember({"exact", "grid"}));
+  };
+  ignored_mesh_mode(eval);
 
   CLI::App* mesh = app.add_subcommand("mesh", "export a triangle mesh (.glb, .gltf or .stl)");
   common(mesh);
+  ignored_mesh_mode(mesh);
   mesh->add_option("-o,--output", cl.output, "mesh file")->required();
   mesh->add_option("--resolution", cl.resolution, "cells along the longest side")
       ->check(wholeNumberIn(4, 1024));

@@ -6,7 +6,9 @@ space) renders as sphere(radius: 1) does: their mean difference is a small
 share of the difference a sphere 3% larger makes. A smooth union of the mesh
 with a sphere and a subtraction of a sphere from it render and mesh (`sdfc
 mesh`) without holes: every edge of the exported STL has two triangles.
-An open mesh renders with its mesh-open warning.
+An open mesh renders with its mesh-open warning. The icosphere is drawn
+exact (the compiler's choice for a closed, oriented mesh), and with
+--mesh-mode grid as well.
 
     /usr/bin/python3 tests/mesh_in_render_test.py [--sdfc build/cli/sdfc]
 """
@@ -87,12 +89,12 @@ def main():
     v, f = icosphere(5)
     write_stl(os.path.join(d, 'ico sphere.stl'), v, f)
 
-    def render(name, shape):
+    def render(name, shape, flags=()):
         scene = os.path.join(d, name + '.sdf')
         with open(scene, 'w') as o:
             o.write(SCENE.format(shape=shape))
         out = os.path.join(d, name + '.png')
-        r = run([sdfc, 'render', '--denoise', 'none', scene, '-o', out])
+        r = run([sdfc, 'render', '--denoise', 'none', *flags, scene, '-o', out])
         return mpimg.imread(out)[:, :, :3].astype(np.float64), r, scene
 
     mesh_img, _, _ = render('mesh', 'mesh(file: "ico sphere.stl", material: clay)')
@@ -104,6 +106,21 @@ def main():
     ok = same < 0.25 * control
     if not ok:
         print('FAIL: the icosphere differs from the sphere by %.1f%% of a 3%% larger sphere' % (100 * same / control))
+    # The compiler chose the exact mode (closed and oriented); the grid mode,
+    # forced, also renders the sphere beyond noise. (Its image is no farther
+    # from the sphere's: the exact surface has the facets' normals, the grid
+    # smooths them; mesh_exact_test.cpp checks that the exact distance is the
+    # tighter.)
+    ir = run([sdfc, 'compile', '--emit', 'ir', os.path.join(d, 'mesh.sdf')]).stdout
+    if 'shader: exact (auto: closed and oriented' not in ir:
+        print('FAIL: the icosphere is not exact in the shader:\n' + ir)
+        ok = False
+    grid_img, _, _ = render('mesh grid', 'mesh(file: "ico sphere.stl", material: clay)', ['--mesh-mode', 'grid'])
+    grid_same = np.abs(grid_img - sphere_img).mean()
+    print('mean |mesh - sphere|: exact %.5f, grid %.5f' % (same, grid_same))
+    if not grid_same < 0.25 * control:
+        print('FAIL: the grid mode differs from the sphere by %.1f%% of a 3%% larger sphere' % (100 * grid_same / control))
+        ok = False
 
     for name, shape in (
             ('blend', 'union(smooth: 0.2, material: clay) {\n    mesh(file: "ico sphere.stl")\n    translate([0.9, 0, 0]) { sphere(radius: 0.5) }\n  }'),
@@ -117,7 +134,8 @@ def main():
         part = os.path.join(d, name + ' part.sdf')
         with open(part, 'w') as o:
             o.write(SCENE.format(shape=shape).replace('  plane(normal: [0, 1, 0], offset: -1)\n', ''))
-        run([sdfc, 'mesh', part, '-o', stl, '--resolution', '32'])
+        # --mesh-mode is accepted and ignored: mesh uses the float64 distance.
+        run([sdfc, 'mesh', part, '-o', stl, '--resolution', '32', '--mesh-mode', 'grid'])
         n, edges = read_stl_edges(stl)
         open_edges = sum(1 for c in edges.values() if c != 2)
         print('%s: %d triangles, %d edges not shared by two' % (name, n, open_edges))

@@ -15,6 +15,7 @@
 #include "meshin/mesh_distance.h"
 #include "meshin/mesh_file.h"
 #include "meshin/mesh_grid.h"
+#include "mesh_soup.h"
 #include "mesh_write.h"
 #include "mesher.h"
 
@@ -22,49 +23,11 @@ namespace sdfc {
 namespace {
 
 using glm::dvec3;
-
-struct Soup {
-  std::vector<dvec3> v;
-  std::vector<glm::uvec3> f;
-};
-
-// The unit icosahedron subdivided `levels` times onto the sphere of `radius` at `centre`.
-Soup icosphere(int levels, double radius = 1, dvec3 centre = dvec3(0)) {
-  const double t = (1 + std::sqrt(5.0)) / 2;
-  Soup s;
-  s.v = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
-         {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
-  for (dvec3& p : s.v) p = glm::normalize(p);
-  s.f = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
-         {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
-         {3, 8, 9},  {4, 9, 5},  {2, 4, 11},  {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
-  for (int l = 0; l < levels; ++l) {
-    std::map<std::pair<unsigned, unsigned>, unsigned> mid;
-    auto m = [&](unsigned a, unsigned b) {
-      auto key = std::make_pair(std::min(a, b), std::max(a, b));
-      auto it = mid.find(key);
-      if (it != mid.end()) return it->second;
-      s.v.push_back(glm::normalize(s.v[a] + s.v[b]));
-      return mid[key] = unsigned(s.v.size() - 1);
-    };
-    std::vector<glm::uvec3> next;
-    for (const glm::uvec3& f : s.f) {
-      const unsigned ab = m(f[0], f[1]), bc = m(f[1], f[2]), ca = m(f[2], f[0]);
-      next.insert(next.end(), {{f[0], ab, ca}, {f[1], bc, ab}, {f[2], ca, bc}, {ab, bc, ca}});
-    }
-    s.f = next;
-  }
-  for (dvec3& p : s.v) p = centre + radius * p;
-  return s;
-}
-
-Soup merged(const Soup& a, const Soup& b) {
-  Soup s = a;
-  const unsigned base = unsigned(s.v.size());
-  s.v.insert(s.v.end(), b.v.begin(), b.v.end());
-  for (glm::uvec3 f : b.f) s.f.push_back(f + base);
-  return s;
-}
+using test::Soup;
+using test::icosphere;
+using test::merged;
+using test::binaryStl;
+using test::obj;
 
 InputMesh asInput(const Soup& s) { return {s.v, s.f}; }
 
@@ -81,34 +44,6 @@ std::string writeFile(const std::string& name, const std::string& bytes) {
   const std::string path = tempDir() + "/" + name;
   std::ofstream(path, std::ios::binary) << bytes;
   return path;
-}
-
-std::string binaryStl(const Soup& s) {
-  std::string out(80, '\0');
-  const std::uint32_t n = std::uint32_t(s.f.size());
-  out.append(reinterpret_cast<const char*>(&n), 4);
-  for (const glm::uvec3& f : s.f) {
-    float rec[12] = {0, 0, 0};
-    for (int k = 0; k < 3; ++k)
-      for (int a = 0; a < 3; ++a) rec[3 + 3 * k + a] = float(s.v[f[k]][a]);
-    out.append(reinterpret_cast<const char*>(rec), sizeof rec);
-    out.append(2, '\0');
-  }
-  return out;
-}
-
-std::string obj(const Soup& s) {
-  std::string out = "# made by mesh_in_test\no part\n";
-  char line[128];
-  for (const dvec3& p : s.v) {
-    std::snprintf(line, sizeof line, "v %.17g %.17g %.17g\n", p.x, p.y, p.z);
-    out += line;
-  }
-  for (const glm::uvec3& f : s.f) {
-    std::snprintf(line, sizeof line, "f %u/1 %u//2 %u\n", f[0] + 1, f[1] + 1, f[2] + 1);
-    out += line;
-  }
-  return out;
 }
 
 // Independent of meshin's region test: the nearest point of the plane when
@@ -275,10 +210,12 @@ std::string sceneWith(const std::string& body) {
   return "camera(position: [0, 0.5, 4], target: [0, 0, 0])\nscene {\n" + body + "\n}\n";
 }
 
-CompiledScene checked(const std::string& name, const std::string& text, Diagnostics& diags) {
+CompiledScene checked(const std::string& name, const std::string& text, Diagnostics& diags,
+                      MeshMode mode = MeshMode::Auto) {
   const std::string path = writeFile(name, text);
   CompileOptions o;
   o.produce_spirv = false;
+  o.check.mesh_mode = mode;
   return compileSource(path, text, o, diags);
 }
 
@@ -304,11 +241,11 @@ TEST(MeshIn, CheckerErrorsPointAtTheFileArgument) {
 TEST(MeshIn, GridModeIsInTheIrAndTheData) {
   writeFile("ico3.stl", binaryStl(icosphere(3)));
   Diagnostics diags;
-  const CompiledScene c = checked("grid.sdf", sceneWith("  mesh(file: \"ico3.stl\")"), diags);
+  const CompiledScene c = checked("grid.sdf", sceneWith("  mesh(file: \"ico3.stl\")"), diags, MeshMode::Grid);
   ASSERT_TRUE(c.ok) << diags.format();
   const std::string ir = ir::dump(c.scene);
   EXPECT_NE(ir.find("mesh \"ico3.stl\" (binary STL, 1280 triangles, closed;"), std::string::npos) << ir;
-  EXPECT_NE(ir.find("shader: grid"), std::string::npos) << ir;
+  EXPECT_NE(ir.find("shader: grid (--mesh-mode grid)"), std::string::npos) << ir;
   EXPECT_NE(c.emitted.glsl.find("sdMeshGrid(p, 0)"), std::string::npos);
   const ir::Node& mesh = *c.scene.root->children[0];
   ASSERT_EQ(mesh.kind, ir::NodeKind::Mesh);

@@ -12,6 +12,7 @@
 #include "emit/embedded_sources.h"
 #include "emit/env_map_glsl.h"
 #include "emit/feature_filter.h"
+#include "meshin/mesh_exact.h"
 #include "passes/deform.h"
 #include "shapes/polygon.h"
 
@@ -142,6 +143,8 @@ int uniformMaterial(const ir::Node& n, int inherited) {
 // `free_set`: Instances nodes whose evaluations never reach their hierarchy.
 int traversalsPerEvaluation(const ir::Node& n, const ir::Node* free_set) {
   if (n.kind == ir::NodeKind::Instances) return &n == free_set ? 0 : 1;
+  // An exact mesh's triangle search is a hierarchy loop as the instances' are.
+  if (n.kind == ir::NodeKind::Mesh) return n.mesh->mode == MeshMode::Exact ? 1 : 0;
   int sum = 0;
   for (const ir::NodeRef& c : n.children) sum += traversalsPerEvaluation(*c, free_set);
   if (n.kind == ir::NodeKind::RepeatPolar && n.count.x > 1) sum *= 3;
@@ -1334,19 +1337,37 @@ class SceneWriter {
     return d;
   }
 
-  // A mesh's sampled grid, appended to the scene data once per mesh.
+  // A mesh's sampled grid, appended to the scene data once per mesh; in the
+  // exact mode its hierarchy and triangles too, and a search function.
   std::string mesh(const ir::Node& n, const std::string& p, Function& f) {
     needHelper("sdMeshGrid", meshGridGlsl());
-    auto it = mesh_bases_.find(n.mesh.get());
-    if (it == mesh_bases_.end())
-      it = mesh_bases_.emplace(n.mesh.get(), appendMeshGridData(n.mesh->grid_layout, n.mesh->grid(), data_)).first;
+    const MeshShape& m = *n.mesh;
+    auto it = mesh_bases_.find(&m);
+    if (it == mesh_bases_.end()) {
+      const size_t grid = appendMeshGridData(m.grid_layout, m.grid(), data_);
+      std::string call = "sdMeshGrid(%, " + std::to_string(grid) + ")";
+      if (m.mode == MeshMode::Exact) {
+        needHelper("sdMeshTriangle2", meshExactHelperGlsl());
+        const MeshExactData at = appendMeshExactData(*m.distance, data_);
+        const std::string name = "sdMeshExact" + std::to_string(mesh_bases_.size());
+        const bool kernel = options_.with_kernel;
+        functions_ << lineDirective(n)
+                   << meshExactGlsl(name, *m.distance, m.grid_layout, grid, at,
+                                    kernel ? "int(frame.traversal_visits)" : std::to_string(kSceneOnlyVisits),
+                                    kernel ? "loopZero()" : "0", kernel);
+        ++function_count_;
+        call = name + "(%)";
+      }
+      it = mesh_bases_.emplace(&m, call).first;
+    }
+    std::string call = it->second;
+    call.replace(call.find('%'), 1, p);
     const std::string d = var(f, "d");
-    f.code << lineDirective(n) << "  float " << d << " = sdMeshGrid(" << p << ", " << it->second << ");"
-           << lineComment(n) << " mesh\n";
+    f.code << lineDirective(n) << "  float " << d << " = " << call << ";" << lineComment(n) << " mesh\n";
     if (options_.count_evaluations) f.code << "  g_loop_iterations++;\n";
     return d;
   }
-  std::map<const MeshShape*, size_t> mesh_bases_;
+  std::map<const MeshShape*, std::string> mesh_bases_;  // the call, % for the point
 
   // The Menger sponge, unrolled: `level` is a compile-time constant, and a
   // loop here would count against lavapipe's loop cap at every march step.

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "ir/scene.h"
+#include "meshin/mesh_exact.h"
 
 namespace sdfc::ir {
 namespace {
@@ -184,15 +185,27 @@ std::string dumpNode(const Node& n, int indent) {
         // What was read, and the shader's form with its error bound.
         const MeshShape& m = *n.mesh;
         const MeshGridLayout& g = m.grid_layout;
-        char buf[400];
+        char buf[600];
+        const std::string shape =
+            m.boundary_edges > 0 ? std::to_string(m.boundary_edges) + " boundary edges"
+            : m.flipped_edges > 0 ? "closed, " + std::to_string(m.flipped_edges) + " edges between faces facing opposite ways"
+                                  : "closed";
+        std::snprintf(buf, sizeof buf, " \"%s\" (%s, %zu triangles, %s; %zu hierarchy nodes, depth %d; shader: ",
+                      m.file.c_str(), m.format.c_str(), m.triangles, shape.c_str(), m.distance->nodes().size(),
+                      m.distance->depth());
+        out << buf;
+        if (m.mode == MeshMode::Exact)
+          std::snprintf(buf, sizeof buf,
+                        "exact (%s): the nearest triangle within %g of the surface, signed by the grid where "
+                        "|grid| > %g, else by the nearest face; farther, the grid less %g; grid ",
+                        m.mode_reason.c_str(), kMeshExactNear * g.errorBound(), g.errorBound(), g.errorBound());
+        else
+          std::snprintf(buf, sizeof buf, "grid (%s) ", m.mode_reason.c_str());
+        out << buf;
         std::snprintf(buf, sizeof buf,
-                      " \"%s\" (%s, %zu triangles, %s; %zu hierarchy nodes, depth %d; shader: grid "
                       "%dx%dx%d corners of %g, band %g, error <= %g (sqrt 3 / 2 cell), interpolant Lipschitz <= "
                       "1.732; outside it the mesh box's distance)",
-                      m.file.c_str(), m.format.c_str(), m.triangles,
-                      m.boundary_edges > 0 ? (std::to_string(m.boundary_edges) + " boundary edges").c_str() : "closed",
-                      m.distance->nodes().size(), m.distance->depth(), g.dims.x, g.dims.y, g.dims.z, g.cell,
-                      g.band, g.errorBound());
+                      g.dims.x, g.dims.y, g.dims.z, g.cell, g.band, g.errorBound());
         out << buf;
         break;
       }

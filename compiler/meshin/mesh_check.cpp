@@ -1,11 +1,42 @@
 #include "meshin/mesh_check.h"
 
 #include <cerrno>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <unistd.h>
 
+#include "meshin/mesh_exact.h"
+
 namespace sdfc {
+
+bool chooseMeshMode(MeshShape& m, MeshMode asked) {
+  const size_t bytes = meshExactBytes(*m.distance);
+  char mb[64];
+  std::snprintf(mb, sizeof mb, "%.1f MiB", double(bytes) / (1 << 20));
+  if (bytes > kMaxMeshExactBytes) {
+    m.mode = MeshMode::Grid;
+    m.mode_reason = std::string("its triangles and hierarchy are ") + mb + " of data, more than the " +
+                    std::to_string(kMaxMeshExactBytes >> 20) + " MiB the storage buffer leaves them";
+    return asked != MeshMode::Exact;
+  }
+  if (asked != MeshMode::Auto) {
+    m.mode = asked;
+    m.mode_reason = asked == MeshMode::Exact ? "--mesh-mode exact" : "--mesh-mode grid";
+    return true;
+  }
+  // Exact needs the nearest face's side to agree with the inside the grid's
+  // winding numbers give, which holds on closed, consistently outward meshes.
+  std::string why;
+  if (m.boundary_edges > 0) why = "open";
+  else if (m.flipped_edges > 0) why = "faces not consistently oriented";
+  else if (m.volume <= 0) why = "faces pointing in";
+  else if (m.triangles > kMeshExactAutoTriangles) why = "more than " + std::to_string(kMeshExactAutoTriangles) + " triangles";
+  m.mode = why.empty() ? MeshMode::Exact : MeshMode::Grid;
+  m.mode_reason = why.empty() ? std::string("auto: closed and oriented, ") + mb + " of triangles and hierarchy"
+                              : "auto: " + why;
+  return true;
+}
 
 std::shared_ptr<MeshShape> loadMesh(const std::string& path, const std::string& written, SourceRange at,
                                     MeshMode mode, Diagnostics& diags) {
@@ -38,9 +69,18 @@ std::shared_ptr<MeshShape> loadMesh(const std::string& path, const std::string& 
     diags.warning(at, "mesh-open",
                   "'" + written + "' is not closed: " + how + "; its winding number decides inside, a guess near holes");
   }
+  shape->flipped_edges = file.flipped_edges;
+  for (const glm::uvec3& t : file.mesh.triangles) {
+    const glm::dvec3 &a = file.mesh.vertices[t[0]], &b = file.mesh.vertices[t[1]], &c = file.mesh.vertices[t[2]];
+    shape->volume += glm::dot(a, glm::cross(b, c)) / 6;
+  }
   shape->distance = std::make_unique<MeshDistance>(file.mesh);
-  shape->mode = mode == MeshMode::Exact ? MeshMode::Exact : MeshMode::Grid;
   shape->grid_layout = meshGridLayout(shape->distance->bounds());
+  if (!chooseMeshMode(*shape, mode)) {
+    diags.error(at, "'" + written + "' cannot be exact in the shader (--mesh-mode exact): " + shape->mode_reason +
+                        "; --mesh-mode grid samples it");
+    return nullptr;
+  }
   return shape;
 }
 

@@ -104,18 +104,27 @@ class Builder {
       else m.triangles[kept++] = t;
     }
     m.triangles.resize(kept);
-    // Edges by the triangles that share them: one (boundary) or three and more.
-    std::unordered_map<std::uint64_t, std::uint32_t> uses;
+    // Edges by the triangles that share them: one (boundary) or three and more;
+    // and the way each runs it (+1 from lower to higher index, -1 back): two
+    // faces oriented alike run a shared edge in opposite ways.
+    struct Uses {
+      std::uint32_t count = 0;
+      std::int32_t direction = 0;
+    };
+    std::unordered_map<std::uint64_t, Uses> uses;
     uses.reserve(m.triangles.size() * 2);
     for (const glm::uvec3& t : m.triangles)
       for (int k = 0; k < 3; ++k) {
         const std::uint32_t a = t[k], b = t[(k + 1) % 3];
-        ++uses[(std::uint64_t(std::min(a, b)) << 32) | std::max(a, b)];
+        Uses& u = uses[(std::uint64_t(std::min(a, b)) << 32) | std::max(a, b)];
+        ++u.count;
+        u.direction += a < b ? 1 : -1;
       }
     out_.edges = uses.size();
-    for (const auto& [edge, count] : uses) {
-      if (count == 1) ++out_.boundary_edges;
-      if (count >= 3) ++out_.nonmanifold_edges;
+    for (const auto& [edge, u] : uses) {
+      if (u.count == 1) ++out_.boundary_edges;
+      if (u.count >= 3) ++out_.nonmanifold_edges;
+      if (u.count == 2 && u.direction != 0) ++out_.flipped_edges;
     }
   }
 

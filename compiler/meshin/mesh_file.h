@@ -32,6 +32,7 @@ struct MeshFile {
   size_t degenerate = 0;      // triangles of no area, dropped
   size_t boundary_edges = 0;  // edges of one triangle only: the mesh is open
   size_t nonmanifold_edges = 0;  // edges of three or more triangles
+  size_t flipped_edges = 0;  // edges of two triangles facing opposite ways (inconsistent orientation)
   size_t edges = 0;
   std::string format;  // "binary STL", "ASCII STL", "OBJ", "glTF", "GLB"
 };

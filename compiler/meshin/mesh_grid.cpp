@@ -64,11 +64,25 @@ MeshGrid buildMeshGrid(const MeshDistance& mesh, const MeshGridLayout& l) {
   const size_t count = l.corners();
   auto at = [&](int x, int y, int z) { return (size_t(z) * n.y + y) * n.x + x; };
   auto corner = [&](int x, int y, int z) { return l.lo + glm::dvec3(x, y, z) * l.cell; };
-  // Unsigned distances, capped at the band (a far corner's query ends at the root).
+  // Unsigned distances, capped at the band. Corners go in bricks of
+  // kBrick^3: one query at a brick's centre, capped at the band plus its half
+  // diagonal, settles a brick with no triangle that near (most of them), each
+  // corner then the band as its own query would give.
+  constexpr int kBrick = 4;
+  const double half_diagonal = 0.5 * std::sqrt(3.0) * (kBrick - 1) * l.cell;
   std::vector<double> d(count);
-  forSlabs(n.z, [&](int z) {
-    for (int y = 0; y < n.y; ++y)
-      for (int x = 0; x < n.x; ++x) d[at(x, y, z)] = mesh.unsignedDistance(corner(x, y, z), l.band);
+  forSlabs((n.z + kBrick - 1) / kBrick, [&](int bz) {
+    for (int by = 0; by < n.y; by += kBrick)
+      for (int bx = 0; bx < n.x; bx += kBrick) {
+        const int z0 = bz * kBrick, z1 = std::min(z0 + kBrick, n.z);
+        const int y1 = std::min(by + kBrick, n.y), x1 = std::min(bx + kBrick, n.x);
+        const glm::dvec3 centre = 0.5 * (corner(bx, by, z0) + corner(x1 - 1, y1 - 1, z1 - 1));
+        const bool empty = mesh.unsignedDistance(centre, l.band + half_diagonal) >= l.band + half_diagonal;
+        for (int z = z0; z < z1; ++z)
+          for (int y = by; y < y1; ++y)
+            for (int x = bx; x < x1; ++x)
+              d[at(x, y, z)] = empty ? l.band : mesh.unsignedDistance(corner(x, y, z), l.band);
+      }
   });
   // Two neighbours whose distances sum to more than the edge between them
   // have no surface on that edge: they share a side. Each connected region

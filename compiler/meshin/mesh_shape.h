@@ -16,9 +16,11 @@ enum class MeshMode { Auto, Grid, Exact };
 struct MeshShape {
   std::string file;  // as written in the scene
   std::string format;
-  size_t triangles = 0, degenerate = 0, boundary_edges = 0, edges = 0;
+  size_t triangles = 0, degenerate = 0, boundary_edges = 0, edges = 0, flipped_edges = 0;
+  double volume = 0;  // signed: positive when the faces point out
   std::unique_ptr<MeshDistance> distance;
   MeshMode mode = MeshMode::Grid;  // what the shader uses
+  std::string mode_reason;         // why, for --emit ir ("auto: closed, oriented, ...")
   MeshGridLayout grid_layout;
 
   // The sampled grid, built on first use (rendering needs it; eval and mesh do not).
