@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 
+#include "passes/deform.h"
 #include "passes/passes.h"
 #include "shapes/primitive_blocks.h"
 
@@ -284,7 +285,8 @@ void BlockEvaluator::evalNode(const ir::Node& n, const PointBlock& p, int inheri
       return;
     }
     case ir::NodeKind::Twist: {
-      // The child at every point, then the cylinder's distance outside it.
+      // The child at every point, then the cylinder's distance outside its
+      // reach (passes/deform.h), as the per-point evaluator.
       const Aabb& b = n.children[0]->bounds;
       const double amount = n.amount.at(t);
       for (int i = 0; i < count; ++i) {
@@ -294,7 +296,7 @@ void BlockEvaluator::evalNode(const ir::Node& n, const PointBlock& p, int inheri
       child(0, q, out);
       for (int i = 0; i < count; ++i) {
         const double r = std::sqrt(p.x[i] * p.x[i] + p.z[i] * p.z[i]);
-        if (r > n.deform_radius) {
+        if (r > deformReach(n)) {
           const glm::dvec2 w(r - n.deform_radius,
                              std::fabs(p.y[i] - (b.lo.y + b.hi.y) / 2) - (b.hi.y - b.lo.y) / 2);
           out.distance[i] = std::min(std::max(w.x, w.y), 0.0) + glm::length(glm::max(w, glm::dvec2(0)));
