@@ -72,6 +72,17 @@ TEST(GoldenGlsl, EveryExampleMatchesItsExpectedShader) {
   }
 }
 
+// The golden renders' settings: 96x54, 8 spp, time 0.5.
+FloatImage goldenRender(Renderer& renderer, const CompiledScene& c, uint32_t seed) {
+  RenderOverrides o;
+  o.width = 96;
+  o.height = 54;
+  o.spp = 8;
+  o.time = 0.5;
+  o.seed = seed;
+  return renderer.render(cameraFor(c.scene), renderSettingsFor(c, o)).color;
+}
+
 // Small, fixed-seed renders. The same driver gives bit-identical images; the
 // tolerance is half the relative MSE between two renders that differ only in
 // their seed, i.e. any change larger than half the Monte Carlo noise fails.
@@ -87,15 +98,7 @@ TEST(GoldenImages, EveryExampleMatchesItsReferenceRender) {
     const CompiledScene c = compileExample(path, options);
     if (!c.ok) continue;
     Renderer renderer(context, c);
-    RenderOverrides o;
-    o.width = 96;
-    o.height = 54;
-    o.spp = 8;
-    o.time = 0.5;
-    auto renderWithSeed = [&](uint32_t seed) {
-      o.seed = seed;
-      return renderer.render(cameraFor(c.scene), renderSettingsFor(c, o)).color;
-    };
+    auto renderWithSeed = [&](uint32_t seed) { return goldenRender(renderer, c, seed); };
     const FloatImage image = renderWithSeed(0);
     const fs::path reference = dir / (path.stem().string() + ".exr");
     if (updating()) {
@@ -137,15 +140,7 @@ TEST(GoldenImages, ParametricCastleRendersTheCastle) {
   ASSERT_TRUE(c.ok);
   {
     Renderer renderer(context, c);
-    RenderOverrides o;
-    o.width = 96;
-    o.height = 54;
-    o.spp = 8;
-    o.time = 0.5;
-    auto renderWithSeed = [&](uint32_t seed) {
-      o.seed = seed;
-      return renderer.render(cameraFor(c.scene), renderSettingsFor(c, o)).color;
-    };
+    auto renderWithSeed = [&](uint32_t seed) { return goldenRender(renderer, c, seed); };
     const double error = relMse(renderWithSeed(0), want);
     const double noise = relMse(renderWithSeed(1), want);
     EXPECT_GT(noise, 0);

@@ -239,18 +239,13 @@ quit
             check(False, f"frames presented while playing ({len(played)})")
 
 
-    # A save of an imported file reloads the scene that imports it.
-    with tempfile.TemporaryDirectory() as d:
+    def reload_session(d, replacement, source, what):
+        """Runs the viewer on d/main.sdf, replaces `source` by `replacement`
+        while it runs, and checks that the scene reloads and shows the change."""
         j = lambda name: os.path.join(d, name)
-        os.makedirs(j("lib dir"))
-        part = "let part(r) = sphere(radius: r, material: diffuse(albedo: COLOUR))\n"
-        open(j("lib dir/parts.sdf"), "w").write(part.replace("COLOUR", "[0.8, 0.3, 0.25]"))
-        open(j("lib dir/parts2.sdf"), "w").write(part.replace("COLOUR", "[0.2, 0.4, 0.9]"))
-        open(j("main.sdf"), "w").write('import "lib dir/parts.sdf" as lib\n' +
-                                       SCENE.replace("SHAPE", "lib.part(0.7)"))
         script = f"""wait-spp 2
 save {j('before.png')}
-run sleep 0.2; cp '{j("lib dir/parts2.sdf")}' '{j("lib dir/parts.sdf")}'
+run sleep 0.2; cp '{replacement}' '{source}'
 wait-reload
 wait-spp 2
 save {j('after.png')}
@@ -261,11 +256,22 @@ quit
         r = subprocess.run([SDFC, "view", j("main.sdf"), "--script", j("events.txt"), "--frame-log", log,
                             "--size", "96x64"], env=env, capture_output=True, text=True, timeout=300)
         sys.stderr.write(r.stderr)
-        check(r.returncode == 0, f"import session: quit exits 0 (got {r.returncode})")
+        check(r.returncode == 0, f"{what} session: quit exits 0 (got {r.returncode})")
         events = [l for l in open(log).read().splitlines() if l.startswith("event ")]
-        check(sum("reload ok" in e for e in events) == 2, "saving the imported file reloads the scene")
+        check(sum("reload ok" in e for e in events) == 2, f"saving the {what} reloads the scene")
         before, after = read_png(j("before.png")), read_png(j("after.png"))
-        check((np.abs(before - after).max(axis=-1) > 8).mean() > 0.02, "the reload shows the imported change")
+        check((np.abs(before - after).max(axis=-1) > 8).mean() > 0.02, f"the reload shows the {what}'s change")
+
+    # A save of an imported file reloads the scene that imports it.
+    with tempfile.TemporaryDirectory() as d:
+        j = lambda name: os.path.join(d, name)
+        os.makedirs(j("lib dir"))
+        part = "let part(r) = sphere(radius: r, material: diffuse(albedo: COLOUR))\n"
+        open(j("lib dir/parts.sdf"), "w").write(part.replace("COLOUR", "[0.8, 0.3, 0.25]"))
+        open(j("lib dir/parts2.sdf"), "w").write(part.replace("COLOUR", "[0.2, 0.4, 0.9]"))
+        open(j("main.sdf"), "w").write('import "lib dir/parts.sdf" as lib\n' +
+                                       SCENE.replace("SHAPE", "lib.part(0.7)"))
+        reload_session(d, j("lib dir/parts2.sdf"), j("lib dir/parts.sdf"), "imported file")
 
     # A save of a texture the scene reads reloads it too (as an import does).
     with tempfile.TemporaryDirectory() as d:
@@ -276,24 +282,7 @@ quit
         shutil.copy(j("tex dir/red.png"), j("tex dir/wood.png"))
         open(j("main.sdf"), "w").write(SCENE.replace(
             "SHAPE", 'sphere(radius: 0.7, material: diffuse(albedo: texture(file: "tex dir/wood.png")))'))
-        script = f"""wait-spp 2
-save {j('before.png')}
-run sleep 0.2; cp '{j("tex dir/blue.png")}' '{j("tex dir/wood.png")}'
-wait-reload
-wait-spp 2
-save {j('after.png')}
-quit
-"""
-        open(j("events.txt"), "w").write(script)
-        log = j("frames.log")
-        r = subprocess.run([SDFC, "view", j("main.sdf"), "--script", j("events.txt"), "--frame-log", log,
-                            "--size", "96x64"], env=env, capture_output=True, text=True, timeout=300)
-        sys.stderr.write(r.stderr)
-        check(r.returncode == 0, f"texture session: quit exits 0 (got {r.returncode})")
-        events = [l for l in open(log).read().splitlines() if l.startswith("event ")]
-        check(sum("reload ok" in e for e in events) == 2, "saving the texture reloads the scene")
-        before, after = read_png(j("before.png")), read_png(j("after.png"))
-        check((np.abs(before - after).max(axis=-1) > 8).mean() > 0.02, "the reload shows the new texture")
+        reload_session(d, j("tex dir/blue.png"), j("tex dir/wood.png"), "texture")
     if failures:
         print(f"{len(failures)} check(s) failed")
         return 1

@@ -1,10 +1,11 @@
 #include "check/env_map_file.h"
 
+#include "check/image_header.h"
+
 #include <stb_image.h>
 #include <tinyexr.h>
 
 #include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -12,12 +13,6 @@
 
 namespace sdfc {
 namespace {
-
-std::string lowerExtension(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-  return ext;
-}
 
 // The size is checked from the header, before the pixels are decoded.
 std::string badSize(int w, int h) {
@@ -45,24 +40,12 @@ EnvMapFile readEnvMapFile(const std::string& path) {
   image->path = path;
   const std::string ext = lowerExtension(path);
   if (ext == ".exr") {
-    EXRVersion version;
-    EXRHeader header;
-    if (ParseEXRVersionFromFile(&version, path.c_str()) != TINYEXR_SUCCESS) {
-      out.reason = "it is not an EXR file";
-      return out;
-    }
-    InitEXRHeader(&header);
-    const char* err = nullptr;
-    if (ParseEXRHeaderFromFile(&header, &version, path.c_str(), &err) != TINYEXR_SUCCESS) {
-      out.reason = err ? err : "its EXR header cannot be read";
-      FreeEXRErrorMessage(err);
-      return out;
-    }
-    const int w = header.data_window.max_x - header.data_window.min_x + 1;
-    const int h = header.data_window.max_y - header.data_window.min_y + 1;
-    FreeEXRHeader(&header);
+    int w = 0, h = 0;
+    out.reason = exrSizeFromHeader(path, w, h);
+    if (!out.reason.empty()) return out;
     out.reason = badSize(w, h);
     if (!out.reason.empty()) return out;
+    const char* err = nullptr;
     float* rgba = nullptr;
     int width = 0, height = 0;
     if (LoadEXR(&rgba, &width, &height, path.c_str(), &err) != TINYEXR_SUCCESS) {

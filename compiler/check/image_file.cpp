@@ -1,10 +1,11 @@
 #include "check/image_file.h"
 
+#include "check/image_header.h"
+
 #include <stb_image.h>
 #include <tinyexr.h>
 
 #include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -14,12 +15,6 @@ namespace {
 
 // The sRGB EOTF (IEC 61966-2-1).
 float srgbToLinear(float v) { return v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f); }
-
-std::string lowerExtension(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-  return ext;
-}
 
 std::string tooLarge(int w, int h) {
   return "it is " + std::to_string(w) + " x " + std::to_string(h) + " texels; at most " +
@@ -38,27 +33,14 @@ ImageFile readImageFile(const std::string& path) {
   auto image = std::make_shared<ir::TextureImage>();
   image->path = path;
   if (lowerExtension(path) == ".exr") {
-    EXRVersion version;
-    EXRHeader header;
-    // The size from the header first: a huge image is refused undecoded.
-    if (ParseEXRVersionFromFile(&version, path.c_str()) != TINYEXR_SUCCESS) {
-      out.reason = "it is not an EXR file";
-      return out;
-    }
-    InitEXRHeader(&header);
-    const char* err = nullptr;
-    if (ParseEXRHeaderFromFile(&header, &version, path.c_str(), &err) != TINYEXR_SUCCESS) {
-      out.reason = err ? err : "its EXR header cannot be read";
-      FreeEXRErrorMessage(err);
-      return out;
-    }
-    const int w = header.data_window.max_x - header.data_window.min_x + 1;
-    const int h = header.data_window.max_y - header.data_window.min_y + 1;
-    FreeEXRHeader(&header);
+    int w = 0, h = 0;
+    out.reason = exrSizeFromHeader(path, w, h);
+    if (!out.reason.empty()) return out;
     if (size_t(w) * size_t(h) > kMaxTexturePixels) {
       out.reason = tooLarge(w, h);
       return out;
     }
+    const char* err = nullptr;
     float* rgba = nullptr;
     int width = 0, height = 0;
     if (LoadEXR(&rgba, &width, &height, path.c_str(), &err) != TINYEXR_SUCCESS) {
