@@ -125,7 +125,9 @@ CompiledScene compileSource(const std::string& path, std::string text, const Com
     Diagnostics quiet;
     rebaseToCamera(out.scene, quiet);
   }
-  out.emitted = emitGlsl(out.scene, options.emit);
+  EmitOptions emit = options.emit;
+  if (options.spirv_cache) emit.mesh_grid_cache_version = options.cache_version;
+  out.emitted = emitGlsl(out.scene, emit);
   out.times.emit = secondsSince(t0);
   if (!sceneDataFits(out.scene, out.emitted, options.max_scene_data_bytes, diags)) return out;
   if (options.produce_spirv) {

@@ -1344,7 +1344,7 @@ class SceneWriter {
     const MeshShape& m = *n.mesh;
     auto it = mesh_bases_.find(&m);
     if (it == mesh_bases_.end()) {
-      const size_t grid = appendMeshGridData(m.grid_layout, m.grid(), data_);
+      const size_t grid = appendMeshGridData(m.grid_layout, m.grid(options_.mesh_grid_cache_version), data_);
       std::string call = "sdMeshGrid(%, " + std::to_string(grid) + ")";
       if (m.mode == MeshMode::Exact) {
         needHelper("sdMeshTriangle2", meshExactHelperGlsl());

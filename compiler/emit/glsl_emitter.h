@@ -62,6 +62,9 @@ struct EmitOptions {
   // ray is inside it, so rays that miss or leave the scene stop at once
   // (kernel emission only).
   bool scene_box = true;
+  // Non-empty (sdfc's version): meshes' grids go through the on-disk cache
+  // (meshin/mesh_grid_cache.h), as the SPIR-V does when CompileOptions asks.
+  std::string mesh_grid_cache_version;
 };
 
 struct EmitStats {

@@ -36,6 +36,7 @@ struct MeshGrid {
   std::vector<float> values;  // x fastest, then y, then z
   size_t winding_queries = 0;  // how many corners needed their own winding number
   double build_seconds = 0;
+  bool from_cache = false;  // read from the on-disk cache (meshin/mesh_grid_cache.h)
 };
 
 MeshGridLayout meshGridLayout(const Aabb& mesh_box, int cells = kMeshGridCells);

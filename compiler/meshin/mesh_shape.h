@@ -23,13 +23,16 @@ struct MeshShape {
   std::string mode_reason;         // why, for --emit ir ("auto: closed, oriented, ...")
   MeshGridLayout grid_layout;
 
-  // The sampled grid, built on first use (rendering needs it; eval and mesh do not).
-  const MeshGrid& grid() const {
-    std::call_once(grid_once_, [this] { grid_ = buildMeshGrid(*distance, grid_layout); });
+  // The sampled grid, built on first use (rendering needs it; eval and mesh do
+  // not). A non-empty `cache_version` (sdfc's) reads and fills the on-disk
+  // cache (meshin/mesh_grid_cache.h).
+  const MeshGrid& grid(const std::string& cache_version = "") const {
+    std::call_once(grid_once_, [&] { grid_ = cachedGrid(cache_version); });
     return grid_;
   }
 
  private:
+  MeshGrid cachedGrid(const std::string& cache_version) const;
   mutable std::once_flag grid_once_;
   mutable MeshGrid grid_;
 };
