@@ -31,6 +31,7 @@ def check(condition, message):
     print(("ok   " if condition else "FAIL ") + message)
     if not condition:
         failures.append(message)
+    return condition
 
 
 def read_png(path):
@@ -241,11 +242,13 @@ quit
 
     def reload_session(d, replacement, source, what):
         """Runs the viewer on d/main.sdf, replaces `source` by `replacement`
-        while it runs, and checks that the scene reloads and shows the change."""
+        while it runs (renamed over it, as editors save: a copy in place can be
+        seen half written, a failed reload, then a second one), and checks that
+        the scene reloads and shows the change."""
         j = lambda name: os.path.join(d, name)
         script = f"""wait-spp 2
 save {j('before.png')}
-run sleep 0.2; cp '{replacement}' '{source}'
+run sleep 0.2; cp '{replacement}' '{source}.new'; mv '{source}.new' '{source}'
 wait-reload
 wait-spp 2
 save {j('after.png')}
@@ -258,7 +261,8 @@ quit
         sys.stderr.write(r.stderr)
         check(r.returncode == 0, f"{what} session: quit exits 0 (got {r.returncode})")
         events = [l for l in open(log).read().splitlines() if l.startswith("event ")]
-        check(sum("reload ok" in e for e in events) == 2, f"saving the {what} reloads the scene")
+        if not check(sum("reload ok" in e for e in events) == 2, f"saving the {what} reloads the scene"):
+            sys.stderr.write("events:\n" + "\n".join(events) + "\n")
         before, after = read_png(j("before.png")), read_png(j("after.png"))
         check((np.abs(before - after).max(axis=-1) > 8).mean() > 0.02, f"the reload shows the {what}'s change")
 
