@@ -1,6 +1,7 @@
 #include "image_io.h"
 
 #include "atomic_file.h"
+#include "exr_channels.h"
 #include "png_encode.h"
 
 #include <stb_image.h>
@@ -96,47 +97,14 @@ std::string encodeImage(ImageFormat format, const FloatImage& image, const ToneM
       }
     }
     case ImageFormat::Exr: {
-      // One float plane per channel, B G R as tinyexr's SaveEXR orders them.
+      // One float channel each of R, G and B (exr_channels.h stores them sorted, B G R).
       const size_t n = image.pixelCount();
-      std::vector<float> planes[3];
+      std::vector<ExrChannel> channels{{"R", {}}, {"G", {}}, {"B", {}}};
       for (int c = 0; c < 3; ++c) {
-        planes[c].resize(n);
-        for (size_t i = 0; i < n; ++i) planes[c][i] = image.rgba[i * 4 + (2 - c)];
+        channels[c].values.resize(n);
+        for (size_t i = 0; i < n; ++i) channels[c].values[i] = image.rgba[i * 4 + c];
       }
-      float* pointers[3] = {planes[0].data(), planes[1].data(), planes[2].data()};
-      EXRImage exr;
-      InitEXRImage(&exr);
-      exr.num_channels = 3;
-      exr.images = reinterpret_cast<unsigned char**>(pointers);
-      exr.width = int(image.width);
-      exr.height = int(image.height);
-      EXRHeader header;
-      InitEXRHeader(&header);
-      header.num_channels = 3;
-      std::vector<EXRChannelInfo> channels(3);
-      const char* names[3] = {"B", "G", "R"};
-      for (int c = 0; c < 3; ++c) {
-        std::memset(&channels[c], 0, sizeof(EXRChannelInfo));
-        std::strncpy(channels[c].name, names[c], 255);
-      }
-      header.channels = channels.data();
-      int pixel_types[3] = {TINYEXR_PIXELTYPE_FLOAT, TINYEXR_PIXELTYPE_FLOAT, TINYEXR_PIXELTYPE_FLOAT};
-      header.pixel_types = pixel_types;
-      header.requested_pixel_types = pixel_types;
-      // As tinyexr's SaveEXR: ZIP, but none for images under 16x16.
-      header.compression_type = image.width < 16 && image.height < 16 ? TINYEXR_COMPRESSIONTYPE_NONE
-                                                                       : TINYEXR_COMPRESSIONTYPE_ZIP;
-      unsigned char* memory = nullptr;
-      const char* err = nullptr;
-      const size_t size = SaveEXRImageToMemory(&exr, &header, &memory, &err);
-      if (size == 0 || !memory) {
-        const std::string message = err ? err : "unknown error";
-        if (err) FreeEXRErrorMessage(err);
-        throw ImageIoError("cannot encode EXR: " + message);
-      }
-      std::string out(reinterpret_cast<const char*>(memory), size);
-      std::free(memory);
-      return out;
+      return encodeExrChannels(image.width, image.height, std::move(channels));
     }
     case ImageFormat::Pfm: return encodePfm(image);
   }

@@ -3,7 +3,6 @@
 #include "check/image_header.h"
 
 #include <stb_image.h>
-#include <tinyexr.h>
 
 #include <algorithm>
 #include <cmath>
@@ -45,20 +44,8 @@ EnvMapFile readEnvMapFile(const std::string& path) {
     if (!out.reason.empty()) return out;
     out.reason = badSize(w, h);
     if (!out.reason.empty()) return out;
-    const char* err = nullptr;
-    float* rgba = nullptr;
-    int width = 0, height = 0;
-    if (LoadEXR(&rgba, &width, &height, path.c_str(), &err) != TINYEXR_SUCCESS) {
-      out.reason = err ? err : "it cannot be decoded";
-      FreeEXRErrorMessage(err);
-      return out;
-    }
-    image->width = width;
-    image->height = height;
-    image->rgb.resize(size_t(width) * height * 3);
-    for (size_t i = 0; i < size_t(width) * height; ++i)
-      for (int c = 0; c < 3; ++c) image->rgb[i * 3 + c] = rgba[i * 4 + c];
-    std::free(rgba);
+    out.reason = decodeExrRgb(path, *image);
+    if (!out.reason.empty()) return out;
   } else if (ext == ".hdr") {
     int w = 0, h = 0, channels = 0;
     if (!stbi_info(path.c_str(), &w, &h, &channels) || !stbi_is_hdr(path.c_str())) {

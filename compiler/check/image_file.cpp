@@ -3,7 +3,6 @@
 #include "check/image_header.h"
 
 #include <stb_image.h>
-#include <tinyexr.h>
 
 #include <algorithm>
 #include <cmath>
@@ -40,23 +39,9 @@ ImageFile readImageFile(const std::string& path) {
       out.reason = tooLarge(w, h);
       return out;
     }
-    const char* err = nullptr;
-    float* rgba = nullptr;
-    int width = 0, height = 0;
-    if (LoadEXR(&rgba, &width, &height, path.c_str(), &err) != TINYEXR_SUCCESS) {
-      out.reason = err ? err : "it cannot be decoded";
-      FreeEXRErrorMessage(err);
-      return out;
-    }
-    image->width = width;
-    image->height = height;
-    image->rgb.resize(size_t(width) * height * 3);
-    for (size_t i = 0; i < size_t(width) * height; ++i)
-      for (int c = 0; c < 3; ++c) {
-        const float v = rgba[i * 4 + c];
-        image->rgb[i * 3 + c] = std::isfinite(v) ? std::max(v, 0.0f) : 0.0f;  // no NaN or negative colour
-      }
-    std::free(rgba);
+    out.reason = decodeExrRgb(path, *image);
+    if (!out.reason.empty()) return out;
+    for (float& v : image->rgb) v = std::isfinite(v) ? std::max(v, 0.0f) : 0.0f;  // no NaN or negative colour
   } else {
     int w = 0, h = 0, channels = 0;
     if (!stbi_info(path.c_str(), &w, &h, &channels)) {
