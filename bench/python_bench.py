@@ -134,6 +134,9 @@ def main():
     ap.add_argument("--resolution", type=int, default=96)
     ap.add_argument("--sdfc", default=os.path.join(ROOT, "build", "cli", "sdfc"))
     ap.add_argument("--sdfc-before", help="another sdfc binary for `sdfc eval` (the per-point evaluator's)")
+    ap.add_argument("--python", default=sys.executable,
+                    help="the interpreter of part 3's new processes (one with numpy and sdfc, e.g. a "
+                         "fresh venv: this one's site may import more than a user's would)")
     ap.add_argument("--out")
     args = ap.parse_args()
     import sdfc
@@ -216,7 +219,7 @@ def main():
     out = os.path.join("/tmp", "python_bench_%d.exr" % os.getpid())
     for _ in range(max(5, args.repeats)):
         t = time.perf_counter()
-        subprocess.run([sys.executable, "-c", code], check=True, env=env)
+        subprocess.run([args.python, "-c", code], check=True, env=env)
         py.append(time.perf_counter() - t)
         t = time.perf_counter()
         subprocess.run([args.sdfc, "render", small, "-o", out, "--size", "64x36", "--spp", "4", "--quiet"],

@@ -7,15 +7,21 @@
 #include <pybind11/stl.h>
 
 #include <atomic>
-#include <future>
+#include <chrono>
 #include <cmath>
+#include <condition_variable>
+#include <exception>
+#include <future>
 #include <limits>
 #include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
 #include <string>
+#include <thread>
 #include <tuple>
+#include <utility>
+#include <vector>
 
 #include "api/evaluate.h"
 #include "api/scene.h"
@@ -187,43 +193,82 @@ class PyScene {
     }
     const RenderSettings planned = renderSettingsFor(scene_->compiled, o);
     const uint64_t samples = uint64_t(planned.width) * planned.height * (o.view == gpu::kViewBeauty ? planned.spp : 1);
-    RenderSettings settings;
-    // Ctrl-C: Python's handler only notes the signal while the GIL is released;
-    // each pass's report checks for it, and the render stops after that pass.
+    // The device, the kernel and the render run on a worker that never takes the
+    // GIL; this thread imports numpy for the result meanwhile (most of a small
+    // first render's time in a new process), then relays each pass's progress
+    // and checks for Ctrl-C, which Python notes only in the main thread.
+    struct Relay {
+      std::mutex m;
+      std::condition_variable changed;
+      std::vector<std::pair<uint32_t, uint32_t>> passes;  // (samples done, spp)
+      bool finished = false;
+    } relay;
     std::atomic<bool> interrupt{false};
-    std::optional<py::error_already_set> error;
-    uint32_t reported = 0;
+    uint32_t reported = 0, total = 0;  // worker only
     const ProgressCallback report = [&](const ProgressInfo& info) {
-      py::gil_scoped_acquire acquire;
-      if (error) return;
-      if (PyErr_CheckSignals() != 0) {
-        error.emplace();
-        interrupt = true;
-        return;
-      }
       // Samples over the whole image: the denoiser's two halves report one by one.
       const uint32_t done = reported + info.samples_done;
       if (info.finished) reported = done;
-      if (progress) {
+      std::lock_guard<std::mutex> lock(relay.m);
+      relay.passes.emplace_back(std::min(done, total), total);
+      relay.changed.notify_one();
+    };
+    RenderedImage rendered;
+    std::exception_ptr failed;
+    std::thread worker([&] {
+      try {
+        std::lock_guard<std::mutex> one_render(renderMutex());
+        Kernel& k = kernelFor(device, kernel, o.height, samples);
+        const RenderSettings settings = renderSettingsFor(*k.compiled, o);
+        total = settings.spp;
+        rendered = renderImage(*k.renderer, *k.compiled, settings, image, report, &interrupt);
+      } catch (...) {
+        failed = std::current_exception();
+      }
+      std::lock_guard<std::mutex> lock(relay.m);
+      relay.finished = true;
+      relay.changed.notify_one();
+    });
+    std::optional<py::error_already_set> error;
+    try {
+      py::module_::import("numpy");
+    } catch (py::error_already_set& e) {
+      error.emplace(std::move(e));
+      interrupt = true;
+    }
+    for (bool finished = false; !finished;) {
+      std::vector<std::pair<uint32_t, uint32_t>> passes;
+      {
+        py::gil_scoped_release release;
+        std::unique_lock<std::mutex> lock(relay.m);
+        relay.changed.wait_for(lock, std::chrono::milliseconds(20),
+                               [&] { return relay.finished || !relay.passes.empty(); });
+        passes.swap(relay.passes);
+        finished = relay.finished;
+      }
+      if (error) continue;
+      if (PyErr_CheckSignals() != 0) {
+        error.emplace();
+        interrupt = true;
+        continue;
+      }
+      for (const auto& [done, spp_total] : passes) {
+        if (!progress) break;
         try {
-          (*progress)(std::min(done, settings.spp), settings.spp);
+          (*progress)(done, spp_total);
         } catch (py::error_already_set& e) {
           error.emplace(std::move(e));
           interrupt = true;
+          break;
         }
       }
-    };
-    RenderedImage rendered;
+    }
     {
-      // The device, the kernel and the render without the GIL: numpy's import
-      // (sdfc/__init__.py starts it) or other Python work goes on meanwhile.
       py::gil_scoped_release release;
-      std::lock_guard<std::mutex> one_render(renderMutex());
-      Kernel& k = kernelFor(device, kernel, o.height, samples);
-      settings = renderSettingsFor(*k.compiled, o);
-      rendered = renderImage(*k.renderer, *k.compiled, settings, image, report, &interrupt);
+      worker.join();
     }
     if (error) throw std::move(*error);
+    if (failed) std::rethrow_exception(failed);
     const FloatImage& img = rendered.image();
     py::array_t<float> out({py::ssize_t(img.height), py::ssize_t(img.width), py::ssize_t(3)});
     float* dst = out.mutable_data();

@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import os
 import struct
-import sys
 import zlib
 from typing import Callable, Mapping, Optional, Sequence
 
@@ -28,16 +27,6 @@ __all__ = [
     "Shape", "Material", "sphere", "box", "torus", "cylinder", "cone", "capsule", "plane",
     "union", "intersect", "subtract", "diffuse", "mirror", "glass", "metal", "emissive", "scene_text",
 ]
-
-
-def _import_numpy_meanwhile() -> None:
-    """A render returns a numpy array, and numpy's import is about 0.1 s of CPU:
-    the first render imports it in a thread while the device is created and the
-    image rendered, which release the GIL (as `sdfc render` creates the device
-    beside its compile)."""
-    if "numpy" not in sys.modules:
-        import threading
-        threading.Thread(target=__import__, args=("numpy",), daemon=True).start()
 
 
 class Diagnostic:
@@ -149,7 +138,6 @@ class Scene:
         called after every pass; Ctrl-C raises KeyboardInterrupt after the pass under way."""
         if size is not None:
             size = (int(size[0]), int(size[1]))
-        _import_numpy_meanwhile()
         return self._native.render(size, spp, view, denoise, float(time), int(seed), bounces,
                                    light_samples, int(device), progress)
 
