@@ -146,7 +146,7 @@ class FarmRender : public ::testing::Test {
       shard.header = expectedHeader(job, i);
       shard.header.device = deviceText(context_);
       shard.header.driver = driverText(context_);
-      renderShard(renderer, loaded_.compiled, job, shard.header, shard.sums);
+      renderShard(renderer, loaded_.compiled, job, shard);
       farm::writeShard((dir / farm::shardFileName(i)).string(), shard);
     }
     return job;
@@ -155,7 +155,7 @@ class FarmRender : public ::testing::Test {
   FloatImage mergeDir(const fs::path& dir) {
     FloatImage merged;
     farm::mergeShards(farm::checkShards(farm::findShards({dir.string()})),
-                      [&](int, const FloatImage& image) { merged = image; });
+                      [&](int, const FloatImage& image, const std::vector<ExrChannel>&) { merged = image; });
     return merged;
   }
 
@@ -194,7 +194,7 @@ TEST_F(FarmRender, MergedShardsEqualTheSingleRenderBitForBit) {
   fs::remove(dir / farm::shardFileName(2));
   const auto set = farm::checkShards(farm::findShards({dir.string()}));
   FloatImage mixed;
-  farm::mergeShards(set, [&](int, const FloatImage& image) { mixed = image; });
+  farm::mergeShards(set, [&](int, const FloatImage& image, const std::vector<ExrChannel>&) { mixed = image; });
   EXPECT_TRUE(mixed.rgba == single.color.rgba);
 }
 
