@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 
 #include "camera.h"
 #include "eval/evaluator.h"
@@ -37,48 +38,65 @@ void layerIdsAt(const ir::Scene& scene, double time, const glm::dvec3& o, const 
   material = std::max(material, 0);
 }
 
-std::vector<ExrChannel> renderLayers(const CompiledScene& compiled, const CameraDesc& camera,
-                                     const RenderSettings& settings, const RenderOutput& out) {
+const char* const kLayerRayChannelNames[9] = {"albedo.R", "albedo.G", "albedo.B", "N.X", "N.Y", "N.Z",
+                                              "Z",        "material", "object"};
+
+std::vector<ExrChannel> layerSampleChannels(const FloatImage& color, uint64_t samples) {
+  const size_t pixels = size_t(color.width) * color.height;
+  std::vector<ExrChannel> c;
+  for (const char* name : {"R", "G", "B", "variance.Y"}) c.push_back({name, std::vector<float>(pixels)});
+  const double n = double(samples);
+  for (size_t i = 0; i < pixels; ++i) {
+    const float* rgba = &color.rgba[i * 4];
+    for (int k = 0; k < 3; ++k) c[k].values[i] = rgba[k];
+    // Variance of the pixel's mean luminance: the samples' (unbiased) variance / n.
+    const double mean_y = 0.2126 * rgba[0] + 0.7152 * rgba[1] + 0.0722 * rgba[2];
+    const double var = n >= 2 ? std::max(0.0, (double(rgba[3]) - mean_y * mean_y) * n / (n - 1)) / n : 0.0;
+    c[3].values[i] = float(var);
+  }
+  return c;
+}
+
+std::vector<ExrChannel> layerRayChannels(const CompiledScene& compiled, const CameraDesc& camera,
+                                         const RenderSettings& settings, const RenderOutput& out) {
   const uint32_t w = settings.width, h = settings.height;
   const size_t pixels = size_t(w) * h;
-  auto channel = [pixels](const char* name) { return ExrChannel{name, std::vector<float>(pixels)}; };
   std::vector<ExrChannel> c;
-  for (const char* name : {"R", "G", "B", "albedo.R", "albedo.G", "albedo.B", "N.X", "N.Y", "N.Z", "Z",
-                           "material", "object", "variance.Y"})
-    c.push_back(channel(name));
+  for (const char* name : kLayerRayChannelNames) c.push_back({name, std::vector<float>(pixels)});
   // The camera ray through each pixel's centre, as the kernel's cameraRay
   // (pinhole; its float32 frame parameters, in double).
   const gpu::FrameParams frame = makeFrameParams(camera, w, h, settings.time);
   const glm::dvec3 origin(frame.cam_origin), right(frame.cam_right), up(frame.cam_up), forward(frame.cam_forward);
   const double tan_half = frame.cam_origin.w, aspect = double(w) / double(h);
-  const double n = out.samples_done;
   for (uint32_t y = 0; y < h; ++y) {
     for (uint32_t x = 0; x < w; ++x) {
       const size_t i = size_t(y) * w + x;
-      const float* rgba = &out.color.rgba[i * 4];
       const float* nd = &out.normal_depth.rgba[i * 4];
       const float* as = &out.albedo_steps.rgba[i * 4];
       for (int k = 0; k < 3; ++k) {
-        c[k].values[i] = rgba[k];
-        c[3 + k].values[i] = as[k];
-        c[6 + k].values[i] = nd[k];
+        c[k].values[i] = as[k];
+        c[3 + k].values[i] = nd[k];
       }
       const bool hit = nd[3] >= 0;
-      c[9].values[i] = hit ? nd[3] : kLayersMissDepth;
+      c[6].values[i] = hit ? nd[3] : kLayersMissDepth;
       int object = -1, material = -1;
       if (hit) {
         const double ndc_x = 2.0 * (x + 0.5) / w - 1.0, ndc_y = 1.0 - 2.0 * (y + 0.5) / h;
         const glm::dvec3 d = glm::normalize(forward + (ndc_x * aspect * tan_half) * right + (ndc_y * tan_half) * up);
         layerIdsAt(compiled.scene, settings.time, origin, d, nd[3], object, material);
       }
-      c[10].values[i] = hit ? float(material) : kLayersMissId;
-      c[11].values[i] = hit ? float(object) : kLayersMissId;
-      // Variance of the pixel's mean luminance: the samples' (unbiased) variance / n.
-      const double mean_y = 0.2126 * rgba[0] + 0.7152 * rgba[1] + 0.0722 * rgba[2];
-      const double var = n >= 2 ? std::max(0.0, (double(rgba[3]) - mean_y * mean_y) * n / (n - 1)) / n : 0.0;
-      c[12].values[i] = float(var);
+      c[7].values[i] = hit ? float(material) : kLayersMissId;
+      c[8].values[i] = hit ? float(object) : kLayersMissId;
     }
   }
+  return c;
+}
+
+std::vector<ExrChannel> renderLayers(const CompiledScene& compiled, const CameraDesc& camera,
+                                     const RenderSettings& settings, const RenderOutput& out) {
+  std::vector<ExrChannel> c = layerSampleChannels(out.color, out.samples_done);
+  std::vector<ExrChannel> ray = layerRayChannels(compiled, camera, settings, out);
+  c.insert(c.end(), std::make_move_iterator(ray.begin()), std::make_move_iterator(ray.end()));
   return c;
 }
 

@@ -18,9 +18,20 @@ constexpr float kLayersMissDepth = 1e10f;  // Z, as Blender writes the sky
 constexpr float kLayersMissId = -1.0f;     // material, object
 
 // `out` from a render of `compiled` (its kernel emitted with layers) whose AOV
-// ray was read (not jittered); `settings` its size and time.
+// ray was read (not jittered); `settings` its size and time. The channels of
+// layerSampleChannels and layerRayChannels together.
 std::vector<ExrChannel> renderLayers(const CompiledScene& compiled, const CameraDesc& camera,
                                      const RenderSettings& settings, const RenderOutput& out);
+
+// R, G, B and variance.Y from the mean colour of `samples` samples per pixel (a:
+// their mean squared luminance): what `sdfc merge` computes from summed shards.
+std::vector<ExrChannel> layerSampleChannels(const FloatImage& color, uint64_t samples);
+// albedo.*, N.*, Z, material, object: the centre ray's, the same in every pass
+// (what the shard holding sample 0 stores; farm/shard_file.h).
+std::vector<ExrChannel> layerRayChannels(const CompiledScene& compiled, const CameraDesc& camera,
+                                         const RenderSettings& settings, const RenderOutput& out);
+// Their names, as layerRayChannels returns them.
+extern const char* const kLayerRayChannelNames[9];
 
 // The top-level shape the ray (origin o, unit direction d) enters at its hit
 // distance t (its index among the scene's top-level shapes) and its material:

@@ -58,6 +58,7 @@ std::vector<std::string> renderArgs(const CommandLine& cl, const farm::ShardPlan
   if (cl.optimize) a.push_back("-O");
   if (cl.paper_baseline) a.push_back("--paper-baseline");
   if (cl.white_noise) a.push_back("--white-noise");
+  if (cl.layers) a.push_back("--layers");
   if (cl.count_evaluations) a.push_back("--count-evaluations");
   if (!cl.count_event.empty()) {
     a.push_back("--count-event");

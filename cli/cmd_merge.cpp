@@ -1,5 +1,6 @@
 // `sdfc merge`: shards -> images (farm/shard_merge.h); refuses shards that do not
 // belong together with a message naming the files.
+#include <algorithm>
 #include <filesystem>
 #include <iostream>
 #include <string>
@@ -7,8 +8,10 @@
 
 #include "commands.h"
 #include "cli_support.h"
+#include "exr_channels.h"
 #include "image_io.h"
 #include "progress.h"
+#include "render_layers.h"
 #include "shard_merge.h"
 
 namespace sdfc {
@@ -57,9 +60,32 @@ int runMerge(const CommandLine& cl) {
     const bool animation = set.frames.count(farm::kNoFrame) == 0;
     const std::filesystem::path parent = std::filesystem::path(cl.output).parent_path();
     if (!parent.empty()) std::filesystem::create_directories(parent);
-    stats = farm::mergeShards(set, [&](int frame, const FloatImage& image) {
+    const bool layers = set.reference.layers;
+    if (layers && imageFormatFromPath(cl.output) != ImageFormat::Exr)
+      throw farm::FarmError("the shards are of a --layers render, which merges into one multi-channel EXR: -o '" +
+                            cl.output + "' must end in .exr");
+    stats = farm::mergeShards(set, [&](int frame, const FloatImage& merged,
+                                       const std::vector<ExrChannel>& features) {
       const std::string path = animation ? farm::framePath(cl.output, frame) : cl.output;
-      writeImage(path, image);
+      FloatImage image = merged;
+      if (layers) {
+        // The file `render --layers` writes: the samples' channels from the sums,
+        // the centre ray's from the shard holding sample 0 (docs/layers.md).
+        std::vector<ExrChannel> channels = layerSampleChannels(merged, set.reference.spp);
+        for (const char* name : kLayerRayChannelNames) {
+          const auto it = std::find_if(features.begin(), features.end(),
+                                       [&](const ExrChannel& c) { return c.name == name; });
+          if (it == features.end())
+            throw farm::FarmError(std::string("a --layers shard holding sample 0 of ") +
+                                  (animation ? "frame " + std::to_string(frame) : std::string("the still")) +
+                                  " has no '" + name + "' channel (damaged, or not written by sdfc)");
+          channels.push_back(*it);
+        }
+        writeExrChannels(path, merged.width, merged.height, std::move(channels));
+        for (size_t p = 0; p < size_t(image.width) * image.height; ++p) image.rgba[p * 4 + 3] = 1.0f;
+      } else {
+        writeImage(path, image);
+      }
       if (cl.png) {
         const std::string png = path.substr(0, path.find_last_of('.')) + ".png";
         if (png != path) writeImage(png, image);

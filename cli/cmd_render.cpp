@@ -140,7 +140,6 @@ int runRender(const CommandLine& cl) {
     // no longer match its own variance.
     const char* other = cl.view != "beauty" && !cl.view.empty() ? "--view"
                         : cl.adaptive                          ? "--adaptive"
-                        : cl.shards > 0 || cl.shard_index >= 0  ? "--shards"
                         : !cl.denoiser.empty() && cl.denoiser != "none" ? "--denoise"
                                                                         : nullptr;
     if (other) {
@@ -149,12 +148,14 @@ int runRender(const CommandLine& cl) {
                    "(docs/layers.md)\n";
       return kExitUsage;
     }
+    // With --shards, -o is the shard directory; `sdfc merge` writes the EXR.
+    const bool shards = cl.shards > 0 || cl.shard_index >= 0;
     bool exr = false;
     try {
       exr = imageFormatFromPath(cl.output) == ImageFormat::Exr;
     } catch (const std::exception&) {
     }
-    if (!exr) {
+    if (!exr && !shards) {
       std::cerr << "sdfc: error: --layers writes one multi-channel EXR: -o '" << cl.output
                 << "' must end in .exr\n";
       return kExitUsage;

@@ -73,7 +73,7 @@ int runRenderShard(const CommandLine& cl, const RenderOverrides& o) {
     };
   farm::ShardImage shard;
   shard.header = header;
-  const RenderOutput out = renderShard(renderer, compiled, job, header, shard.sums, progress, installInterruptHandler());
+  const RenderOutput out = renderShard(renderer, compiled, job, shard, progress, installInterruptHandler());
   if (fault) std::raise(SIGKILL);  // a one-pass shard: killed before its file is written
   if (out.interrupted) {
     std::cerr << "sdfc: interrupted; shard " << cl.shard_index << " not written\n";

@@ -299,6 +299,7 @@ void registerCommands(CLI::App& app, CommandLine& cl) {
       ->check(wholeNumberIn(0, 1 << 20));
   submit->add_flag("--dry-run", cl.dry_run, "write the job scripts, print the sbatch commands, submit nothing");
   submit->add_flag("--bounds", cl.force_bounds, "as `sdfc render --bounds`");
+  submit->add_flag("--layers", cl.layers, "shards of `sdfc render --layers`: the merge writes its EXR (docs/layers.md)");
   emit_flags(submit);
   submit->callback([&cl] { cl.command = "farm"; cl.farm_command = "submit"; });
   CLI::App* status = farm->add_subcommand("status", "progress of a farm job from its files and Slurm");

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <iostream>
 
+#include "render_layers.h"
 #include "spirv/glsl_to_spirv.h"
 
 namespace sdfc {
@@ -45,6 +46,7 @@ ShardJob shardJobFor(const CommandLine& cl, const RenderOverrides& o, const Comp
   h.spp = s.spp;
   h.samples_per_pass = job.plan.samples_per_pass;
   h.slices = job.plan.slices;
+  h.layers = cl.layers;
   return job;
 }
 
@@ -88,20 +90,28 @@ bool shardComplete(const std::string& path, const farm::ShardHeader& expected, b
 }
 
 RenderOutput renderShard(Renderer& renderer, const CompiledScene& compiled, const ShardJob& job,
-                         const farm::ShardHeader& header, std::vector<SampleSum>& sums,
-                         const ProgressCallback& progress, const std::atomic<bool>* interrupt) {
+                         farm::ShardImage& shard, const ProgressCallback& progress,
+                         const std::atomic<bool>* interrupt) {
+  const farm::ShardHeader& header = shard.header;
   RenderSettings settings = job.settings;
   settings.time = static_cast<float>(header.time);
   settings.first_sample = header.samples.begin;
   settings.spp = header.samples.count();
   settings.max_samples_per_pass = job.plan.samples_per_pass;
   settings.keep_sums = true;
+  // The centre ray's layers are read once, by the shard that holds sample 0.
+  const bool ray_layers = header.layers && header.samples.begin == 0;
   RenderOutput out = renderer.render(cameraFor(compiled.scene), settings, progress, interrupt);
   const size_t pixels = out.color_sums.size() / 4;
-  sums.resize(pixels * 3);  // r, g, b: alpha is always 1
+  // r, g, b; alpha is 1 without layers, the squared luminance with them.
+  const uint32_t stride = header.sumsPerPixel();
+  shard.sums.resize(pixels * stride);
   for (size_t p = 0; p < pixels; ++p)
-    for (int c = 0; c < 3; ++c) sums[p * 3 + c] = out.color_sums[p * 4 + c];
+    for (uint32_t c = 0; c < stride; ++c) shard.sums[p * stride + c] = out.color_sums[p * 4 + c];
   std::vector<SampleSum>().swap(out.color_sums);
+  shard.features.clear();
+  if (ray_layers && !out.interrupted)
+    shard.features = layerRayChannels(compiled, cameraFor(compiled.scene), settings, out);
   return out;
 }
 

@@ -33,11 +33,13 @@ std::string driverText(const VulkanContext& context);
 // (device and driver only when `with_device`): a finished task that resuming skips.
 bool shardComplete(const std::string& path, const farm::ShardHeader& expected, bool with_device);
 
-// Renders the shard `header` describes (its frame's time, its sample range, the
-// whole image's pass split) and leaves its exact r, g, b sums in `sums`.
+// Renders the shard `shard.header` describes (its frame's time, its sample range,
+// the whole image's pass split) and leaves its exact sums in `shard.sums` (r, g,
+// b; with layers also the squared luminance) and, with layers in the shard
+// holding sample 0, the centre ray's layers in `shard.features`.
 RenderOutput renderShard(Renderer& renderer, const CompiledScene& compiled, const ShardJob& job,
-                         const farm::ShardHeader& header, std::vector<SampleSum>& sums,
-                         const ProgressCallback& progress = {}, const std::atomic<bool>* interrupt = nullptr);
+                         farm::ShardImage& shard, const ProgressCallback& progress = {},
+                         const std::atomic<bool>* interrupt = nullptr);
 
 // `sdfc render --shards K --shard-index I -o DIR`.
 int runRenderShard(const CommandLine& cl, const RenderOverrides& o);

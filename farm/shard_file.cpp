@@ -2,6 +2,7 @@
 
 #include <tinyexr.h>
 
+#include <algorithm>
 #include <charconv>
 #include <climits>
 #include <cmath>
@@ -21,17 +22,19 @@ constexpr const char* kPrefix = "sdfc.";
 constexpr int kWords = 4;  // 32-bit words per SampleSum
 constexpr long long kMaxShardSide = 16384;  // `render --size`'s largest side
 
-// Channel names in the file's (sorted) order.
-std::vector<std::string> channelNames() {
-  std::vector<std::string> names = {"B", "G", "R"};
-  for (const char* c : {"B", "G", "R"})
-    for (int w = 0; w < kWords; ++w) names.push_back(std::string("sum.") + c + "." + std::to_string(w));
-  return names;
+// The sum channels' names "sum.<c>.<word>"; c's index in a pixel's sums.
+const char* const kSumNames[] = {"R", "G", "B", "Y2"};
+int sumIndex(const std::string& c) {
+  for (int i = 0; i < 4; ++i)
+    if (c == kSumNames[i]) return i;
+  return -1;
 }
 int rgbIndex(char c) { return c == 'R' ? 0 : c == 'G' ? 1 : 2; }
 
 std::map<std::string, std::string> toAttributes(const ShardHeader& h) {
-  return {{"scene_hash", h.scene_hash},
+  return {{"format", std::to_string(kShardFormat)},
+          {"layers", h.layers ? "1" : "0"},
+          {"scene_hash", h.scene_hash},
           {"kernel_hash", h.kernel_hash},
           {"version", h.version},
           {"device", h.device},
@@ -71,6 +74,15 @@ ShardHeader fromAttributes(const std::map<std::string, std::string>& a, const st
   auto count = [&](const char* key, long long lo = 0) { return uint32_t(integer(key, lo, UINT32_MAX)); };
   ShardHeader h;
   h.scene_hash = get("scene_hash");
+  // Before any other field: an older file may lack them, or mean other things by them.
+  if (!a.count("format"))
+    throw FarmError(path + ": a shard of an older sdfc (shard format 1, no '" + kPrefix +
+                    "format' attribute); this sdfc merges format " + std::to_string(kShardFormat) +
+                    " only: render the shard again");
+  if (get("format") != std::to_string(kShardFormat))
+    throw FarmError(path + ": shard format '" + get("format") + "'; this sdfc merges format " +
+                    std::to_string(kShardFormat) + " only: render the shard again with this sdfc");
+  h.layers = integer("layers", 0, 1) == 1;
   h.kernel_hash = get("kernel_hash");
   h.version = get("version");
   h.device = get("device");
@@ -147,7 +159,7 @@ std::string fingerprint(const void* data, size_t size) {
 
 std::string headerMismatch(const ShardHeader& a, const ShardHeader& b) {
   const auto x = toAttributes(a), y = toAttributes(b);
-  for (const char* key : {"scene_hash", "kernel_hash", "version", "device", "driver", "settings", "width",
+  for (const char* key : {"layers", "scene_hash", "kernel_hash", "version", "device", "driver", "settings", "width",
                           "height", "seed", "spp", "samples_per_pass"})
     if (x.at(key) != y.at(key)) return std::string(key) + ": '" + x.at(key) + "' vs '" + y.at(key) + "'";
   return "";
@@ -156,28 +168,45 @@ std::string headerMismatch(const ShardHeader& a, const ShardHeader& b) {
 void writeShard(const std::string& path, const ShardImage& shard) {
   const ShardHeader& h = shard.header;
   const size_t pixels = size_t(h.width) * h.height;
-  if (pixels == 0 || shard.sums.size() != pixels * 3)
+  const uint32_t stride = h.sumsPerPixel();
+  if (pixels == 0 || shard.sums.size() != pixels * stride)
     throw FarmError("writeShard: " + std::to_string(shard.sums.size()) + " sums for a " +
                     std::to_string(h.width) + "x" + std::to_string(h.height) + " image");
-  const std::vector<std::string> names = channelNames();
-  const int channels = int(names.size());
-  std::vector<std::vector<uint32_t>> planes(channels, std::vector<uint32_t>(pixels));
-  for (int c = 0; c < channels; ++c) {
-    const std::string& name = names[c];
-    if (name.size() == 1) {
-      const int rgb = rgbIndex(name[0]);
-      for (size_t p = 0; p < pixels; ++p) {
-        const float mean = sampleMean(shard.sums[p * 3 + rgb], h.samples.count());
-        std::memcpy(&planes[c][p], &mean, 4);
-      }
-    } else {
-      const int rgb = rgbIndex(name[4]), word = name[6] - '0';
-      for (size_t p = 0; p < pixels; ++p)
-        planes[c][p] = uint32_t(static_cast<unsigned __int128>(shard.sums[p * 3 + rgb]) >> (32 * word));
+  // Every channel as (name, type, 32-bit words), stored sorted by name.
+  struct Plane {
+    std::string name;
+    int type;
+    std::vector<uint32_t> words;
+  };
+  std::vector<Plane> planes;
+  for (const char* c : {"R", "G", "B"}) {
+    Plane plane{c, TINYEXR_PIXELTYPE_FLOAT, std::vector<uint32_t>(pixels)};
+    for (size_t p = 0; p < pixels; ++p) {
+      const float mean = sampleMean(shard.sums[p * stride + rgbIndex(c[0])], h.samples.count());
+      std::memcpy(&plane.words[p], &mean, 4);
     }
+    planes.push_back(std::move(plane));
   }
+  for (uint32_t c = 0; c < stride; ++c)
+    for (int w = 0; w < kWords; ++w) {
+      Plane plane{std::string("sum.") + kSumNames[c] + "." + std::to_string(w), TINYEXR_PIXELTYPE_UINT,
+                  std::vector<uint32_t>(pixels)};
+      for (size_t p = 0; p < pixels; ++p)
+        plane.words[p] = uint32_t(static_cast<unsigned __int128>(shard.sums[p * stride + c]) >> (32 * w));
+      planes.push_back(std::move(plane));
+    }
+  for (const ExrChannel& f : shard.features) {
+    if (f.values.size() != pixels || f.name.empty() || f.name.size() > 255 || f.name == "R" || f.name == "G" ||
+        f.name == "B" || f.name.rfind("sum.", 0) == 0)
+      throw FarmError("writeShard: channel '" + f.name + "' has the wrong size or name");
+    Plane plane{f.name, TINYEXR_PIXELTYPE_FLOAT, std::vector<uint32_t>(pixels)};
+    std::memcpy(plane.words.data(), f.values.data(), pixels * 4);
+    planes.push_back(std::move(plane));
+  }
+  std::sort(planes.begin(), planes.end(), [](const Plane& a, const Plane& b) { return a.name < b.name; });
+  const int channels = int(planes.size());
   std::vector<unsigned char*> pointers(channels);
-  for (int c = 0; c < channels; ++c) pointers[c] = reinterpret_cast<unsigned char*>(planes[c].data());
+  for (int c = 0; c < channels; ++c) pointers[c] = reinterpret_cast<unsigned char*>(planes[c].words.data());
 
   EXRHeader header;
   InitEXRHeader(&header);
@@ -185,8 +214,8 @@ void writeShard(const std::string& path, const ShardImage& shard) {
   std::vector<int> types(channels);
   for (int c = 0; c < channels; ++c) {
     std::memset(&infos[c], 0, sizeof infos[c]);
-    std::strncpy(infos[c].name, names[c].c_str(), 255);
-    types[c] = names[c].size() == 1 ? TINYEXR_PIXELTYPE_FLOAT : TINYEXR_PIXELTYPE_UINT;
+    std::strncpy(infos[c].name, planes[c].name.c_str(), 255);
+    types[c] = planes[c].type;
   }
   header.num_channels = channels;
   header.channels = infos.data();
@@ -237,9 +266,10 @@ ShardHeader readShardHeader(const std::string& path) {
 }
 
 namespace {
-// Loads `path`'s pixels and hands every sum word to fn(sum index, word number, value).
+// Loads `path`'s pixels and hands every sum word to fn(sum index, word number,
+// value) and, with `features`, returns its float channels other than R, G, B there.
 template <typename Fn>
-ShardHeader forEachSumWord(const std::string& path, Fn&& fn) {
+ShardHeader forEachSumWord(const std::string& path, Fn&& fn, std::vector<ExrChannel>* features = nullptr) {
   HeaderGuard g;
   parseHeader(path, g);
   const ShardHeader h = headerFrom(g.header, path);
@@ -259,38 +289,50 @@ ShardHeader forEachSumWord(const std::string& path, Fn&& fn) {
     throw FarmError(path + ": pixel data does not match its " + std::to_string(h.width) + "x" +
                     std::to_string(h.height) + " header");
   const size_t pixels = size_t(h.width) * h.height;
+  const uint32_t stride = h.sumsPerPixel();
   int found = 0;
   for (int c = 0; c < g.header.num_channels; ++c) {
     const std::string name = g.header.channels[c].name;
-    if (name.size() != 7 || name.compare(0, 4, "sum.") != 0) continue;
-    const int word = name[6] - '0';
-    if (word < 0 || word >= kWords || g.header.pixel_types[c] != TINYEXR_PIXELTYPE_UINT) continue;
-    const int rgb = rgbIndex(name[4]);
+    const int type = g.header.pixel_types[c];
+    if (name.compare(0, 4, "sum.") != 0) {
+      if (features && type == TINYEXR_PIXELTYPE_FLOAT && name != "R" && name != "G" && name != "B") {
+        const auto* plane = reinterpret_cast<const float*>(image.images[c]);
+        features->push_back({name, std::vector<float>(plane, plane + pixels)});
+      }
+      continue;
+    }
+    const size_t dot = name.rfind('.');
+    const int sum = sumIndex(name.substr(4, dot - 4));
+    const int word = dot + 2 == name.size() ? name[dot + 1] - '0' : -1;
+    if (sum < 0 || uint32_t(sum) >= stride || word < 0 || word >= kWords || type != TINYEXR_PIXELTYPE_UINT)
+      throw FarmError(path + ": unexpected channel '" + name + "' in " +
+                      (h.layers ? "a --layers shard" : "a shard without --layers"));
     const auto* plane = reinterpret_cast<const uint32_t*>(image.images[c]);
-    for (size_t p = 0; p < pixels; ++p) fn(p * 3 + rgb, word, plane[p]);
+    for (size_t p = 0; p < pixels; ++p) fn(p * stride + sum, word, plane[p]);
     ++found;
   }
-  if (found != 3 * kWords) throw FarmError(path + ": not an sdfc shard (sum channels missing)");
+  if (found != int(stride) * kWords) throw FarmError(path + ": not an sdfc shard (sum channels missing)");
   return h;
 }
 }  // namespace
 
 ShardImage readShard(const std::string& path) {
   const ShardHeader header = readShardHeader(path);
-  std::vector<unsigned __int128> words(size_t(header.width) * header.height * 3, 0);
+  std::vector<unsigned __int128> words(size_t(header.width) * header.height * header.sumsPerPixel(), 0);
   ShardImage shard;
   shard.header = forEachSumWord(path, [&](size_t i, int word, uint32_t value) {
     words[i] |= static_cast<unsigned __int128>(value) << (32 * word);
-  });
+  }, &shard.features);
   shard.sums.assign(words.begin(), words.end());
   return shard;
 }
 
-ShardHeader addShard(const std::string& path, std::vector<unsigned __int128>& total) {
+ShardHeader addShard(const std::string& path, std::vector<unsigned __int128>& total,
+                     std::vector<ExrChannel>* features) {
   return forEachSumWord(path, [&](size_t i, int word, uint32_t value) {
     if (i >= total.size()) throw FarmError(path + ": image larger than the other shards");
     total[i] += static_cast<unsigned __int128>(value) << (32 * word);  // modulo 2^128, exact
-  });
+  }, features);
 }
 
 }  // namespace sdfc::farm

@@ -3,17 +3,26 @@
 // Channels R, G, B (float) are the shard's own mean radiance, so any EXR viewer
 // shows it; sum.{R,G,B}.{0..3} (uint) are the exact fixed-point sums of its samples
 // (runtime/sample_sum.h, 128 bits as four 32-bit words, least significant first),
-// which `sdfc merge` adds. String attributes "sdfc.*" record everything a merge must
-// agree on (ShardHeader).
+// which `sdfc merge` adds. A shard of a `--layers` render also holds
+// sum.Y2.{0..3}, the sum of its samples' squared luminance (the variance layer's
+// input), and the shard holding sample 0 of its image holds the layers that come
+// from the unjittered centre ray, not from samples (albedo.*, N.*, Z, material,
+// object: float, under their names in the layered EXR). String attributes
+// "sdfc.*" record everything a merge must agree on (ShardHeader).
 #pragma once
 #include <cstdint>
 #include <string>
 #include <vector>
 
+#include "exr_channels.h"
 #include "sample_sum.h"
 #include "shard_plan.h"
 
 namespace sdfc::farm {
+
+// sdfc.format: 2 added the layers (sdfc.layers, sum.Y2, the centre ray's layers).
+// A file without it, or of another format, is refused by name: never guessed at.
+constexpr uint32_t kShardFormat = 2;
 
 struct ShardHeader {
   std::string scene_hash;   // source text, -D values and compile flags
@@ -31,6 +40,10 @@ struct ShardHeader {
   int frame = kNoFrame;
   double time = 0;                // scene time of the frame
   SampleRange samples;
+  bool layers = false;            // a `render --layers` shard (sdfc.layers)
+
+  // Sums per pixel: r, g, b, and with layers the squared luminance.
+  uint32_t sumsPerPixel() const { return layers ? 4 : 3; }
 };
 
 // Attributes two shards of one job must agree on (all but the slicing, range, frame
@@ -40,7 +53,9 @@ std::string headerMismatch(const ShardHeader& a, const ShardHeader& b);
 
 struct ShardImage {
   ShardHeader header;
-  std::vector<SampleSum> sums;  // r, g, b per pixel, row-major
+  std::vector<SampleSum> sums;  // header.sumsPerPixel() per pixel, row-major
+  // Float channels besides the shard's own mean (the centre ray's layers).
+  std::vector<ExrChannel> features;
 };
 
 // Writes through "<path>.tmp" and a rename: a killed shard leaves no shard file.
@@ -49,8 +64,10 @@ void writeShard(const std::string& path, const ShardImage& shard);
 ShardHeader readShardHeader(const std::string& path);
 ShardImage readShard(const std::string& path);
 // Adds the shard's sums to `total` (two's complement, modulo 2^128: exact while the
-// true sum fits a SampleSum) without keeping a copy; returns its header.
-ShardHeader addShard(const std::string& path, std::vector<unsigned __int128>& total);
+// true sum fits a SampleSum) without keeping a copy; returns its header. With
+// `features`, also returns its float channels other than R, G, B there.
+ShardHeader addShard(const std::string& path, std::vector<unsigned __int128>& total,
+                     std::vector<ExrChannel>* features = nullptr);
 
 // 16 hex digits of FNV-1a 64 (a fingerprint, not a security measure).
 std::string fingerprint(const void* data, size_t size);

@@ -43,6 +43,12 @@ ShardSet checkShards(const std::vector<std::string>& paths, int first_frame, int
     if (reference_path.empty()) {
       set.reference = h;
       reference_path = path;
+    } else if (h.layers != set.reference.layers) {
+      const std::string& layered = h.layers ? path : reference_path;
+      const std::string& plain = h.layers ? reference_path : path;
+      throw FarmError(path + " does not belong with " + reference_path + ": " + layered +
+                      " is a shard of a --layers render and " + plain +
+                      " is not (render every shard with --layers, or none)");
     } else if (const std::string why = headerMismatch(set.reference, h); !why.empty()) {
       throw FarmError(path + " does not belong with " + reference_path + ": " + why);
     }
@@ -85,23 +91,33 @@ ShardSet checkShards(const std::vector<std::string>& paths, int first_frame, int
 }
 
 MergeStats mergeShards(const ShardSet& set,
-                       const std::function<void(int frame, const FloatImage& image)>& emit) {
+                       const std::function<void(int frame, const FloatImage& image,
+                                                const std::vector<ExrChannel>& features)>& emit) {
   const auto start = std::chrono::steady_clock::now();
   MergeStats stats;
   const ShardHeader& h = set.reference;
   const size_t pixels = size_t(h.width) * h.height;
+  const uint32_t stride = h.sumsPerPixel();
   std::vector<unsigned __int128> total;
+  std::vector<ExrChannel> features;
   for (const auto& [frame, shards] : set.frames) {
-    total.assign(pixels * 3, 0);
+    total.assign(pixels * stride, 0);
+    features.clear();
     for (const auto& [path, header] : shards) {
-      addShard(path, total);
+      // The centre ray's layers do not depend on the samples; a single render
+      // reads them in its last pass, the shard holding sample 0 in its own.
+      const bool first = h.layers && header.samples.begin == 0;
+      addShard(path, total, first ? &features : nullptr);
+      if (first && features.empty())
+        throw FarmError(path + ": a --layers shard holding sample 0 without the albedo, N, Z, material "
+                        "and object channels (damaged, or not written by sdfc)");
       ++stats.shards;
     }
     FloatImage image(h.width, h.height, 1.0f);
     for (size_t p = 0; p < pixels; ++p)
-      for (int c = 0; c < 3; ++c)
-        image.rgba[p * 4 + c] = sampleMean(static_cast<SampleSum>(total[p * 3 + c]), h.spp);
-    emit(frame, image);
+      for (uint32_t c = 0; c < stride; ++c)
+        image.rgba[p * 4 + c] = sampleMean(static_cast<SampleSum>(total[p * stride + c]), h.spp);
+    emit(frame, image, features);
     ++stats.frames;
   }
   stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -36,9 +36,12 @@ struct MergeStats {
   double seconds = 0;
 };
 
-// Merges each frame of `set` in frame order and hands its image (linear, a = 1) to
-// `emit`. Holds one frame's sums (48 bytes a pixel) and one shard at a time.
+// Merges each frame of `set` in frame order and hands its image (linear; a = 1, or
+// with layers the mean squared luminance) and, with layers, the centre ray's
+// layers of the shard holding sample 0 to `emit`. Holds one frame's sums (48
+// bytes a pixel, 64 with layers) and one shard at a time.
 MergeStats mergeShards(const ShardSet& set,
-                       const std::function<void(int frame, const FloatImage& image)>& emit);
+                       const std::function<void(int frame, const FloatImage& image,
+                                                const std::vector<ExrChannel>& features)>& emit);
 
 }  // namespace sdfc::farm

@@ -118,6 +118,39 @@ TEST(FarmShardFile, SumsAndHeaderSurviveTheRoundTrip) {
   }
 }
 
+// A --layers shard: four sums a pixel (r, g, b, squared luminance) and the
+// centre ray's float channels come back as written; a plain header refuses them.
+TEST(FarmShardFile, LayeredShardSurvivesTheRoundTrip) {
+  const fs::path dir = scratch("roundtrip_layers");
+  farm::ShardImage shard;
+  farm::ShardHeader& h = shard.header;
+  h.scene_hash = h.kernel_hash = h.version = h.device = h.driver = h.settings = "x";
+  h.width = 4;
+  h.height = 2;
+  h.spp = 8;
+  h.samples_per_pass = 4;
+  h.samples = {0, 4};
+  h.layers = true;
+  std::mt19937_64 random(11);
+  for (int i = 0; i < 8 * 4; ++i) shard.sums.push_back((SampleSum(int64_t(random())) << 64) | SampleSum(random()));
+  shard.features = {{"Z", std::vector<float>(8, 2.5f)}, {"object", {0, 1, 2, -1, 0, 1, 2, -1}}};
+  const std::string path = (dir / "shard.exr").string();
+  farm::writeShard(path, shard);
+  const farm::ShardImage back = farm::readShard(path);
+  EXPECT_TRUE(back.header.layers);
+  EXPECT_TRUE(back.sums == shard.sums);
+  ASSERT_EQ(back.features.size(), 2u);
+  EXPECT_EQ(back.features[0].name, "Z");
+  EXPECT_TRUE(back.features[1].values == shard.features[1].values);
+  EXPECT_EQ(farm::headerMismatch(back.header, h), "");
+  farm::ShardHeader plain = h;
+  plain.layers = false;
+  EXPECT_EQ(farm::headerMismatch(plain, h), "layers: '0' vs '1'");
+  // A plain shard's three sums a pixel are no layered shard's four.
+  shard.header.layers = false;
+  EXPECT_THROW(farm::writeShard(path, shard), farm::FarmError);
+}
+
 // Renders examples/castle.sdf in shards through the same code as
 // `sdfc render --shards` and merges them like `sdfc merge`.
 class FarmRender : public ::testing::Test {
@@ -146,7 +179,7 @@ class FarmRender : public ::testing::Test {
       shard.header = expectedHeader(job, i);
       shard.header.device = deviceText(context_);
       shard.header.driver = driverText(context_);
-      renderShard(renderer, loaded_.compiled, job, shard.header, shard.sums);
+      renderShard(renderer, loaded_.compiled, job, shard);
       farm::writeShard((dir / farm::shardFileName(i)).string(), shard);
     }
     return job;
@@ -155,7 +188,7 @@ class FarmRender : public ::testing::Test {
   FloatImage mergeDir(const fs::path& dir) {
     FloatImage merged;
     farm::mergeShards(farm::checkShards(farm::findShards({dir.string()})),
-                      [&](int, const FloatImage& image) { merged = image; });
+                      [&](int, const FloatImage& image, const std::vector<ExrChannel>&) { merged = image; });
     return merged;
   }
 
@@ -194,7 +227,7 @@ TEST_F(FarmRender, MergedShardsEqualTheSingleRenderBitForBit) {
   fs::remove(dir / farm::shardFileName(2));
   const auto set = farm::checkShards(farm::findShards({dir.string()}));
   FloatImage mixed;
-  farm::mergeShards(set, [&](int, const FloatImage& image) { mixed = image; });
+  farm::mergeShards(set, [&](int, const FloatImage& image, const std::vector<ExrChannel>&) { mixed = image; });
   EXPECT_TRUE(mixed.rgba == single.color.rgba);
 }
 

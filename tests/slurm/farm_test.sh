@@ -6,6 +6,7 @@
 #   animation   6 frames x 2 shards, each frame == its own single render
 #   fault       a shard's process killed mid-way: the in-job retry, and (no retries)
 #               a resubmission that renders only the missing shard, give the same bytes
+#   layers      2 shards of a --layers still: image.exr == one `sdfc render --layers`, byte for byte
 #   broken      a scene with errors is refused before anything is submitted
 #   video       ffmpeg fails in the merge job: status says the video was not made
 set -euo pipefail
@@ -52,6 +53,16 @@ still)
   [ "$(cat "$work/job/farm.job")" = "$record_before" ] || fail "a finished job's resubmission changed its record"
   [ "$(squeue --noheader --states=all --format=%i | wc -l)" = "$jobs_before" ] || fail "a finished job was submitted again"
   echo "still: 8 shards merged bit-identical to the single render; resubmitting the finished job queues nothing"
+  ;;
+layers)
+  # 3 passes of 31 over 2 shards (31 and 62 samples): the layered EXR, exactly.
+  layer_flags=(--size 48x27 --spp 93 --seed 7 --layers)
+  "$sdfc" render "$castle" "${layer_flags[@]}" -o "$work/single.exr" -q
+  "$sdfc" farm submit "$castle" "${layer_flags[@]}" --shards 2 -o "$work/job"
+  wait_for_job "$work/job"
+  "$sdfc" farm status "$work/job"
+  cmp "$work/single.exr" "$work/job/image.exr" || fail "merged layers differ from the single render --layers"
+  echo "layers: 2 shards of a --layers still merged bit-identical to the single render"
   ;;
 animation)
   # fps 4: frame times 0, 0.25, ... are exact; --frames means the same frames for render and farm.
