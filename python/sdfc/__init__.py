@@ -13,7 +13,7 @@ from __future__ import annotations
 import os
 import struct
 import zlib
-from typing import Callable, Mapping, Optional, Sequence
+from collections.abc import Callable, Mapping, Sequence  # not typing: its import is a tenth of `import sdfc`
 
 from . import _sdfc
 from ._sdfc import DeviceError, read_image
@@ -128,10 +128,10 @@ class Scene:
         return self._native.spirv(view)
 
     # -- pictures and meshes
-    def render(self, size: Optional[Sequence[int]] = None, spp: Optional[int] = None,
-               view: str = "beauty", denoise: Optional[str] = None, time: float = 0.0,
-               seed: int = 0, bounces: Optional[int] = None, light_samples: Optional[int] = None,
-               device: int = -1, progress: Optional[Callable[[int, int], None]] = None):
+    def render(self, size: Sequence[int] | None = None, spp: int | None = None,
+               view: str = "beauty", denoise: str | None = None, time: float = 0.0,
+               seed: int = 0, bounces: int | None = None, light_samples: int | None = None,
+               device: int = -1, progress: Callable[[int, int], None] | None = None):
         """Path-traces the scene: a linear float32 (H, W, 3) image, equal bit for bit to
         `sdfc render -o x.exr` with the same settings (unset ones are the scene's; denoise
         None is nlr for the beauty view, "none" turns it off). progress(done, total) is
@@ -173,7 +173,7 @@ def _checked(native, defines_given: bool = False) -> Scene:
     return Scene(native)
 
 
-def _defines(defines: Optional[Mapping[str, float]]) -> dict:
+def _defines(defines: Mapping[str, float] | None) -> dict:
     out = {}
     for name, value in (defines or {}).items():
         if isinstance(value, bool) or not isinstance(value, (int, float)):
@@ -182,14 +182,14 @@ def _defines(defines: Optional[Mapping[str, float]]) -> dict:
     return out
 
 
-def load(path, defines: Optional[Mapping[str, float]] = None,
+def load(path, defines: Mapping[str, float] | None = None,
          disabled_warnings: Sequence[str] = (), werror: bool = False) -> Scene:
     """Reads and checks the .sdf file at `path`; `defines` as `-D name=value`.
     Raises SceneError (an unreadable file, or errors) with the diagnostics."""
     return _checked(_sdfc.load(os.fspath(path), _defines(defines), list(disabled_warnings), werror))
 
 
-def parse(text: str, name: str = "<string>", defines: Optional[Mapping[str, float]] = None,
+def parse(text: str, name: str = "<string>", defines: Mapping[str, float] | None = None,
           disabled_warnings: Sequence[str] = (), werror: bool = False) -> Scene:
     """Checks .sdf `text`; `name` is what diagnostics call it (imports resolve from
     its folder). Raises SceneError with the diagnostics."""

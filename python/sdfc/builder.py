@@ -8,7 +8,7 @@ of a shape is .sdf text in sdfc fmt's layout that `sdfc check` accepts.
 from __future__ import annotations
 
 import math
-from typing import Optional, Sequence
+from collections.abc import Sequence
 
 
 def _number(x) -> str:
@@ -60,8 +60,8 @@ def emissive(color=(1, 1, 1), strength: float = 1) -> Material:
 class Shape:
     """A node of the scene tree: a call with arguments and children."""
 
-    def __init__(self, name: str, args: Optional[dict] = None, children: Sequence["Shape"] = (),
-                 positional: Optional[str] = None):
+    def __init__(self, name: str, args: dict | None = None, children: Sequence["Shape"] = (),
+                 positional: str | None = None):
         self.name = name
         self.args = dict(args or {})
         self.children = list(children)
@@ -204,8 +204,8 @@ def plane(normal=(0, 1, 0), offset: float = 0) -> Shape:
     return Shape("plane", {"normal": _vector(normal), "offset": _number(offset)})
 
 
-def scene_text(shape: Shape, camera: Optional[dict] = None, sun: Optional[dict] = None,
-               size: Optional[Sequence[int]] = None, spp: Optional[int] = None) -> str:
+def scene_text(shape: Shape, camera: dict | None = None, sun: dict | None = None,
+               size: Sequence[int] | None = None, spp: int | None = None) -> str:
     """A whole .sdf file: optional render, camera and sun settings, then the scene block.
     camera={"position": [...], "target": [...]}, sun={"direction": [...]}."""
     lines = []
