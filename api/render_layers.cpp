@@ -5,6 +5,7 @@
 #include <iterator>
 
 #include "camera.h"
+#include "denoise_features.h"
 #include "eval/evaluator.h"
 
 namespace sdfc {
@@ -68,7 +69,10 @@ std::vector<ExrChannel> layerRayChannels(const CompiledScene& compiled, const Ca
   const gpu::FrameParams frame = makeFrameParams(camera, w, h, settings.time);
   const glm::dvec3 origin(frame.cam_origin), right(frame.cam_right), up(frame.cam_up), forward(frame.cam_forward);
   const double tan_half = frame.cam_origin.w, aspect = double(w) / double(h);
-  for (uint32_t y = 0; y < h; ++y) {
+  // Rows on both cores: the ids are a float64 evaluation of every top-level
+  // shape per pixel, the layers' dearest part on the CPU.
+  forEachRow(int(h), [&](int row) {
+    const uint32_t y = uint32_t(row);
     for (uint32_t x = 0; x < w; ++x) {
       const size_t i = size_t(y) * w + x;
       const float* nd = &out.normal_depth.rgba[i * 4];
@@ -88,7 +92,7 @@ std::vector<ExrChannel> layerRayChannels(const CompiledScene& compiled, const Ca
       c[7].values[i] = hit ? float(material) : kLayersMissId;
       c[8].values[i] = hit ? float(object) : kLayersMissId;
     }
-  }
+  });
   return c;
 }
 
