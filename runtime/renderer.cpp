@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <future>
 
 #include "loop_budget.h"
 #include "vk_check.h"
@@ -86,6 +87,9 @@ RenderOutput mergeRenders(const RenderOutput& a, const RenderOutput& b) {
 Renderer::Renderer(const VulkanContext& context, const std::vector<uint32_t>& frag_spirv,
                    const std::vector<float>& scene_data)
     : context_(context) {
+  // The attachments' first image view compiles in lavapipe beside the pipeline
+  // (render_pipeline.h): the second core is idle otherwise. Joined before returning.
+  std::future<void> views = std::async(std::launch::async, [&] { warmAttachmentViews(context_); });
   createRenderPipeline(pipeline_, context_, frag_spirv, scene_data);
 }
 
