@@ -255,6 +255,48 @@ void createRenderPipeline(RenderPipeline& pipeline, const VulkanContext& context
   vkDestroyShaderModule(device, frag, nullptr);
 }
 
+void warmAttachmentViews(const VulkanContext& context) {
+  VkDevice device = context.device;
+  VkImage image = VK_NULL_HANDLE;
+  VkDeviceMemory memory = VK_NULL_HANDLE;
+  VkImageView view = VK_NULL_HANDLE;
+  VkImageCreateInfo info{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
+  info.imageType = VK_IMAGE_TYPE_2D;
+  info.format = kAttachmentFormat;
+  info.extent = {1, 1, 1};
+  info.mipLevels = 1;
+  info.arrayLayers = 1;
+  info.samples = VK_SAMPLE_COUNT_1_BIT;
+  info.tiling = VK_IMAGE_TILING_OPTIMAL;
+  info.usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
+  info.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+  // Failures are left to the real target's creation, which reports them.
+  if (vkCreateImage(device, &info, nullptr, &image) == VK_SUCCESS) {
+    VkMemoryRequirements reqs{};
+    vkGetImageMemoryRequirements(device, image, &reqs);
+    VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+    alloc.allocationSize = reqs.size;
+    try {
+      alloc.memoryTypeIndex = findMemoryType(context, reqs.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+    } catch (...) {
+      vkDestroyImage(device, image, nullptr);
+      return;
+    }
+    if (vkAllocateMemory(device, &alloc, nullptr, &memory) == VK_SUCCESS &&
+        vkBindImageMemory(device, image, memory, 0) == VK_SUCCESS) {
+      VkImageViewCreateInfo view_info{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
+      view_info.image = image;
+      view_info.viewType = VK_IMAGE_VIEW_TYPE_2D;
+      view_info.format = kAttachmentFormat;
+      view_info.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+      if (vkCreateImageView(device, &view_info, nullptr, &view) == VK_SUCCESS)
+        vkDestroyImageView(device, view, nullptr);
+    }
+    if (memory) vkFreeMemory(device, memory, nullptr);
+    vkDestroyImage(device, image, nullptr);
+  }
+}
+
 void destroyRenderPipeline(RenderPipeline& pipeline, const VulkanContext& context) {
   const auto lock = lockQueue(context);
   if (context.device) vkDeviceWaitIdle(context.device);

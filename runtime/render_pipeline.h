@@ -41,6 +41,13 @@ void createRenderPipeline(RenderPipeline& pipeline, const VulkanContext& context
                           const std::vector<float>& scene_data = {});
 void destroyRenderPipeline(RenderPipeline& pipeline, const VulkanContext& context);
 
+// Creates and destroys one 1x1 attachment image and its view. Mesa 24+'s lavapipe
+// JIT-compiles its texture functions for a format at the first view of it (tens
+// of ms, once per device): run beside createRenderPipeline, that compile overlaps
+// the pipeline's instead of delaying the first draw. Errors are ignored (the real
+// target reports them).
+void warmAttachmentViews(const VulkanContext& context);
+
 struct RenderTarget {
   uint32_t width = 0, height = 0;
   VkImage images[kAttachmentCount]{};

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <future>
 
 #include "loop_budget.h"
 #include "vk_check.h"
@@ -86,6 +87,9 @@ RenderOutput mergeRenders(const RenderOutput& a, const RenderOutput& b) {
 Renderer::Renderer(const VulkanContext& context, const std::vector<uint32_t>& frag_spirv,
                    const std::vector<float>& scene_data)
     : context_(context) {
+  // The attachments' first image view compiles in lavapipe beside the pipeline
+  // (render_pipeline.h): the second core is idle otherwise. Joined before returning.
+  std::future<void> views = std::async(std::launch::async, [&] { warmAttachmentViews(context_); });
   createRenderPipeline(pipeline_, context_, frag_spirv, scene_data);
 }
 
@@ -146,18 +150,6 @@ const float* Renderer::runDraws(uint32_t width, uint32_t target_rows, uint32_t r
   runPass(context_, pipeline_, target_, draws.data(), draws.size(), timeout_seconds, rows, readback);
   return target_.mapped;
 }
-
-// sampleMean(sampleTerm(v, count), count) without the fixed point where that is v
-// itself: for 2^-41 <= |v| and |v| count < 2^62 (count <= 2^29), v count is exact
-// in double and v count 2^64 an integer, so nothing is dropped and the division
-// gives v back. Zeros (-0 becomes +0), tiny values, NaN and inf take the long way.
-namespace {
-float onePassMean(float v, uint32_t count) {
-  const float a = std::fabs(v);
-  if (a >= 0x1p-41f && count <= (1u << 29) && double(a) * count < kSampleSumLimit) return v;
-  return sampleMean(sampleTerm(v, count), count);
-}
-}  // namespace
 
 FloatImage Accumulation::mean() const {
   FloatImage out;
@@ -290,10 +282,13 @@ void Renderer::drawBand(Accumulation& acc, uint32_t b, uint32_t count, RenderOut
     return image.rgba.data() + base;
   };
   float* color = grow(out.color);
-  for (size_t i = 0; i < band_floats; ++i) {
-    // A one-pass render never filled `sum`: its term is the whole sum.
-    const SampleSum value = sum.empty() ? sampleTerm(pass[i], count) : sum[i];
-    color[i] = sampleMean(value, count_done);
+  if (sum.empty() && count_done == count) {
+    // A one-pass render never filled `sum`: its term is the whole sum, and its
+    // mean the pass's float (onePassMean: the same bits, without the 128-bit division).
+    for (size_t i = 0; i < band_floats; ++i) color[i] = onePassMean(pass[i], count);
+  } else {
+    for (size_t i = 0; i < band_floats; ++i)
+      color[i] = sampleMean(sum.empty() ? sampleTerm(pass[i], count) : sum[i], count_done);
   }
   if (keep_sums) out.color_sums.insert(out.color_sums.end(), sum.begin(), sum.end());
   std::vector<SampleSum>().swap(sum);

@@ -47,4 +47,14 @@ inline float sampleMean(SampleSum sum, uint64_t count) {
   return static_cast<float>(static_cast<double>(sum) / kSampleSumScale / double(count));
 }
 
+// sampleMean(sampleTerm(v, count), count) without the fixed point where that is v
+// itself: for 2^-41 <= |v| and |v| count < 2^62 (count <= 2^29), v count is exact
+// in double and v count 2^64 an integer, so nothing is dropped and the division
+// gives v back. Zeros (-0 becomes +0), tiny values, NaN and inf take the long way.
+inline float onePassMean(float v, uint32_t count) {
+  const float a = std::fabs(v);
+  if (a >= 0x1p-41f && count <= (1u << 29) && double(a) * count < kSampleSumLimit) return v;
+  return sampleMean(sampleTerm(v, count), count);
+}
+
 }  // namespace sdfc

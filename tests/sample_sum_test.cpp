@@ -59,5 +59,30 @@ TEST(SampleSum, SumsOfTermsRoundTripToTheMean) {
   EXPECT_EQ(sampleMean(whole, 96), v);
 }
 
+// render()'s one-pass resolve and the viewer's first pass take onePassMean's
+// shortcut; it must give the long way's bits for every float and count.
+TEST(SampleSum, OnePassMeanIsTheLongWayBitForBit) {
+  auto same = [](float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; };
+  auto longWay = [](float v, uint32_t count) { return sampleMean(sampleTerm(v, count), count); };
+  const float edges[] = {0.0f, -0.0f, 1.0f, -1.0f, 0x1p-41f, -0x1p-41f, 0x1.fffffep-42f, 1e-30f,
+                         std::numeric_limits<float>::denorm_min(), std::numeric_limits<float>::max(),
+                         std::numeric_limits<float>::infinity(), std::numeric_limits<float>::quiet_NaN(),
+                         0x1p33f, 0x1p32f, 4.6e18f};
+  const uint32_t counts[] = {1u, 2u, 3u, 64u, 1u << 29, (1u << 29) + 1, 4294967295u};
+  for (float v : edges)
+    for (uint32_t count : counts)
+      EXPECT_TRUE(same(onePassMean(v, count), longWay(v, count))) << "v " << v << " count " << count;
+  std::mt19937_64 rng(777);
+  int mismatches = 0;
+  for (int i = 0; i < 1000000; ++i) {
+    const uint32_t bits = uint32_t(rng());
+    float v;
+    std::memcpy(&v, &bits, sizeof v);
+    const uint32_t count = (i & 1) ? 1u : uint32_t(rng() % 70000) + 1;
+    if (!same(onePassMean(v, count), longWay(v, count))) ++mismatches;
+  }
+  EXPECT_EQ(mismatches, 0);
+}
+
 }  // namespace
 }  // namespace sdfc
