@@ -526,7 +526,7 @@ float march(vec3 ro, vec3 rd, float t_max, float side, bool shade, out int steps
   material = 0;
   for (int i = loopZero(); i < kSceneMaxSteps + kRefineSteps + max(kNormalEvaluations, 1); i++) {
     // The march is over: what followed its loop, then the taps if it hit.
-    if (tap < 0 && (ended || i >= kSceneMaxSteps + kRefineSteps || t > t_max)) {
+    if (tap < 0 && (ended || i >= kSceneMaxSteps + kRefineSteps || !(t <= t_max))) {  // (a NaN t ends it too)
       // Out of steps and still closing in: a ray grazing a face converges too slowly
       // to reach it in budget (steps shrink by the sine of the angle). It is no sky:
       // it hits at the root of the secant through its last two samples (exact on a
