@@ -649,6 +649,64 @@ const int kRefineSteps = 2;
 // The largest over-relaxation of a march step (march(), docs/large_scenes.md).
 const float kRelaxMax = 1.6;
 
+// The surface a marched ray hit at p = ro + t rd (not an analytic plane): its
+// outward normal, and its material id (kernels that shade: the path tracer
+// and the albedo view; the other views read no material).
+// The surface is that of the solid the ray enters, or of the one it leaves
+// when it enters none: the normal is the field's gradient just past p along
+// the ray (inside the solid entered, outside the one left), and the
+// material is read there or just before p. Taps centred on p mix both
+// faces at an edge (a dark line along a mirror's rim) and both solids
+// where two touch (a glass box on the ground: a zero gradient).
+// h: 16x float resolution at p, or 1/400 of a pixel at t if wider (the
+// width of the strip along an edge whose normal mixes the two faces);
+// the point ahead lies past p's offset from the surface.
+// The gradient comes from 4 taps on a tetrahedron's vertices (cheaper than the
+// paper's 6 central differences, sec. 2.4) and the material from a 5th
+// evaluation. march() runs them in its own loop after the hit, through its one
+// scene call: each call site of a scene function is a whole inlined copy, and
+// lavapipe's compile of it at the first draw is most of a reload's latency
+// (two instance groups: bench/results/instance_groups.md).
+const int kNormalEvaluations = 5;
+struct SurfaceTaps {
+  vec3 p, rd, centre;
+  float h, ahead;
+  vec3 n;
+  float field;  // the taps' mean: the field at centre to O(h^2)
+};
+SurfaceTaps surfaceTapsBegin(vec3 p, vec3 rd, float t, float offness) {
+  SurfaceTaps s;
+  s.p = p;
+  s.rd = rd;
+  s.h = max(16.0 * fpEps(maxComponent(abs(p)), 0.0), 0.01 * t * kScenePixelCone);
+  s.ahead = 2.0 * s.h + 2.0 * offness;
+  s.centre = p + rd * s.ahead;
+  s.n = vec3(0.0);
+  s.field = 0.0;
+  return s;
+}
+// (+,-,-), (-,-,+), (-,+,-), (+,+,+): the even-parity cube corners
+vec3 surfaceTapCorner(int i) { return vec3(i == 0 || i == 3, i >= 2, i == 1 || i == 3) * 2.0 - 1.0; }
+// Where evaluation i reads the field: a tap, or the 5th, where the material
+// is read, ahead when that is inside a solid.
+vec3 surfaceTapPoint(SurfaceTaps s, int i) {
+  return i < 4 ? s.centre + surfaceTapCorner(i) * s.h : (s.field < 0.0 ? s.centre : s.p - s.rd * s.ahead);
+}
+void surfaceTapAdd(inout SurfaceTaps s, int i, vec2 dm, inout int material) {
+  if (i < 4) {
+    s.n += surfaceTapCorner(i) * dm.x;
+    s.field += 0.25 * dm.x;
+  } else {
+    material = int(dm.y);
+  }
+}
+vec3 surfaceTapsNormal(SurfaceTaps s) {
+  // A degenerate field (coplanar CSG faces make a zero-width sheet whose
+  // taps cancel) has no gradient: a NaN here would poison the denoisers.
+  float len = length(s.n);
+  return len > 0.0 ? s.n / len : vec3(0.0, 1.0, 0.0);
+}
+
 // Sphere tracing (Hart 1996; paper sec. 2.3): step by the distance bound scaled
 // by 1 / Lipschitz. side = -1 marches inside solids (glass exit points) on the
 // negated distance. Returns the hit distance, or -1 past t_max.
@@ -670,11 +728,15 @@ const float kRelaxMax = 1.6;
 // Out of steps is not a miss when the ray is still closing in (a grazing ray
 // crawling along a face): it hits at its secant root, or at its first stop. Its
 // steps reach kSceneMaxSteps, which sdfc counts on the AOV ray and warns about.
+//
+// shade: on a marched hit (not an analytic one), the surface's normal and
+// material too (SurfaceTaps), in the same loop; else normal is 0.
 // The analytic surface (a plane or sphere, sdPlanesHit) the last march() stopped on, or -1.
 int g_plane_hit = -1;
 // |distance| at the point the last march() returned: how far it may lie off the surface.
 float g_hit_offness = 0.0;
-float march(vec3 ro, vec3 rd, float t_max, float side, out int steps) {
+float march(vec3 ro, vec3 rd, float t_max, float side, bool shade, out int steps, out vec3 normal,
+            out int material) {
   // Analytic planes and spheres are not in sdScene: intersect them here and
   // march no farther.
   g_plane_hit = -1;
@@ -710,17 +772,70 @@ float march(vec3 ro, vec3 rd, float t_max, float side, out int steps) {
   bool relaxed = false;               // the last step was over-relaxed
   int refined = 0;
   steps = 0;
-  // (t > t_max: no marched surface on this ray; the loop body breaks at once.)
-  for (int i = loopZero(); i < kSceneMaxSteps + kRefineSteps && t <= t_max; i++) {
+  // The march's samples, then (shade, on a marched hit) its surface's normal
+  // evaluations, in one loop around one scene call: every call site of the
+  // scene is a whole inlined copy, which lavapipe compiles at the first draw.
+  // A sample that ends the march sets `ended` and continues; the next
+  // iteration closes the march and begins the taps (runtime/loop_budget.h:
+  // at most the march's steps and the normal's evaluations, as two loops).
+  bool ended = false;
+  float t_end = -1.0;
+  int tap = -1;  // the normal's evaluation this iteration; -1 while marching
+  SurfaceTaps taps;
+  normal = vec3(0.0);
+  material = 0;
+  for (int i = loopZero(); i < kSceneMaxSteps + kRefineSteps + max(kNormalEvaluations, 1); i++) {
+    // The march is over: what followed its loop, then the taps if it hit.
+    if (tap < 0 && (ended || i >= kSceneMaxSteps + kRefineSteps || !(t <= t_max))) {  // (a NaN t ends it too)
+      // Out of steps and still closing in: a ray grazing a face converges too slowly
+      // to reach it in budget (steps shrink by the sine of the angle). It is no sky:
+      // it hits at the root of the secant through its last two samples (exact on a
+      // flat face) when that lies within reach, else at its first stop if it had one.
+      if (t_hit < 0.0 && exhausted) {
+        float t_root = t_prev - d_prev / min(slope, -1e-30);
+        if (t_root <= t_max) {
+          t_hit = t_root;
+          d_hit = 0.0;
+        } else if (t_first >= 0.0) {
+          t_hit = t_first;
+          d_hit = d_first;
+        }
+      }
+      if (t_hit < 0.0 && plane >= 0) {
+        g_plane_hit = plane;
+        g_hit_offness = 0.0;
+        t_end = t_plane;
+        break;
+      }
+      g_hit_offness = abs(d_hit);
+      t_end = t_hit >= 0.0 ? max(t_hit, 0.0) : -1.0;
+      if (!shade || kNormalEvaluations == 0 || t_end < 0.0) break;
+      taps = surfaceTapsBegin(ro + rd * t_end, rd, t_end, g_hit_offness);
+      tap = 0;
+    }
     g_loop_iterations++;
-    float d = side * sdScene(ro + rd * t);
+    vec3 q = ro + rd * t;
+    if (tap >= 0) {
+      q = surfaceTapPoint(taps, tap);
+    } else {
+    }
+    // The one scene call (sdSceneMaterial is sdScene and a constant when the
+    // scene has one material).
+    vec2 dm = tap >= 0 ? sdSceneMaterial(q) : vec2(sdScene(q), 0.0);
+    if (tap >= 0) {
+      surfaceTapAdd(taps, tap, dm, material);
+      if (++tap == kNormalEvaluations) break;
+      continue;
+    }
+    float d = side * dm.x;
     if (i > 0) slope = (d - d_prev) / max(t - t_prev, 1e-30);
     if (probe) {
       probe = false;
       if (d <= d_prev) {  // moving in (or along): a hit where it started
         t_hit = 0.0;
         d_hit = d_prev;
-        break;
+        ended = true;
+        continue;
       }
       leaving = true;
     }
@@ -747,7 +862,10 @@ float march(vec3 ro, vec3 rd, float t_max, float side, out int steps) {
         d_hit = d;
       }
       if (++refined == kRefineSteps) {
-        if (crossed || abs(d_hit) <= dErr(ro_mag, t_hit)) break;
+        if (crossed || abs(d_hit) <= dErr(ro_mag, t_hit)) {
+          ended = true;
+          continue;
+        }
         refined = 0;
         if (!narrow) {
           // Unconfirmed: march on from the stop, which is safe (d_stop > 0).
@@ -765,7 +883,10 @@ float march(vec3 ro, vec3 rd, float t_max, float side, out int steps) {
         }
         t_stop = -1.0;
         t_hit = -1.0;
-        if (t > t_max) break;
+        if (t > t_max) {
+          ended = true;
+          continue;
+        }
         continue;
       }
     } else {
@@ -798,7 +919,8 @@ float march(vec3 ro, vec3 rd, float t_max, float side, out int steps) {
         exhausted = slope < 0.0;
         t_prev = t;
         d_prev = d;
-        break;
+        ended = true;
+        continue;
       }
     }
     // Over-relaxation by the slope m of d along the ray (scaled, m >= -1): if
@@ -828,29 +950,15 @@ float march(vec3 ro, vec3 rd, float t_max, float side, out int steps) {
     t_prev = t;
     d_prev = d;
     t = t_next;
-    if (t_stop < 0.0 && t > t_max) break;
-  }
-  // Out of steps and still closing in: a ray grazing a face converges too slowly
-  // to reach it in budget (steps shrink by the sine of the angle). It is no sky:
-  // it hits at the root of the secant through its last two samples (exact on a
-  // flat face) when that lies within reach, else at its first stop if it had one.
-  if (t_hit < 0.0 && exhausted) {
-    float t_root = t_prev - d_prev / min(slope, -1e-30);
-    if (t_root <= t_max) {
-      t_hit = t_root;
-      d_hit = 0.0;
-    } else if (t_first >= 0.0) {
-      t_hit = t_first;
-      d_hit = d_first;
+    if (t_stop < 0.0 && t > t_max) {
+      ended = true;
+      continue;
     }
   }
-  if (t_hit < 0.0 && plane >= 0) {
-    g_plane_hit = plane;
-    g_hit_offness = 0.0;
-    return t_plane;
+  if (tap >= 0) {
+    normal = surfaceTapsNormal(taps);
   }
-  g_hit_offness = abs(d_hit);
-  return t_hit >= 0.0 ? max(t_hit, 0.0) : -1.0;
+  return t_end;
 }
 
 // ---- lights ----
@@ -947,50 +1055,6 @@ float cameraSide(vec3 ro) {
   return frame.camera_inside != 0u ? -1.0 : 1.0;
 }
 
-// The surface a marched ray hit at p = ro + t rd (not an analytic plane): its
-// outward normal, and its material id (kernels that shade: the path tracer
-// and the albedo view; the other views read no material).
-// The surface is that of the solid the ray enters, or of the one it leaves
-// when it enters none: the normal is the field's gradient just past p along
-// the ray (inside the solid entered, outside the one left), and the
-// material is read there or just before p. Taps centred on p mix both
-// faces at an edge (a dark line along a mirror's rim) and both solids
-// where two touch (a glass box on the ground: a zero gradient).
-// h: 16x float resolution at p, or 1/400 of a pixel at t if wider (the
-// width of the strip along an edge whose normal mixes the two faces);
-// the point ahead lies past p's offset from the surface.
-// The gradient comes from 4 taps on a tetrahedron's vertices (cheaper than the
-// paper's 6 central differences, sec. 2.4) and the material from a 5th
-// evaluation, all in one loop: sdSceneMaterial is inlined once for the taps and
-// the material (each call site of a scene function is a whole inlined copy, and
-// lavapipe's compile of it at the first draw is most of a reload's latency).
-vec3 surfaceNormal(vec3 p, vec3 rd, float t, out int material) {
-  float h = max(16.0 * fpEps(maxComponent(abs(p)), 0.0), 0.01 * t * kScenePixelCone);
-  float ahead = 2.0 * h + 2.0 * g_hit_offness;
-  vec3 centre = p + rd * ahead;
-  vec3 n = vec3(0.0);
-  float field = 0.0;  // the taps' mean: the field at centre to O(h^2)
-  material = 0;
-  const int kEvaluations = 5;
-  for (int i = loopZero(); i < kEvaluations; i++) {
-    g_loop_iterations++;
-    // (+,-,-), (-,-,+), (-,+,-), (+,+,+): the even-parity cube corners
-    vec3 k = vec3(i == 0 || i == 3, i >= 2, i == 1 || i == 3) * 2.0 - 1.0;
-    // The 5th: where the material is read, ahead when that is inside a solid.
-    vec3 q = i < 4 ? centre + k * h : (field < 0.0 ? centre : p - rd * ahead);
-    vec2 dm = sdSceneMaterial(q);
-    if (i < 4) {
-      n += k * dm.x;
-      field += 0.25 * dm.x;
-    } else {
-      material = int(dm.y);
-    }
-  }
-  // A degenerate field (coplanar CSG faces make a zero-width sheet whose
-  // taps cancel) has no gradient: a NaN here would poison the denoisers.
-  float len = length(n);
-  return len > 0.0 ? n / len : vec3(0.0, 1.0, 0.0);
-}
 
 // ---- path tracer ----
 // Primary-hit data of the path traced with record_aov set.
@@ -1061,9 +1125,11 @@ vec3 tracePath(vec3 ro, vec3 rd, int max_bounces, bool record_aov) {
   float aov_path = 0.0;
   for (int it = loopZero(); it < max_bounces + 1 + max_bounces * light_samples; it++) {
     g_loop_iterations++;
-    int steps;
+    int steps, surface_material;
+    vec3 surface_normal;
     float t = march(shadow_ray ? shadow_origin : ro, shadow_ray ? shadow_dir : rd,
-                    shadow_ray ? (shadow_valid ? shadow_dist : -1.0) : 3.0e38, shadow_ray ? 1.0 : side, steps);
+                    shadow_ray ? (shadow_valid ? shadow_dist : -1.0) : 3.0e38, shadow_ray ? 1.0 : side,
+                    !shadow_ray, steps, surface_normal, surface_material);
     if (shadow_ray) {
       if (shadow_valid && t < 0.0) radiance += shadow_radiance;
       light_j++;
@@ -1084,8 +1150,7 @@ vec3 tracePath(vec3 ro, vec3 rd, int max_bounces, bool record_aov) {
         m = sdMaterial(analytic_material);
       } else
       {
-        int surface_material;
-        n = surfaceNormal(p, rd, t, surface_material);
+        n = surface_normal;  // march() evaluated it after the hit
         m = sdMaterial(surface_material);
       }
       if (record_aov && depth == 0) {

@@ -12,7 +12,11 @@
 //                                      B + 1 rays and L shadow rays at each of
 //                                      the B vertices that may scatter), the
 //                                      sphere-light test, the normal's 4 taps and
-//                                      the material (one loop of 5), and the
+//                                      the material (5; march() runs them in its
+//                                      loop after the hit, which is then at most
+//                                      S + 5 long: a march that ends without
+//                                      taps takes at most S + 1, its last
+//                                      iteration only closing it), and the
 //                                      light sample's sphere-light occlusion test
 // with S = kSceneMaxSteps + kRefineSteps (a march may add kRefineSteps
 // iterations after a hit to refine it), B = max_bounces, L = light_samples,
@@ -33,7 +37,7 @@ constexpr uint32_t kMaxSphereLights = 16;
 // Iterations a march may add after its hit (kRefineSteps in pathtrace.glsl).
 constexpr uint64_t kRefineSteps = 2;
 
-// surfaceNormal's loop in a shading kernel: 4 taps and the material id.
+// The normal's evaluations in a shading kernel (march()'s loop after a hit): 4 taps and the material id.
 constexpr uint64_t kNormalLoopIterations = 5;
 
 constexpr uint64_t loopIterationsPerSampleWide(uint64_t max_steps, uint64_t max_bounces,

@@ -54,8 +54,8 @@ TEST(KernelViews, DebugViewKernelsHoldNoPathTracing) {
       EXPECT_FALSE(spirvNames(c.spirv, symbol)) << symbol;
     }
     EXPECT_EQ(c.emitted.glsl.find("frame.view"), std::string::npos);  // no run-time view choice
-    // Only the albedo view reads materials (the normal's loop evaluates sdSceneMaterial).
-    EXPECT_EQ(c.emitted.glsl.find("= sdSceneMaterial(q)") != std::string::npos,
+    // Only the albedo view reads materials (march()'s normal taps evaluate sdSceneMaterial).
+    EXPECT_EQ(c.emitted.glsl.find("? sdSceneMaterial(q)") != std::string::npos,
               view == KernelView::Albedo);
   }
   // The beauty kernel has the tracer and no debug views.

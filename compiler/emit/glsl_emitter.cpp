@@ -227,6 +227,10 @@ class SceneWriter {
       if (uniform != kMixed) {
         f << "vec2 sdSceneMaterial(vec3 p) { return vec2(sdScene(p), " << glslFloat(std::max(uniform, 0))
           << "); }\n";
+        // march() then reads the normal taps' material from it, not from a
+        // second (inlined) call site of the scene (SDFC_ONE_MATERIAL).
+        f << "const int kSceneMaterial = " << std::max(uniform, 0) << ";\n";
+        one_material_ = true;
       } else {
         Function fn = beginFunction("vec2 sdSceneMaterial(vec3 p)");
         const std::string dm = node(root, "p", fn, true, "-1.0");
@@ -338,6 +342,7 @@ class SceneWriter {
   const ir::Node* ray_skip_set_ = nullptr;
   bool packed_slots_ = false;  // its fixed slots hold centres only (kPackedSlotVec4 a cell)
   bool has_sphere_normals_ = false;  // sdRootSphereNormal was emitted
+  bool one_material_ = false;  // kSceneMaterial: sdSceneMaterial's material is one constant
   bool has_sphere_material_ = false;  // and kRootSphereMaterial: the scene has one material
   bool has_sphere_hit_ = false;  // march() keeps the slot of a met sphere (g_hit_sphere)
   bool has_glass_ = false;  // the scene uses glass (SDFC_HAS_GLASS): planes take contact rays
@@ -436,6 +441,7 @@ class SceneWriter {
   bool hasRaySkip() const { return ray_skip_set_ != nullptr; }
   bool hasSphereNormals() const { return has_sphere_normals_; }
   bool hasSphereMaterial() const { return has_sphere_material_; }
+  bool oneMaterial() const { return one_material_; }
   bool hasSphereHit() const { return has_sphere_hit_; }
 
  private:
@@ -1774,6 +1780,7 @@ EmitResult emitGlsl(const ir::Scene& scene, const EmitOptions& options) {
   if (writer.hasRaySkip()) result.stats.features.insert("SDFC_HAS_RAY_SKIP");
   if (writer.hasSphereNormals()) result.stats.features.insert("SDFC_HAS_SPHERE_NORMALS");
   if (writer.hasSphereMaterial()) result.stats.features.insert("SDFC_HAS_SPHERE_MATERIAL");
+  if (writer.oneMaterial()) result.stats.features.insert("SDFC_ONE_MATERIAL");
   if (writer.hasSphereHit()) result.stats.features.insert("SDFC_HAS_SPHERE_HIT");
   int count_kind = 0, count_quantity = 0;
   if (options.with_kernel && countEventFromName(options.count_event, count_kind, count_quantity))

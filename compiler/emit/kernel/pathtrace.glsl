@@ -22,6 +22,88 @@ const int kRefineSteps = 2;
 // The largest over-relaxation of a march step (march(), docs/large_scenes.md).
 const float kRelaxMax = 1.6;
 
+#ifdef SDFC_HAS_GLASS
+// -1 while the ray that hit was marched inside a solid (march() sets it).
+// Such a ray whose point ahead lies inside another solid met a face the two
+// share (a glass resting on a table): that face is the glass's, glass to a
+// thin air gap (docs/design/glass_contact.md), so the normal is the one left
+// (the other solid's outward normal, negated) and the material the glass's.
+float g_hit_side = 1.0;
+#endif
+// The surface a marched ray hit at p = ro + t rd (not an analytic plane): its
+// outward normal, and its material id (kernels that shade: the path tracer
+// and the albedo view; the other views read no material).
+// The surface is that of the solid the ray enters, or of the one it leaves
+// when it enters none: the normal is the field's gradient just past p along
+// the ray (inside the solid entered, outside the one left), and the
+// material is read there or just before p. Taps centred on p mix both
+// faces at an edge (a dark line along a mirror's rim) and both solids
+// where two touch (a glass box on the ground: a zero gradient).
+// h: 16x float resolution at p, or 1/400 of a pixel at t if wider (the
+// width of the strip along an edge whose normal mixes the two faces);
+// the point ahead lies past p's offset from the surface.
+// The gradient comes from 4 taps on a tetrahedron's vertices (cheaper than the
+// paper's 6 central differences, sec. 2.4) and the material from a 5th
+// evaluation. march() runs them in its own loop after the hit, through its one
+// scene call: each call site of a scene function is a whole inlined copy, and
+// lavapipe's compile of it at the first draw is most of a reload's latency
+// (two instance groups: bench/results/instance_groups.md).
+#if defined(SDFC_TRACE) || defined(SDFC_VIEW_ALBEDO)
+const int kNormalEvaluations = 5;
+#else
+#ifdef SDFC_VIEW_NORMAL
+const int kNormalEvaluations = 4;
+#else
+const int kNormalEvaluations = 0;  // this kernel's view reads no normal
+#endif
+#endif
+struct SurfaceTaps {
+  vec3 p, rd, centre;
+  float h, ahead;
+  vec3 n;
+  float field;  // the taps' mean: the field at centre to O(h^2)
+};
+SurfaceTaps surfaceTapsBegin(vec3 p, vec3 rd, float t, float offness) {
+  SurfaceTaps s;
+  s.p = p;
+  s.rd = rd;
+  s.h = max(16.0 * fpEps(maxComponent(abs(p)), 0.0), 0.01 * t * kScenePixelCone);
+  s.ahead = 2.0 * s.h + 2.0 * offness;
+  s.centre = p + rd * s.ahead;
+  s.n = vec3(0.0);
+  s.field = 0.0;
+  return s;
+}
+// (+,-,-), (-,-,+), (-,+,-), (+,+,+): the even-parity cube corners
+vec3 surfaceTapCorner(int i) { return vec3(i == 0 || i == 3, i >= 2, i == 1 || i == 3) * 2.0 - 1.0; }
+// Where evaluation i reads the field: a tap, or the 5th, where the material
+// is read, ahead when that is inside a solid.
+vec3 surfaceTapPoint(SurfaceTaps s, int i) {
+#ifdef SDFC_HAS_GLASS
+  // A contact (g_hit_side < 0, field < 0) reads the solid the ray leaves.
+  return i < 4 ? s.centre + surfaceTapCorner(i) * s.h : (s.field < 0.0 && g_hit_side > 0.0 ? s.centre : s.p - s.rd * s.ahead);
+#else
+  return i < 4 ? s.centre + surfaceTapCorner(i) * s.h : (s.field < 0.0 ? s.centre : s.p - s.rd * s.ahead);
+#endif
+}
+void surfaceTapAdd(inout SurfaceTaps s, int i, vec2 dm, inout int material) {
+  if (i < 4) {
+    s.n += surfaceTapCorner(i) * dm.x;
+    s.field += 0.25 * dm.x;
+  } else {
+    material = int(dm.y);
+  }
+}
+vec3 surfaceTapsNormal(SurfaceTaps s) {
+  // A degenerate field (coplanar CSG faces make a zero-width sheet whose
+  // taps cancel) has no gradient: a NaN here would poison the denoisers.
+  float len = length(s.n);
+#ifdef SDFC_HAS_GLASS
+  if (g_hit_side < 0.0 && s.field < 0.0) s.n = -s.n;
+#endif
+  return len > 0.0 ? s.n / len : vec3(0.0, 1.0, 0.0);
+}
+
 // Sphere tracing (Hart 1996; paper sec. 2.3): step by the distance bound scaled
 // by 1 / Lipschitz. side = -1 marches inside solids (glass exit points) on the
 // negated distance. Returns the hit distance, or -1 past t_max.
@@ -43,6 +125,9 @@ const float kRelaxMax = 1.6;
 // Out of steps is not a miss when the ray is still closing in (a grazing ray
 // crawling along a face): it hits at its secant root, or at its first stop. Its
 // steps reach kSceneMaxSteps, which sdfc counts on the AOV ray and warns about.
+//
+// shade: on a marched hit (not an analytic one), the surface's normal and
+// material too (SurfaceTaps), in the same loop; else normal is 0.
 #ifdef SDFC_HAS_PLANES
 // The analytic surface (a plane or sphere, sdPlanesHit) the last march() stopped on, or -1.
 int g_plane_hit = -1;
@@ -59,7 +144,7 @@ bool listedHitEnds(float t, float t_max, inout float t_hit, inout float d_hit) {
     t_hit = t + g_ray_skip;
     d_hit = 0.0;
 #ifdef SDFC_HAS_SPHERE_HIT
-    g_hit_sphere = g_ray_met_slot;  // its slot: surfaceNormal needs no lookup
+    g_hit_sphere = g_ray_met_slot;  // its slot: the normal needs no lookup
 #endif
     return true;
   }
@@ -73,7 +158,8 @@ bool listedHitEnds(float t, float t_max, inout float t_hit, inout float d_hit) {
   return false;
 }
 #endif
-float march(vec3 ro, vec3 rd, float t_max, float side, out int steps) {
+float march(vec3 ro, vec3 rd, float t_max, float side, bool shade, out int steps, out vec3 normal,
+            out int material) {
 #ifdef SDFC_HAS_SPHERE_HIT
   g_hit_sphere = -1;
 #endif
@@ -119,20 +205,114 @@ float march(vec3 ro, vec3 rd, float t_max, float side, out int steps) {
 #endif
   int refined = 0;
   steps = 0;
-  // (t > t_max: no marched surface on this ray; the loop body breaks at once.)
-  for (int i = loopZero(); i < kSceneMaxSteps + kRefineSteps && t <= t_max; i++) {
+  // The march's samples, then (shade, on a marched hit) its surface's normal
+  // evaluations, in one loop around one scene call: every call site of the
+  // scene is a whole inlined copy, which lavapipe compiles at the first draw.
+  // A sample that ends the march sets `ended` and continues; the next
+  // iteration closes the march and begins the taps (runtime/loop_budget.h:
+  // at most the march's steps and the normal's evaluations, as two loops).
+  bool ended = false;
+  float t_end = -1.0;
+  int tap = -1;  // the normal's evaluation this iteration; -1 while marching
+  SurfaceTaps taps;
+#ifdef SDFC_HAS_SPHERE_NORMALS
+  bool exact = false;
+  vec3 radial = vec3(0.0);
+#endif
+#ifdef SDFC_COUNT_EVENTS
+  int event_kind = g_event_kind;
+#endif
+  normal = vec3(0.0);
+  material = 0;
+  for (int i = loopZero(); i < kSceneMaxSteps + kRefineSteps + max(kNormalEvaluations, 1); i++) {
+    // The march is over: what followed its loop, then the taps if it hit.
+    if (tap < 0 && (ended || i >= kSceneMaxSteps + kRefineSteps || !(t <= t_max))) {  // (a NaN t ends it too)
+      // Out of steps and still closing in: a ray grazing a face converges too slowly
+      // to reach it in budget (steps shrink by the sine of the angle). It is no sky:
+      // it hits at the root of the secant through its last two samples (exact on a
+      // flat face) when that lies within reach, else at its first stop if it had one.
+      if (t_hit < 0.0 && exhausted) {
+        float t_root = t_prev - d_prev / min(slope, -1e-30);
+        if (t_root <= t_max) {
+          t_hit = t_root;
+          d_hit = 0.0;
+        } else if (t_first >= 0.0) {
+          t_hit = t_first;
+          d_hit = d_first;
+        }
+      }
+#ifdef SDFC_HAS_PLANES
+      if (t_hit < 0.0 && plane >= 0) {
+        g_plane_hit = plane;
+        g_hit_offness = 0.0;
+        t_end = t_plane;
+        break;
+      }
+#endif
+      g_hit_offness = abs(d_hit);
+      t_end = t_hit >= 0.0 ? max(t_hit, 0.0) : -1.0;
+      if (!shade || kNormalEvaluations == 0 || t_end < 0.0) break;
+#ifdef SDFC_HAS_GLASS
+      g_hit_side = side;
+#endif
+#ifdef SDFC_COUNT_EVENTS
+      // The taps count as the normal's (kind 3); the ray's kind is back after them.
+      event_kind = g_event_kind;
+      g_event_kind = g_event_kind < 0 ? -1 : 3;
+      countEvent(0);
+#endif
+      taps = surfaceTapsBegin(ro + rd * t_end, rd, t_end, g_hit_offness);
+      tap = 0;
+    }
     g_loop_iterations++;
 #ifdef SDFC_COUNT_EVENTS
     countEvent(1);
 #endif
+    vec3 q = ro + rd * t;
+    if (tap >= 0) {
+#ifdef SDFC_HAS_SPHERE_NORMALS
+      // The root grid's spheres: the nearest one's radial direction, exact (one
+      // lookup in this iteration instead of 4 taps; docs/large_scenes.md); the
+      // material is read by the 5th evaluation unless the scene has only one.
+      if (tap == 0 && sdRootSphereNormal(taps.centre, radial, taps.field)) {
+        exact = true;
+#ifdef SDFC_HAS_SPHERE_MATERIAL
+        // A scene of one material: nothing for the 5th evaluation to read.
+        material = kRootSphereMaterial;
+        break;
+#else
+        tap = 4;
+        continue;
+#endif
+      }
+#endif
+      q = surfaceTapPoint(taps, tap);
+    } else {
 #ifdef SDFC_HAS_RAY_SKIP
-    g_ray_skip = 0.0;
-    g_ray_met = false;
+      g_ray_skip = 0.0;
+      g_ray_met = false;
 #endif
 #ifdef SDFC_HAS_SPHERE_HIT
-    g_ray_any = 1e30;
+      g_ray_any = 1e30;
 #endif
-    float d = side * sdScene(ro + rd * t);
+    }
+    // The one scene call (sdSceneMaterial is sdScene and a constant when the
+    // scene has one material).
+#ifdef SDFC_ONE_MATERIAL
+    vec2 dm = vec2(sdScene(q), float(kSceneMaterial));
+#else
+#if defined(SDFC_TRACE) || defined(SDFC_VIEW_ALBEDO)
+    vec2 dm = tap >= 0 ? sdSceneMaterial(q) : vec2(sdScene(q), 0.0);
+#else
+    vec2 dm = vec2(sdScene(q), 0.0);
+#endif
+#endif
+    if (tap >= 0) {
+      surfaceTapAdd(taps, tap, dm, material);
+      if (++tap == kNormalEvaluations) break;
+      continue;
+    }
+    float d = side * dm.x;
 #ifdef SDFC_HAS_RAY_SKIP
     // A skip shorter than float resolves at t would not move the ray: at the
     // exit face of a cell whose reach is tiny (its 9th sphere just outside),
@@ -156,13 +336,20 @@ float march(vec3 ro, vec3 rd, float t_max, float side, out int steps) {
         exhausted = slope < 0.0;
         t_prev = t;
         d_prev = d;
-        break;
+        ended = true;
+        continue;
       }
-      if (listedHitEnds(t, t_max, t_hit, d_hit)) break;
+      if (listedHitEnds(t, t_max, t_hit, d_hit)) {
+        ended = true;
+        continue;
+      }
       t_prev = t;
       d_prev = d;
       t += max(g_ray_skip, d * kSceneStepScale);
-      if (t > t_max) break;
+      if (t > t_max) {
+        ended = true;
+        continue;
+      }
       continue;
     }
 #endif
@@ -171,7 +358,8 @@ float march(vec3 ro, vec3 rd, float t_max, float side, out int steps) {
       if (d <= d_prev) {  // moving in (or along): a hit where it started
         t_hit = 0.0;
         d_hit = d_prev;
-        break;
+        ended = true;
+        continue;
       }
       leaving = true;
     }
@@ -198,7 +386,10 @@ float march(vec3 ro, vec3 rd, float t_max, float side, out int steps) {
         d_hit = d;
       }
       if (++refined == kRefineSteps) {
-        if (crossed || abs(d_hit) <= dErr(ro_mag, t_hit)) break;
+        if (crossed || abs(d_hit) <= dErr(ro_mag, t_hit)) {
+          ended = true;
+          continue;
+        }
         refined = 0;
         if (!narrow) {
           // Unconfirmed: march on from the stop, which is safe (d_stop > 0).
@@ -216,7 +407,10 @@ float march(vec3 ro, vec3 rd, float t_max, float side, out int steps) {
         }
         t_stop = -1.0;
         t_hit = -1.0;
-        if (t > t_max) break;
+        if (t > t_max) {
+          ended = true;
+          continue;
+        }
         continue;
       }
     } else {
@@ -250,14 +444,18 @@ float march(vec3 ro, vec3 rd, float t_max, float side, out int steps) {
 #ifdef SDFC_HAS_RAY_SKIP
         // A ray skip lands on an analytic hit: within float error of the
         // surface there is nothing for the secant steps to refine.
-        if (abs(d) <= dErr(ro_mag, t)) break;
+        if (abs(d) <= dErr(ro_mag, t)) {
+          ended = true;
+          continue;
+        }
 #endif
       } else if (i + 1 >= kSceneMaxSteps) {
         // Out of steps: a miss, unless still closing in.
         exhausted = slope < 0.0;
         t_prev = t;
         d_prev = d;
-        break;
+        ended = true;
+        continue;
       }
     }
     // Over-relaxation by the slope m of d along the ray (scaled, m >= -1): if
@@ -279,7 +477,10 @@ float march(vec3 ro, vec3 rd, float t_max, float side, out int steps) {
     relaxed = omega > 1.0;
     float t_next = t + d * kSceneStepScale * omega;
 #ifdef SDFC_HAS_RAY_SKIP
-    if (t_stop < 0.0 && side > 0.0 && listedHitEnds(t, t_max, t_hit, d_hit)) break;
+    if (t_stop < 0.0 && side > 0.0 && listedHitEnds(t, t_max, t_hit, d_hit)) {
+      ended = true;
+      continue;
+    }
     // The root grid's ray skip (docs/large_scenes.md), where longer, is safe
     // by itself: no overlap check after it, and it may pass t_max. Inside
     // solids (side < 0) it does not apply.
@@ -300,31 +501,22 @@ float march(vec3 ro, vec3 rd, float t_max, float side, out int steps) {
     t_prev = t;
     d_prev = d;
     t = t_next;
-    if (t_stop < 0.0 && t > t_max) break;
-  }
-  // Out of steps and still closing in: a ray grazing a face converges too slowly
-  // to reach it in budget (steps shrink by the sine of the angle). It is no sky:
-  // it hits at the root of the secant through its last two samples (exact on a
-  // flat face) when that lies within reach, else at its first stop if it had one.
-  if (t_hit < 0.0 && exhausted) {
-    float t_root = t_prev - d_prev / min(slope, -1e-30);
-    if (t_root <= t_max) {
-      t_hit = t_root;
-      d_hit = 0.0;
-    } else if (t_first >= 0.0) {
-      t_hit = t_first;
-      d_hit = d_first;
+    if (t_stop < 0.0 && t > t_max) {
+      ended = true;
+      continue;
     }
   }
-#ifdef SDFC_HAS_PLANES
-  if (t_hit < 0.0 && plane >= 0) {
-    g_plane_hit = plane;
-    g_hit_offness = 0.0;
-    return t_plane;
-  }
+#ifdef SDFC_COUNT_EVENTS
+  g_event_kind = event_kind;
 #endif
-  g_hit_offness = abs(d_hit);
-  return t_hit >= 0.0 ? max(t_hit, 0.0) : -1.0;
+  if (tap >= 0) {
+#ifdef SDFC_HAS_SPHERE_NORMALS
+    normal = exact ? radial : surfaceTapsNormal(taps);
+#else
+    normal = surfaceTapsNormal(taps);
+#endif
+  }
+  return t_end;
 }
 
 // ---- lights ----
@@ -541,100 +733,6 @@ float cameraSide(vec3 ro) {
 #endif
 }
 
-#ifdef SDFC_HAS_GLASS
-// -1 while the ray that hit was marched inside a solid (tracePath sets it).
-// Such a ray whose point ahead lies inside another solid met a face the two
-// share (a glass resting on a table): that face is the glass's, glass to a
-// thin air gap (docs/design/glass_contact.md), so the normal is the one left
-// (the other solid's outward normal, negated) and the material the glass's.
-float g_hit_side = 1.0;
-#endif
-// The surface a marched ray hit at p = ro + t rd (not an analytic plane): its
-// outward normal, and its material id (kernels that shade: the path tracer
-// and the albedo view; the other views read no material).
-// The surface is that of the solid the ray enters, or of the one it leaves
-// when it enters none: the normal is the field's gradient just past p along
-// the ray (inside the solid entered, outside the one left), and the
-// material is read there or just before p. Taps centred on p mix both
-// faces at an edge (a dark line along a mirror's rim) and both solids
-// where two touch (a glass box on the ground: a zero gradient).
-// h: 16x float resolution at p, or 1/400 of a pixel at t if wider (the
-// width of the strip along an edge whose normal mixes the two faces);
-// the point ahead lies past p's offset from the surface.
-// The gradient comes from 4 taps on a tetrahedron's vertices (cheaper than the
-// paper's 6 central differences, sec. 2.4) and the material from a 5th
-// evaluation, all in one loop: sdSceneMaterial is inlined once for the taps and
-// the material (each call site of a scene function is a whole inlined copy, and
-// lavapipe's compile of it at the first draw is most of a reload's latency).
-vec3 surfaceNormal(vec3 p, vec3 rd, float t, out int material) {
-  float h = max(16.0 * fpEps(maxComponent(abs(p)), 0.0), 0.01 * t * kScenePixelCone);
-  float ahead = 2.0 * h + 2.0 * g_hit_offness;
-  vec3 centre = p + rd * ahead;
-  vec3 n = vec3(0.0);
-  float field = 0.0;  // the taps' mean: the field at centre to O(h^2)
-  material = 0;
-#if defined(SDFC_TRACE) || defined(SDFC_VIEW_ALBEDO)
-  const int kEvaluations = 5;
-#else
-  const int kEvaluations = 4;
-#endif
-#ifdef SDFC_HAS_SPHERE_NORMALS
-  bool exact = false;
-  vec3 radial;
-#endif
-  for (int i = loopZero(); i < kEvaluations; i++) {
-    g_loop_iterations++;
-#ifdef SDFC_COUNT_EVENTS
-    countEvent(1);
-#endif
-#ifdef SDFC_HAS_SPHERE_NORMALS
-    // The root grid's spheres: the nearest one's radial direction, exact (one
-    // lookup in this iteration instead of 4 taps; docs/large_scenes.md); the
-    // material is read by the 5th evaluation unless the scene has only one.
-    if (i == 0 && sdRootSphereNormal(centre, radial, field)) {
-      exact = true;
-#ifdef SDFC_HAS_SPHERE_MATERIAL
-      // A scene of one material: nothing for the 5th evaluation to read.
-      material = kRootSphereMaterial;
-      break;
-#else
-      i = 3;
-      continue;
-#endif
-    }
-#endif
-    // (+,-,-), (-,-,+), (-,+,-), (+,+,+): the even-parity cube corners
-    vec3 k = vec3(i == 0 || i == 3, i >= 2, i == 1 || i == 3) * 2.0 - 1.0;
-    // The 5th: where the material is read, ahead when that is inside a solid.
-#ifdef SDFC_HAS_GLASS
-    // A contact (g_hit_side < 0, field < 0) reads the solid the ray leaves.
-    vec3 q = i < 4 ? centre + k * h : (field < 0.0 && g_hit_side > 0.0 ? centre : p - rd * ahead);
-#else
-    vec3 q = i < 4 ? centre + k * h : (field < 0.0 ? centre : p - rd * ahead);
-#endif
-#if defined(SDFC_TRACE) || defined(SDFC_VIEW_ALBEDO)
-    vec2 dm = sdSceneMaterial(q);
-#else
-    vec2 dm = vec2(sdScene(q), 0.0);
-#endif
-    if (i < 4) {
-      n += k * dm.x;
-      field += 0.25 * dm.x;
-    } else {
-      material = int(dm.y);
-    }
-  }
-#ifdef SDFC_HAS_SPHERE_NORMALS
-  if (exact) return radial;
-#endif
-  // A degenerate field (coplanar CSG faces make a zero-width sheet whose
-  // taps cancel) has no gradient: a NaN here would poison the denoisers.
-  float len = length(n);
-#ifdef SDFC_HAS_GLASS
-  if (g_hit_side < 0.0 && field < 0.0) n = -n;
-#endif
-  return len > 0.0 ? n / len : vec3(0.0, 1.0, 0.0);
-}
 
 #ifdef SDFC_TRACE
 // ---- path tracer ----
@@ -727,7 +825,8 @@ vec3 tracePath(vec3 ro, vec3 rd, int max_bounces, bool record_aov) {
 #endif
   for (int it = loopZero(); it < max_bounces + 1 + max_bounces * light_samples; it++) {
     g_loop_iterations++;
-    int steps;
+    int steps, surface_material;
+    vec3 surface_normal;
 #ifdef SDFC_COUNT_EVENTS
     // --count-event: the kind of ray marched (not the AOV ray's, max_bounces 0).
     g_event_kind = max_bounces == 0 ? -1 : (shadow_ray ? 2 : (depth == 0 ? 0 : 1));
@@ -737,7 +836,8 @@ vec3 tracePath(vec3 ro, vec3 rd, int max_bounces, bool record_aov) {
     g_ray_any_hit = shadow_ray;
 #endif
     float t = march(shadow_ray ? shadow_origin : ro, shadow_ray ? shadow_dir : rd,
-                    shadow_ray ? (shadow_valid ? shadow_dist : -1.0) : 3.0e38, shadow_ray ? 1.0 : side, steps);
+                    shadow_ray ? (shadow_valid ? shadow_dist : -1.0) : 3.0e38, shadow_ray ? 1.0 : side,
+                    !shadow_ray, steps, surface_normal, surface_material);
 #ifdef SDFC_HAS_SPHERE_HIT
     g_ray_any_hit = false;
 #endif
@@ -801,15 +901,10 @@ vec3 tracePath(vec3 ro, vec3 rd, int max_bounces, bool record_aov) {
       } else
 #endif
       {
-        int surface_material;
 #ifdef SDFC_COUNT_EVENTS
-        g_event_kind = g_event_kind < 0 ? -1 : 3;
-        countEvent(0);
+        g_event_kind = g_event_kind < 0 ? -1 : 3;  // as march() counted the normal's taps
 #endif
-#ifdef SDFC_HAS_GLASS
-        g_hit_side = side;
-#endif
-        n = surfaceNormal(p, rd, t, surface_material);
+        n = surface_normal;  // march() evaluated it after the hit
 #ifdef SDFC_HAS_FIELDS
         m = sdMaterialAt(surface_material, p, n);
 #else
@@ -1095,8 +1190,9 @@ void main() {
   cameraRay(vec2(pixel) + vec2(0.5), false, ro, rd);
   // A camera inside a solid sees its inside (as the path tracer).
   float side = cameraSide(ro);
-  int steps;
-  float t = march(ro, rd, 3.0e38, side, steps);
+  int steps, surface_material;
+  vec3 surface_normal;
+  float t = march(ro, rd, 3.0e38, side, true, steps, surface_normal, surface_material);
   vec3 normal = vec3(0.0);
   float dist = -1.0;
   vec3 albedo = vec3(0.0);
@@ -1118,10 +1214,8 @@ void main() {
     } else
 #endif
     {
-#ifdef SDFC_HAS_GLASS
-      g_hit_side = side;  // a camera inside glass sees a contact as the path tracer does
-#endif
-      normal = surfaceNormal(ro + rd * t, rd, t, material);
+      normal = surface_normal;  // a camera inside glass sees a contact as the path tracer does
+      material = surface_material;
     }
 #ifdef SDFC_VIEW_ALBEDO
 #ifdef SDFC_HAS_FIELDS
