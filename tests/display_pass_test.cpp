@@ -23,13 +23,15 @@ struct Output {
 
 Output createOutput(const VulkanContext& context, VkDeviceSize size) {
   Output out;
-  VkBufferCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
+  VkBufferCreateInfo info{};
+  info.sType = VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO;
   info.size = size;
   info.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
   VK_CHECK(vkCreateBuffer(context.device, &info, nullptr, &out.buffer));
   VkMemoryRequirements reqs{};
   vkGetBufferMemoryRequirements(context.device, out.buffer, &reqs);
-  VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+  VkMemoryAllocateInfo alloc{};
+  alloc.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO;
   alloc.allocationSize = reqs.size;
   alloc.memoryTypeIndex = findMemoryType(context, reqs.memoryTypeBits,
                                          VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
@@ -49,18 +51,21 @@ std::vector<uint8_t> runOnDevice(const VulkanContext& context, DisplayPass& pass
   layout.width = layout.out_width = layout.covered_width = image.width;
   layout.height = layout.out_height = layout.covered_height = image.height;
   layout.bgr = bgr;
-  VkCommandBufferAllocateInfo cb{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+  VkCommandBufferAllocateInfo cb{};
+  cb.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO;
   cb.commandPool = context.command_pool;
   cb.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
   cb.commandBufferCount = 1;
   VkCommandBuffer cmd = VK_NULL_HANDLE;
   VK_CHECK(vkAllocateCommandBuffers(context.device, &cb, &cmd));
-  VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+  VkCommandBufferBeginInfo begin{};
+  begin.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO;
   begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
   VK_CHECK(vkBeginCommandBuffer(cmd, &begin));
   pass.record(cmd, tone, layout, out.buffer, VkDeviceSize(image.pixelCount()) * 4);
   VK_CHECK(vkEndCommandBuffer(cmd));
-  VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+  VkSubmitInfo submit{};
+  submit.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO;
   submit.commandBufferCount = 1;
   submit.pCommandBuffers = &cmd;
   VK_CHECK(vkQueueSubmit(context.queue, 1, &submit, VK_NULL_HANDLE));

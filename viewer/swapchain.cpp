@@ -191,17 +191,18 @@ double Swapchain::waitForLastFrame() {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 
-std::vector<uint32_t> Swapchain::lastFrameWords() {
-  if (!presented_ || !mapped_) return {};
+uint64_t Swapchain::lastFrameHash() {
+  if (!presented_ || !mapped_) return 0;
   waitForLastFrame();
+  const uint32_t* words = reinterpret_cast<const uint32_t*>(mapped_);
   const size_t n = size_t(extent_.width) * extent_.height;
-  std::vector<uint32_t> words(n);
-  std::memcpy(words.data(), mapped_, n * 4);
-  for (uint32_t& w : words) {
+  uint64_t h = 1469598103934665603ull;
+  for (size_t i = 0; i < n; ++i) {
+    uint32_t w = words[i];
     if (bgr_) w = ((w >> 16) & 0xFF) | (w & 0xFF00) | ((w & 0xFF) << 16);
-    w &= 0xFFFFFF;
+    h = (h ^ (w & 0xFFFFFF)) * 1099511628211ull;
   }
-  return words;
+  return h;
 }
 
 void Swapchain::present(const uint8_t* rgb, uint32_t width, uint32_t height) {

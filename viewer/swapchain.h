@@ -37,9 +37,9 @@ class Swapchain {
   // Waits until the last present's submission is done (its staging and the
   // display pass's input may be written again); milliseconds waited.
   double waitForLastFrame();
-  // The last presented frame's pixels as R | G << 8 | B << 16 words (the frame
-  // log's hash), after waiting for it; empty before the first.
-  std::vector<uint32_t> lastFrameWords();
+  // FNV-1a over the last presented frame's pixels as R | G << 8 | B << 16 words
+  // (the frame log's hash), after waiting for it; 0 before the first.
+  uint64_t lastFrameHash();
   // The window's new size: the swapchain is made again, at it, before the next
   // present (as it is after VK_ERROR_OUT_OF_DATE_KHR or VK_SUBOPTIMAL_KHR).
   void resize(uint32_t width, uint32_t height);

@@ -64,13 +64,6 @@ double msBetween(Clock::time_point a, Clock::time_point b) {
   return std::chrono::duration<double, std::milli>(b - a).count();
 }
 
-// FNV-1a over the presented pixels' words (R | G << 8 | B << 16): the frame log's hash.
-uint64_t fnv1a(const std::vector<uint32_t>& words) {
-  uint64_t h = 1469598103934665603ull;
-  for (uint32_t w : words) h = (h ^ w) * 1099511628211ull;
-  return h;
-}
-
 // Finite bounds of the scene: the root's, or the union of its finite parts (an
 // infinite ground plane would otherwise make every scene unbounded).
 Aabb finiteBounds(const ir::Node& node) {
@@ -534,7 +527,7 @@ bool Viewer::drawFrame() {
                   acc_->width, acc_->height, acc_->samples_done, kViewNames[view_], moving ? 1 : 0,
                   last_frame_ms_, msBetween(frame_start, rendered), msBetween(rendered, shaded),
                   msBetween(shaded, frame_end), swap.acquire, swap.copy, swap.present, wait_ms,
-                  fnv1a(swapchain_->lastFrameWords()), key.time);
+                  swapchain_->lastFrameHash(), key.time);
     frame_log_ << line << std::flush;
   }
   if (reload_unpresented_) {
