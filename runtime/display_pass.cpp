@@ -46,6 +46,9 @@ layout(local_size_x = 128) in;
 layout(std430, set = 0, binding = 0) readonly buffer Linear { vec4 rgba[]; } src;
 layout(std430, set = 0, binding = 1) writeonly buffer Pixels { uint words[]; } dst;
 layout(std430, set = 0, binding = 2) readonly buffer Thresholds { float t[256]; } table;
+// The curve is a specialisation constant: lavapipe runs both sides of a branch,
+// so the curves not in use are compiled out rather than masked.
+layout(constant_id = 0) const uint kCurve = 2u;
 layout(push_constant) uniform Params {
   uint width, height, scale, out_width, out_height, covered_width, covered_height;
   uint curve, bgr;
@@ -63,7 +66,7 @@ vec3 toneMap(vec3 linear) {
     x[c] = linear[c] * p.exposure_scale;
     if (!(x[c] > 0.0)) x[c] = 0.0;  // also NaN
   }
-  if (p.curve == 2u) {  // Khronos PBR Neutral
+  if (kCurve == 2u) {  // Khronos PBR Neutral
     precise float lo = min(min(x[0], x[1]), x[2]);
     precise float offset = lo < )" + bits(0.08f) + R"( ? lo - )" + bits(6.25f) + R"( * lo * lo : )" +
          bits(0.04f) + R"(;
@@ -81,7 +84,7 @@ vec3 toneMap(vec3 linear) {
   precise vec3 o;
   for (int c = 0; c < 3; ++c) {
     precise float v = x[c];
-    if (v > 0.0 && p.curve == 1u)
+    if (v > 0.0 && kCurve == 1u)
       v = (v * ()" + bits(2.51f) + R"( * v + )" + bits(0.03f) + R"()) / (v * ()" + bits(2.43f) +
          R"( * v + )" + bits(0.59f) + R"() + )" + bits(0.14f) + R"();  // Narkowicz 2015
     o[c] = 1.0 < v ? 1.0 : v;  // an infinite input is NaN here, black as on the CPU
@@ -150,22 +153,7 @@ DisplayPass::DisplayPass(const VulkanContext& context) : context_(context) {
   layout_info.pushConstantRangeCount = 1;
   layout_info.pPushConstantRanges = &range;
   VK_CHECK(vkCreatePipelineLayout(device, &layout_info, nullptr, &layout_));
-
-  const std::vector<uint32_t>& words = displaySpirv();
-  VkShaderModuleCreateInfo module_info{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
-  module_info.codeSize = words.size() * sizeof(uint32_t);
-  module_info.pCode = words.data();
-  VkShaderModule module = VK_NULL_HANDLE;
-  VK_CHECK(vkCreateShaderModule(device, &module_info, nullptr, &module));
-  VkComputePipelineCreateInfo info{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
-  info.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
-  info.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
-  info.stage.module = module;
-  info.stage.pName = "main";
-  info.layout = layout_;
-  const VkResult r = vkCreateComputePipelines(device, VK_NULL_HANDLE, 1, &info, nullptr, &pipeline_);
-  vkDestroyShaderModule(device, module, nullptr);
-  if (r != VK_SUCCESS) throwVkError(r, "vkCreateComputePipelines", __FILE__, __LINE__);
+  pipelineFor(2);  // the default curve's now (the first frame then pays none)
 
   VkDescriptorPoolSize pool_size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 3};
   VkDescriptorPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
@@ -190,12 +178,38 @@ DisplayPass::DisplayPass(const VulkanContext& context) : context_(context) {
   }
 }
 
+VkPipeline DisplayPass::pipelineFor(uint32_t curve) {
+  VkPipeline& pipeline = pipelines_[curve];
+  if (pipeline) return pipeline;
+  VkDevice device = context_.device;
+  const std::vector<uint32_t>& words = displaySpirv();
+  VkShaderModuleCreateInfo module_info{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+  module_info.codeSize = words.size() * sizeof(uint32_t);
+  module_info.pCode = words.data();
+  VkShaderModule module = VK_NULL_HANDLE;
+  VK_CHECK(vkCreateShaderModule(device, &module_info, nullptr, &module));
+  VkSpecializationMapEntry entry{0, 0, sizeof(uint32_t)};
+  VkSpecializationInfo specialization{1, &entry, sizeof(uint32_t), &curve};
+  VkComputePipelineCreateInfo info{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
+  info.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
+  info.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+  info.stage.module = module;
+  info.stage.pName = "main";
+  info.stage.pSpecializationInfo = &specialization;
+  info.layout = layout_;
+  const VkResult r = vkCreateComputePipelines(device, VK_NULL_HANDLE, 1, &info, nullptr, &pipeline);
+  vkDestroyShaderModule(device, module, nullptr);
+  if (r != VK_SUCCESS) throwVkError(r, "vkCreateComputePipelines", __FILE__, __LINE__);
+  return pipeline;
+}
+
 DisplayPass::~DisplayPass() {
   VkDevice device = context_.device;
   destroyHostBuffer(input_);
   destroyHostBuffer(thresholds_);
   if (pool_) vkDestroyDescriptorPool(device, pool_, nullptr);
-  if (pipeline_) vkDestroyPipeline(device, pipeline_, nullptr);
+  for (VkPipeline pipeline : pipelines_)
+    if (pipeline) vkDestroyPipeline(device, pipeline, nullptr);
   if (layout_) vkDestroyPipelineLayout(device, layout_, nullptr);
   if (set_layout_) vkDestroyDescriptorSetLayout(device, set_layout_, nullptr);
 }
@@ -282,7 +296,7 @@ void DisplayPass::record(VkCommandBuffer cmd, const ToneMap& tone, const Display
   pc.curve = tone.curve == ToneCurve::Clamp ? 0u : tone.curve == ToneCurve::AcesFit ? 1u : 2u;
   pc.bgr = layout.bgr ? 1u : 0u;
   pc.exposure_scale = std::exp2(tone.exposure_stops);  // as toSrgb8: taken once
-  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_);
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipelineFor(pc.curve));
   vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_, 0, 1, &set_, 0, nullptr);
   vkCmdPushConstants(cmd, layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof pc, &pc);
   vkCmdDispatch(cmd, (layout.out_width + kGroup - 1) / kGroup, layout.out_height, 1);

@@ -45,7 +45,8 @@ class DisplayPass {
   const VulkanContext& context_;
   VkDescriptorSetLayout set_layout_ = VK_NULL_HANDLE;
   VkPipelineLayout layout_ = VK_NULL_HANDLE;
-  VkPipeline pipeline_ = VK_NULL_HANDLE;
+  VkPipeline pipelines_[3]{};  // by curve (0 linear, 1 aces, 2 neutral), made on first use
+  VkPipeline pipelineFor(uint32_t curve);
   VkDescriptorPool pool_ = VK_NULL_HANDLE;
   VkDescriptorSet set_ = VK_NULL_HANDLE;
   struct HostBuffer {
