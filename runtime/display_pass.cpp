@@ -256,7 +256,8 @@ float* DisplayPass::input(uint32_t width, uint32_t height) {
 }
 
 void DisplayPass::bind(VkBuffer output, VkDeviceSize output_size) {
-  if (output == bound_output_ && output_size == bound_output_size_ && input_.buffer == bound_input_) return;
+  // Written every frame, not only when a handle changes: a new swapchain's staging
+  // may reuse a destroyed buffer's handle. Nothing pending reads the set (record's contract).
   VkDescriptorBufferInfo buffers[3] = {{input_.buffer, 0, input_.size},
                                        {output, 0, output_size},
                                        {thresholds_.buffer, 0, thresholds_.size}};
@@ -270,9 +271,6 @@ void DisplayPass::bind(VkBuffer output, VkDeviceSize output_size) {
     writes[i].pBufferInfo = &buffers[i];
   }
   vkUpdateDescriptorSets(context_.device, 3, writes, 0, nullptr);
-  bound_output_ = output;
-  bound_output_size_ = output_size;
-  bound_input_ = input_.buffer;
 }
 
 void DisplayPass::record(VkCommandBuffer cmd, const ToneMap& tone, const DisplayLayout& layout, VkBuffer output,

@@ -35,7 +35,8 @@ class DisplayPass {
   float* input(uint32_t width, uint32_t height);
   // Records the tone map of the input into `output` (out_width * out_height words,
   // a storage buffer), then a barrier that makes them visible to transfer reads.
-  // `output` may change between calls (a new swapchain), as above: nothing pending.
+  // No submitted record() may still be pending (the descriptors are written here);
+  // `output` may change between calls (a new swapchain).
   void record(VkCommandBuffer cmd, const ToneMap& tone, const DisplayLayout& layout, VkBuffer output,
               VkDeviceSize output_size);
 
@@ -57,8 +58,6 @@ class DisplayPass {
     bool coherent = false;
   };
   HostBuffer input_, thresholds_;
-  VkBuffer bound_output_ = VK_NULL_HANDLE, bound_input_ = VK_NULL_HANDLE;
-  VkDeviceSize bound_output_size_ = 0;
   uint32_t input_width_ = 0, input_height_ = 0;
 
   HostBuffer createHostBuffer(VkDeviceSize size);
