@@ -10,6 +10,12 @@ printed as a table:
   - save-to-new-image latency: the file written -> first frame of the new
     scene presented, median of --edits edits (5)           [<= 250 ms]
   - input to presented frame, in frames                    [<= 2]
+  - issue 36: the per-frame split of the normal view at 640x360 (sphere and castle,
+    full resolution every frame while orbiting), medians over the frames of the
+    frame log: pass, the CPU's part of the display, copy, acquire, present, wait,
+    and the frame interval; CPU seconds of the whole run (sdfc and Xvfb)
+    [interval at most 1.5 ms above the pass; sphere <= 6.4 ms, castle <= 16.7 ms].
+    --figures split; --page writes bench/results/VIEW_FRAME.md from it.
 The machine is shared (load average recorded): compare within one run.
 
 Each figure is measured for every (binary, driver) pair in one run, the pairs
@@ -28,6 +34,7 @@ import argparse
 import json
 import os
 import re
+import resource
 import shlex
 import statistics
 import subprocess
@@ -51,13 +58,17 @@ def driver_env(driver):
     return env
 
 
-def run_view(sdfc, scene, script_text, flags, workdir, driver="22"):
+def run_view(sdfc, scene, script_text, flags, workdir, driver="22", cpu=None):
     script = os.path.join(workdir, "events.txt")
     log = os.path.join(workdir, "frames.log")
     open(script, "w").write(script_text)
     cmd = ["xvfb-run", "-a", "-s", "-screen 0 1024x768x24 -nolisten tcp",
            sdfc, "view", scene, "--script", script, "--frame-log", log] + flags
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
     r = subprocess.run(cmd, capture_output=True, text=True, env=driver_env(driver), timeout=1800)
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    if cpu is not None:
+        cpu.append(after.ru_utime + after.ru_stime - before.ru_utime - before.ru_stime)
     if r.returncode != 0:
         sys.stderr.write(r.stderr)
         raise SystemExit(f"sdfc view exited {r.returncode}")
@@ -87,7 +98,32 @@ def measure(sdfc, driver, scene, text, d, n, n_edits=5, figures=("normal", "beau
         measure_save(result, run, text, d, n_edits)
     if "input" in figures:
         measure_input(result, run)
+    if "split" in figures:
+        for name, path in (("sphere", os.path.join(ROOT, "examples", "diffuse_sphere.sdf")),
+                           ("castle", scene)):
+            measure_split(result, name, lambda script, flags, cpu: run_view(
+                sdfc, path, script, flags, d, driver, cpu), n)
     return result
+
+
+SPLIT = [("pass", "render_ms"), ("display (CPU)", "display_ms"), ("copy", "copy_ms"),
+         ("acquire", "acquire_ms"), ("present", "queue_present_ms"), ("wait", "wait_ms")]
+
+
+def measure_split(result, name, run, n):
+    # Issue 36: the normal view at 640x360, full resolution while orbiting: each
+    # part's median over the frames, the interval's, and the run's CPU seconds.
+    cpu = []
+    _, frames, _ = run(f"wait-idle\nlog orbit\ndrag left {4 * n} 0 {n}\nwait 2\nquit\n",
+                       ["--view", "normal", "--no-dynamic-resolution", "--size", "640x360"], cpu)
+    orbit = [f for f in frames if f["res"] == "640x360"][1:]  # the first frame pays LLVM's compile
+    key = f"split_{name}"
+    for label, field in SPLIT:
+        result[f"{key}_{field}"] = statistics.median(float(f[field]) for f in orbit)
+    result[f"{key}_interval_ms"] = statistics.median(interval_ms(orbit))
+    result[f"{key}_above_pass_ms"] = result[f"{key}_interval_ms"] - result[f"{key}_render_ms"]
+    result[f"{key}_cpu_s"] = cpu[0]
+    result[f"{key}_frames"] = len(orbit)
 
 
 def measure_normal(result, run, n):
@@ -187,7 +223,11 @@ ROWS = [
     ("  the rest (watcher, hand-off), ms", "reload_other_ms_median"),
     ("  to the first full-resolution frame, ms", "save_to_full_resolution_ms_median"),
     ("input to presented frame, frames, max (<= 2)", "input_to_frame_frames_max"),
-]
+] + [row for name, target in (("sphere", 6.4), ("castle", 16.7)) for row in [
+    (f"{name} normal 640x360 frame interval, ms (<= {target})", f"split_{name}_interval_ms"),
+    ("  above the pass, ms (<= 1.5)", f"split_{name}_above_pass_ms")] +
+    [(f"  {label}, ms", f"split_{name}_{field}") for label, field in SPLIT] +
+    [("  CPU seconds of the run (sdfc + Xvfb)", f"split_{name}_cpu_s")]]
 
 
 def pool(rounds):
@@ -218,6 +258,7 @@ def main():
     ap.add_argument("--edits", type=int, default=5, help="saves timed for the save-to-image median")
     ap.add_argument("--figures", default="normal,beauty,save,input",
                     help="which figures: normal, beauty, save (save-to-image), input")
+    ap.add_argument("--page", help="also write the split as a markdown page (bench/results/VIEW_FRAME.md)")
     ap.add_argument("--rounds", type=int, default=1,
                     help="repeat the interleaved measurements; lists are pooled, figures are medians of rounds")
     args = ap.parse_args()
@@ -271,6 +312,34 @@ def main():
                                                  "beauty_640x360_1spp_fps", "save_to_image_ms_median") if b.get(k) and k in a))
     print("load average:", result["machine"]["load_average_start"], "->", result["machine"]["load_average_end"])
     print("wrote", args.out)
+    if args.page:
+        write_page(args.page, result, keys, args)
+        print("wrote", args.page)
+
+
+def write_page(path, result, keys, args):
+    """The split figures as a results page: one column per (binary, driver)."""
+    m = result["machine"]
+    lines = ["# The viewer's frame: issue 36's split (bench/view_bench.py --figures split)", "",
+             f"Generated by `bench/view_bench.py --figures {args.figures} --rounds {args.rounds} "
+             f"--frames {args.frames} --drivers {','.join(result['drivers'])}"
+             f"{' --baseline ' + os.path.basename(args.baseline) if args.baseline else ''}`. "
+             f"{m['cpus']} CPUs, load average {m['load_average_start'][0]:.1f} at the start and "
+             f"{m['load_average_end'][0]:.1f} at the end (a shared, loaded machine: the binaries "
+             "alternate run by run, each figure is the median over the frames of a run and then over "
+             "the rounds). `after` is this branch, `before` the binary named by --baseline.", "",
+             "Normal view, 640x360, full resolution every frame while the camera orbits. The parts "
+             "are the frame log's (`render_ms`, `display_ms`, `copy_ms`, `acquire_ms`, "
+             "`queue_present_ms`, `wait_ms`); `interval` is the median time between presented frames.",
+             "", "| figure | " + " | ".join(keys) + " |", "|---|" + "---:|" * len(keys)]
+    for label, k in ROWS:
+        if not k.startswith("split_"):
+            continue
+        cells = [f"{result['runs'][run].get(k, float('nan')):.2f}" for run in keys]
+        lines.append(f"| {label.strip()} | " + " | ".join(cells) + " |")
+    lines.append("")
+    os.makedirs(os.path.dirname(path), exist_ok=True)
+    open(path, "w").write("\n".join(lines) + "\n")
 
 
 if __name__ == "__main__":

@@ -217,11 +217,13 @@ float floatFromBits(uint32_t bits) {
   return f;
 }
 
+}  // namespace
+
 // thresholds[k] = the smallest float v in [0, 1] with srgb8Direct(v) >= k (k >= 1).
 // srgb8Direct is monotone in v, so srgb8Fast(v) = the largest k with thresholds[k]
 // <= v is the same byte without a pow per channel (an exhaustive check over every
 // float in [0, 1] agrees; tests/runtime_image_test.cpp checks around each threshold).
-const std::array<float, 256>& srgbThresholds() {
+const std::array<float, 256>& srgb8Thresholds() {
   static const std::array<float, 256> table = [] {
     std::array<float, 256> t{};
     t[0] = -1.0f;
@@ -245,10 +247,8 @@ const std::array<float, 256>& srgbThresholds() {
   return table;
 }
 
-}  // namespace
-
 uint8_t srgb8Fast(float tone_mapped) {
-  const std::array<float, 256>& t = srgbThresholds();
+  const std::array<float, 256>& t = srgb8Thresholds();
   int k = 0;
   for (int step = 128; step > 0; step >>= 1)
     if (t[k + step] <= tone_mapped) k += step;
@@ -257,7 +257,7 @@ uint8_t srgb8Fast(float tone_mapped) {
 
 std::vector<uint8_t> toSrgb8(const FloatImage& image, const ToneMap& tone_map) {
   std::vector<uint8_t> bytes(image.pixelCount() * 3);
-  srgbThresholds();  // built once, before the loop
+  srgb8Thresholds();  // built once, before the loop
   // applyToneMap with its exp2 taken once: the same operations, the same floats.
   const float scale = std::exp2(tone_map.exposure_stops);
   for (size_t i = 0; i < image.pixelCount(); ++i) {

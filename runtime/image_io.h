@@ -4,6 +4,7 @@
 // never leaves a half-written image.
 // Also readers and comparison metrics for golden-image tests.
 #pragma once
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <stdexcept>
@@ -53,6 +54,9 @@ float srgbDecode(float encoded);                              // its inverse
 // srgb8Fast gives the same byte by a search in a 256-entry threshold table (no pow).
 uint8_t srgb8Direct(float tone_mapped);
 uint8_t srgb8Fast(float tone_mapped);
+// srgb8Fast's table: [k] = the smallest float whose byte is k ([0] = -1). The
+// view's device tone map (display_pass.h) searches the same table.
+const std::array<float, 256>& srgb8Thresholds();
 // RGB8 bytes, row-major, top row first: tone curve, then sRGB OETF, rounded.
 std::vector<uint8_t> toSrgb8(const FloatImage& image, const ToneMap& tone_map);
 

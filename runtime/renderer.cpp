@@ -161,12 +161,16 @@ void Accumulation::meanInto(FloatImage& out) const {
   out.width = width;
   out.height = height;
   out.rgba.resize(size_t(width) * height * 4);
+  meanInto(out.rgba.data());
+}
+
+void Accumulation::meanInto(float* rgba) const {
   if (samples_done == 0) {
-    std::fill(out.rgba.begin(), out.rgba.end(), 0.0f);
+    std::fill(rgba, rgba + size_t(width) * height * 4, 0.0f);
     return;
   }
   for (uint32_t b = 0; b < band_count; ++b) {
-    float* color = out.rgba.data() + size_t(b) * band_rows * width * 4;
+    float* color = rgba + size_t(b) * band_rows * width * 4;
     if (b < first_pass.size() && !first_pass[b].empty()) {
       const std::vector<float>& pass = first_pass[b];
       for (size_t i = 0; i < pass.size(); ++i) color[i] = onePassMean(pass[i], first_pass_samples);

@@ -153,6 +153,8 @@ struct Accumulation {
   FloatImage mean() const;
   // The same into `out`, reusing its storage (a frame loop's per-frame image).
   void meanInto(FloatImage& out) const;
+  // The same into width * height * 4 floats at `rgba` (the view's display pass input).
+  void meanInto(float* rgba) const;
 };
 
 // Sample-weighted mean of two renders of the same size (e.g. samples [0,n) and

@@ -1,13 +1,17 @@
-// The swapchain on the renderer's device and queue, and the upload of a finished
-// 8-bit frame into it. The renderer draws offscreen and reads back (it is shared
-// with `sdfc render`); the view copies the tone-mapped bytes into the acquired image,
-// so what is presented is byte for byte what `save` would write as PNG.
+// The swapchain on the renderer's device and queue, and a frame into it. The
+// renderer draws offscreen and reads back (it is shared with `sdfc render`); the
+// view hands the frame's floats to the device's tone map (display_pass.h), whose
+// bytes are copied into the acquired image in the same submission, so what is
+// presented is byte for byte what `save` would write as PNG. Frames with the error
+// overlay come as 8-bit bytes from the CPU instead.
 #pragma once
 #include <vulkan/vulkan.h>
 
 #include <cstdint>
+#include <functional>
 #include <vector>
 
+#include "display_pass.h"
 #include "vulkan_context.h"
 
 namespace sdfc::view {
@@ -23,15 +27,26 @@ class Swapchain {
 
   // Presents `rgb` (width x height x 3 bytes, top row first, sRGB-encoded: toSrgb8's
   // output). Parts outside the swapchain's extent are cut, uncovered parts black.
-  // Waits until the copy is done, so `rgb` may be reused at once.
+  // `rgb` may be reused at once.
   void present(const uint8_t* rgb, uint32_t width, uint32_t height);
+  // Presents `display`'s input (written by the caller after waitForLastFrame),
+  // tone-mapped on the device and enlarged by `scale`, cut to width x height
+  // (the window's size). Returns without waiting for the device.
+  void present(DisplayPass& display, const ToneMap& tone, uint32_t source_width, uint32_t source_height,
+               uint32_t scale, uint32_t width, uint32_t height);
+  // Waits until the last present's submission is done (its staging and the
+  // display pass's input may be written again); milliseconds waited.
+  double waitForLastFrame();
+  // FNV-1a over the last presented frame's pixels as R | G << 8 | B << 16 words
+  // (the frame log's hash), after waiting for it; 0 before the first.
+  uint64_t lastFrameHash();
   // The window's new size: the swapchain is made again, at it, before the next
   // present (as it is after VK_ERROR_OUT_OF_DATE_KHR or VK_SUBOPTIMAL_KHR).
   void resize(uint32_t width, uint32_t height);
   // The last present()'s parts, in milliseconds (--timings, the frame log).
   struct Times {
-    double acquire = 0;  // vkAcquireNextImageKHR and the wait for its image
-    double copy = 0;     // the bytes into staging, the copy's submission and its wait
+    double acquire = 0;  // vkAcquireNextImageKHR (the device waits for its image)
+    double copy = 0;     // the commands (or CPU bytes into staging) and their submission
     double present = 0;  // vkQueuePresentKHR
   };
   const Times& lastTimes() const { return times_; }
@@ -45,6 +60,9 @@ class Swapchain {
  private:
   void create();
   void destroy();
+  // Acquire, `record` the commands that fill staging_, copy it into the image,
+  // submit and present; false when there was nothing to present to.
+  bool presentWith(const std::function<void(VkCommandBuffer)>& record, const std::function<void()>& fill);
 
   const VulkanContext& context_;
   VkSurfaceKHR surface_;
@@ -60,7 +78,14 @@ class Swapchain {
   uint8_t* mapped_ = nullptr;
   bool staging_coherent_ = false;
   VkCommandBuffer command_buffer_ = VK_NULL_HANDLE;
-  VkFence acquire_fence_ = VK_NULL_HANDLE, copy_fence_ = VK_NULL_HANDLE;
+  // One frame in flight: the acquire's semaphore, one "copied" semaphore per
+  // image (an image's present is done when it is acquired again), a fence per
+  // submission that the next frame waits for before it writes staging again.
+  VkSemaphore acquired_ = VK_NULL_HANDLE;
+  std::vector<VkSemaphore> copied_;
+  VkFence frame_fence_ = VK_NULL_HANDLE;
+  bool in_flight_ = false;
+  bool presented_ = false;
   bool stale_ = false;  // out of date or suboptimal: recreate before the next frame
   uint32_t generation_ = 0;
   Times times_;

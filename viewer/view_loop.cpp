@@ -20,6 +20,7 @@
 #include "background_compiler.h"
 #include "camera_controller.h"
 #include "debug_view.h"
+#include "display_pass.h"
 #include "denoise.h"
 #include "error_overlay.h"
 #include "file_watcher.h"
@@ -63,12 +64,6 @@ double msBetween(Clock::time_point a, Clock::time_point b) {
   return std::chrono::duration<double, std::milli>(b - a).count();
 }
 
-uint64_t fnv1a(const std::vector<uint8_t>& bytes) {
-  uint64_t h = 1469598103934665603ull;
-  for (uint8_t b : bytes) h = (h ^ b) * 1099511628211ull;
-  return h;
-}
-
 // Finite bounds of the scene: the root's, or the union of its finite parts (an
 // infinite ground plane would otherwise make every scene unbounded).
 Aabb finiteBounds(const ir::Node& node) {
@@ -108,28 +103,43 @@ struct AccumulationKey {
   }
 };
 
-// --timings: a second's frames, their parts summed, printed as means.
+// --timings: one frame's parts (ms): the pass; the mean (and the denoiser or a
+// debug view's mapping) into the display pass's input; the commands of the tone
+// map and the copy and their submission; the acquire; the present (lavapipe's
+// present waits there for the tone map and the copy on the device); and the time
+// since the last frame (input, the title, the frame log, idle sleeps).
+struct FrameParts {
+  double pass = 0, tone = 0, copy = 0, acquire = 0, present = 0, wait = 0;
+  double interval() const { return pass + tone + copy + acquire + present + wait; }
+};
+
+// Frames' parts, printed as medians (each part's own, and the interval's).
 struct FrameSplit {
   Clock::time_point since = Clock::now();
-  int frames = 0;
-  double pass = 0, tone = 0, acquire = 0, copy = 0, present = 0, wait = 0;
-  void add(double pass_ms, double tone_ms, const Swapchain::Times& swap, double wait_ms) {
-    ++frames;
-    pass += pass_ms;
-    tone += tone_ms;
-    acquire += swap.acquire;
-    copy += swap.copy;
-    present += swap.present;
-    wait += wait_ms;
-  }
-  std::string line() const {
-    const double n = std::max(frames, 1);
-    char text[256];
+  std::vector<FrameParts> frames;
+  void add(const FrameParts& parts) { frames.push_back(parts); }
+  std::string line(const char* what) const {
+    auto median = [&](double FrameParts::*part) {
+      std::vector<double> v;
+      for (const FrameParts& f : frames) v.push_back(f.*part);
+      if (v.empty()) return 0.0;
+      std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+      return v[v.size() / 2];
+    };
+    std::vector<double> intervals;
+    for (const FrameParts& f : frames) intervals.push_back(f.interval());
+    double interval = 0;
+    if (!intervals.empty()) {
+      std::nth_element(intervals.begin(), intervals.begin() + intervals.size() / 2, intervals.end());
+      interval = intervals[intervals.size() / 2];
+    }
+    char text[320];
     std::snprintf(text, sizeof text,
-                  "sdfc: frames (mean of %d, ms): interval %.2f = pass %.2f + tone map %.2f + copy "
-                  "%.2f + acquire %.2f + present %.2f + wait %.2f",
-                  frames, (pass + tone + acquire + copy + present + wait) / n, pass / n, tone / n,
-                  copy / n, acquire / n, present / n, wait / n);
+                  "%s (median of %zu, ms): interval %.2f = pass %.2f + mean %.2f + tone map and copy "
+                  "submitted %.2f + acquire %.2f + present %.2f + wait %.2f",
+                  what, frames.size(), interval, median(&FrameParts::pass), median(&FrameParts::tone),
+                  median(&FrameParts::copy), median(&FrameParts::acquire), median(&FrameParts::present),
+                  median(&FrameParts::wait));
     return text;
   }
 };
@@ -189,10 +199,14 @@ class Viewer : public InputHandler {
   uint64_t last_camera_generation_ = ~0ull;
   int frames_still_ = 0;
   uint32_t preview_scale_ = kMinPreviewScale;
-  FloatImage displayed_;
+  std::unique_ptr<DisplayPass> display_;  // the tone map on the device
+  FloatImage displayed_;  // the shown floats when formed on the CPU (saveImage forms them otherwise)
+  bool displayed_is_mean_ = false;
+  ToneMap displayed_tone_;
+  uint32_t shown_width_ = 0, shown_height_ = 0;
   std::vector<uint8_t> rgb_, upscaled_;
   RateMeter rate_;
-  FrameSplit split_;
+  FrameSplit split_, whole_split_;  // this second's frames; all frames but the first
   Status status_;
   Clock::time_point last_title_{}, last_frame_end_{};  // the frame split's wait
   std::optional<Clock::time_point> played_until_;  // when time_ last advanced while playing
@@ -228,6 +242,7 @@ Viewer::~Viewer() {
   renderers_.clear();
   active_.reset();
   swapchain_.reset();
+  display_.reset();
   if (surface_) vkDestroySurfaceKHR(context_.instance, surface_, nullptr);
   if (context_created_) destroyContext(context_);
   window_.reset();
@@ -278,6 +293,12 @@ void Viewer::open() {
 
   CompileOptions compile = cl_.load.compile;
   if (!cl_.no_cache) setPipelineCacheDirectory(sdfcCacheDirectory());
+  // After the cache directory: its shader comes from the SPIR-V cache.
+  const auto display_start = Clock::now();
+  display_ = std::make_unique<DisplayPass>(context_);
+  if (cl_.stage_timings)
+    std::fprintf(stderr, "sdfc: timings (ms): display pass (the tone map on the device) %.1f\n",
+                 msBetween(display_start, Clock::now()));
   compile.emit.march.image_height = int(height_);
   // As `render`: lavapipe runs both sides of a branch, so bound checks only cost.
   if (context_.properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU && !cl_.force_bounds)
@@ -426,23 +447,48 @@ bool Viewer::drawFrame() {
   }
   if (acc_->samples_done < target) renderer.addPass(*acc_, 1);
   const auto rendered = Clock::now();
-  acc_->meanInto(displayed_);  // reuses last frame's storage
-  if (denoise_ && view_ == gpu::kViewBeauty && !moving)
-    displayed_ = sdfc::denoise(Denoiser::ATrous, displayed_, acc_->normal_depth, acc_->albedo_steps);
-  // Debug views as `sdfc render` writes their PNGs: mapped for display, no tone curve.
-  if (debugViewNeedsMapping(view_))
-    displayed_ = debugViewForDisplay(
-        view_, displayed_, debugViewBudget(uint32_t(compiled.emitted.limits.max_steps), acc_->settings));
-  rgb_ = toSrgb8(displayed_, view_ == gpu::kViewBeauty ? tone_ : ToneMap{0.0f, ToneCurve::Clamp});
-  std::vector<uint8_t>* shown = &rgb_;
-  if (key.scale > 1) {
-    upscale(rgb_, displayed_.width, displayed_.height, key.scale, width_, height_, upscaled_);
-    shown = &upscaled_;
+  // The display pass's input is free once the last frame's submission is done
+  // (the pass just drawn waited for the queue, so this is mostly no wait).
+  swapchain_->waitForLastFrame();
+  const ToneMap tone = view_ == gpu::kViewBeauty ? tone_ : ToneMap{0.0f, ToneCurve::Clamp};
+  const bool denoised = denoise_ && view_ == gpu::kViewBeauty && !moving;
+  const bool cpu_image = denoised || debugViewNeedsMapping(view_) || !error_.empty();
+  if (cpu_image) {
+    acc_->meanInto(displayed_);  // reuses last frame's storage
+    if (denoised)
+      displayed_ = sdfc::denoise(Denoiser::ATrous, displayed_, acc_->normal_depth, acc_->albedo_steps);
+    // Debug views as `sdfc render` writes their PNGs: mapped for display, no tone curve.
+    if (debugViewNeedsMapping(view_))
+      displayed_ = debugViewForDisplay(
+          view_, displayed_, debugViewBudget(uint32_t(compiled.emitted.limits.max_steps), acc_->settings));
   }
-  // The last save's error over the image (both buffers are made again each frame).
-  drawErrorOverlay(*shown, width_, height_, error_);
-  const auto shaded = Clock::now();
-  swapchain_->present(shown->data(), width_, height_);
+  displayed_is_mean_ = !cpu_image;  // saveImage forms the mean when it is asked for
+  displayed_tone_ = tone;
+  shown_width_ = acc_->width;
+  shown_height_ = acc_->height;
+  Clock::time_point shaded;
+  if (error_.empty()) {
+    // The tone map on the device, straight into the swapchain's staging: the
+    // CPU writes only the frame's floats (the mean, or the mapped image).
+    float* input = display_->input(acc_->width, acc_->height);
+    if (cpu_image)
+      std::copy(displayed_.rgba.begin(), displayed_.rgba.end(), input);
+    else
+      acc_->meanInto(input);
+    shaded = Clock::now();
+    swapchain_->present(*display_, tone, acc_->width, acc_->height, key.scale, width_, height_);
+  } else {
+    // The error band is drawn on bytes: this frame is tone-mapped on the CPU.
+    rgb_ = toSrgb8(displayed_, tone);
+    std::vector<uint8_t>* shown = &rgb_;
+    if (key.scale > 1) {
+      upscale(rgb_, displayed_.width, displayed_.height, key.scale, width_, height_, upscaled_);
+      shown = &upscaled_;
+    }
+    drawErrorOverlay(*shown, width_, height_, error_);
+    shaded = Clock::now();
+    swapchain_->present(shown->data(), width_, height_);
+  }
   ++frames_;
   redisplay_ = false;
   const auto frame_end = Clock::now();
@@ -460,9 +506,12 @@ bool Viewer::drawFrame() {
   const double wait_ms =
       last_frame_end_ != Clock::time_point{} && frames_ > 1 ? msBetween(previous_frame_end, frame_start) : 0;
   if (cl_.stage_timings) {
-    split_.add(msBetween(frame_start, rendered), msBetween(rendered, shaded), swap, wait_ms);
+    const FrameParts parts{msBetween(frame_start, rendered), msBetween(rendered, shaded), swap.copy,
+                           swap.acquire, swap.present, wait_ms};
+    split_.add(parts);
+    if (frames_ > 1) whole_split_.add(parts);  // the first frame pays the driver's compile
     if (msBetween(split_.since, frame_end) >= 1000) {
-      std::fprintf(stderr, "%s\n", split_.line().c_str());
+      std::fprintf(stderr, "%s\n", split_.line("sdfc: frames").c_str());
       split_ = FrameSplit{};
       split_.since = frame_end;
     }
@@ -478,7 +527,7 @@ bool Viewer::drawFrame() {
                   acc_->width, acc_->height, acc_->samples_done, kViewNames[view_], moving ? 1 : 0,
                   last_frame_ms_, msBetween(frame_start, rendered), msBetween(rendered, shaded),
                   msBetween(shaded, frame_end), swap.acquire, swap.copy, swap.present, wait_ms,
-                  fnv1a(*shown), key.time);
+                  swapchain_->lastFrameHash(), key.time);
     frame_log_ << line << std::flush;
   }
   if (reload_unpresented_) {
@@ -535,13 +584,15 @@ void Viewer::presentBlack() {
 }
 
 void Viewer::saveImage(const std::string& path) {
-  if (displayed_.empty()) {
+  // The device tone-mapped the mean: the same floats again, from the same samples.
+  if (displayed_is_mean_ && acc_) acc_->meanInto(displayed_);
+  if (displayed_.empty() || shown_width_ == 0) {
     std::fprintf(stderr, "sdfc: nothing to save yet\n");
     return;
   }
   try {
     // What the window shows (debug views are mapped already, no tone curve).
-    writeImage(path, displayed_, view_ == gpu::kViewBeauty ? tone_ : ToneMap{0.0f, ToneCurve::Clamp});
+    writeImage(path, displayed_, displayed_tone_);
     std::fprintf(stderr, "sdfc: wrote %s (%ux%u, %u spp)\n", path.c_str(), displayed_.width,
                  displayed_.height, acc_ ? acc_->samples_done : 0);
   } catch (const std::exception& e) {
@@ -739,6 +790,8 @@ int Viewer::run() {
     if (!drew) window_->waitEvents(0.01);
   }
   logEvent("quit");
+  if (cl_.stage_timings && !whole_split_.frames.empty())
+    std::fprintf(stderr, "%s\n", whole_split_.line("sdfc: all frames but the first").c_str());
   const int messages = validationMessageCount();
   const int code = context_.validation_enabled && messages > 0 ? kExitDevice : kExitOk;
   if (code != kExitOk) std::fprintf(stderr, "sdfc: %d Vulkan validation messages\n", messages);

@@ -20,7 +20,11 @@ void ensureGlslangInitialized() {
 }
 
 EShLanguage toGlslang(ShaderStage stage) {
-  return stage == ShaderStage::Vertex ? EShLangVertex : EShLangFragment;
+  switch (stage) {
+    case ShaderStage::Vertex: return EShLangVertex;
+    case ShaderStage::Compute: return EShLangCompute;
+    default: return EShLangFragment;
+  }
 }
 
 }  // namespace

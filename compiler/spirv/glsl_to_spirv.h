@@ -7,7 +7,7 @@
 
 namespace sdfc {
 
-enum class ShaderStage { Vertex, Fragment };
+enum class ShaderStage { Vertex, Fragment, Compute };
 
 struct SpirvResult {
   std::vector<std::uint32_t> words;  // empty on failure
