@@ -6,11 +6,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <random>
 
 #include "driver/compile.h"
 #include "eval/env_map.h"
+#include "eval/shared_exponent.h"
 #include "image_io.h"
 
 namespace sdfc {
@@ -214,11 +216,35 @@ TEST(EnvMap, ConstantMapIsUniformOverTheSphere) {
   EXPECT_NEAR(envMapRadiance(map, glm::normalize(glm::vec3(0.3, 0.9, -0.2))).g, 1.0f, 1e-6);
 }
 
+TEST(EnvMap, SharedExponentTexelsAreExactToHalfAStep) {
+  // Colours over 2^-15 .. 2^15, channels 1 to 10^6 apart: each channel
+  // within half a step of the largest's 9 bits, and no word a NaN or an
+  // infinity as the float the scene data carry it in.
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> expo(-15.0f, 14.99f), spread(0.0f, 6.0f);
+  double worst = 0;
+  for (int k = 0; k < 200000; ++k) {
+    const float top = std::exp2(expo(rng));
+    const glm::vec3 c(top, top * std::pow(10.0f, -spread(rng)), top * std::pow(10.0f, -spread(rng)));
+    const uint32_t w = packSharedExponent(c);
+    float f;
+    std::memcpy(&f, &w, sizeof f);
+    ASSERT_TRUE(std::isfinite(f)) << std::hex << w;
+    const glm::vec3 d = unpackSharedExponent(w);
+    for (int i = 0; i < 3; ++i) worst = std::max(worst, double(std::abs(d[i] - c[i]) / top));
+  }
+  EXPECT_LE(worst, std::ldexp(1.0, -9) * 1.001) << "largest error relative to the largest channel";
+  // The layout the kernel decodes (kernel/envmap.glsl): b's high bits on top.
+  EXPECT_EQ(packSharedExponent({1.0f, 0.5f, 1.0f}), (256u) | (128u << 9) | (0u << 18) | (16u << 23) | (8u << 28));
+  EXPECT_EQ(unpackSharedExponent(packSharedExponent({3.0f, 0.0f, 2.0f})), glm::vec3(3.0f, 0.0f, 2.0f));
+  EXPECT_EQ(packSharedExponent({0.0f, 0.0f, 0.0f}), 0u);
+}
+
 TEST(EnvMap, BrightMapsAreStoredScaled) {
   ir::TextureImage m = testMap(16);
-  m.rgb[5] = 1e6f;  // a sun texel beyond half-float range
+  m.rgb[5] = 1e6f;  // a sun texel beyond the shared exponent's range
   const EnvMapData map = buildEnvMap(m);
-  EXPECT_GT(map.scale, 1e6f / 65504.0f);
+  EXPECT_FLOAT_EQ(map.scale, 1e6f / kSharedExponentMax);  // the peak stored at the largest value
   EXPECT_NEAR(envMapTexel(map, 1, 0).b * map.scale, 1e6f, 1e6f * 1e-3f);
 }
 
@@ -290,9 +316,9 @@ TEST(EnvMap, EmittedOnlyWhenUsed) {
   const CompiledScene lit = compile("sky(map: \"ok.exr\", rotation: 90)");
   EXPECT_NE(lit.emitted.glsl.find("sampleEnvLight"), std::string::npos);
   EXPECT_NE(lit.emitted.glsl.find("SDFC_HAS_ENVMAP"), std::string::npos);
-  // Two words of half floats a texel, the CDF of the 7 x 3 cells between
-  // texel centres and of their 3 rows, padded to a vec4.
-  EXPECT_EQ(lit.emitted.scene_data.size(), size_t(8 * 4 * 2 + 7 * 3 + 3));
+  // One shared-exponent word a texel, the CDF of the 7 x 3 cells between
+  // texel centres and of their 3 rows (a vec4's multiple already).
+  EXPECT_EQ(lit.emitted.scene_data.size(), size_t(8 * 4 + 7 * 3 + 3));
 }
 
 }  // namespace

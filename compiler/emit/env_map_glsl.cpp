@@ -43,8 +43,8 @@ EnvMapLayout appendEnvMapData(const ir::Sky& sky, std::vector<float>& data) {
   l.scale = map.scale;
   padToVec4(data);
   l.texels = data.size();
-  // Half-float pairs of finite non-negative values: their high half never
-  // makes a NaN or infinity of the float the word is carried in.
+  // Shared-exponent words are never a NaN or infinity as floats
+  // (eval/shared_exponent.h): carried in the float data as they are.
   data.reserve(data.size() + map.texels.size() + map.column_cdf.size() + map.row_cdf.size() + 8);
   for (uint32_t w : map.texels) data.push_back(wordAsFloat(w));
   l.column_cdf = data.size();

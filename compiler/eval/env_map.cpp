@@ -3,13 +3,13 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
-#include <glm/gtc/packing.hpp>
+
+#include "eval/shared_exponent.h"
 
 namespace sdfc {
 namespace {
 
 constexpr float kPi = 3.14159265358979f;
-constexpr float kHalfMax = 65504.0f;
 
 float luminance(const glm::vec3& c) { return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b; }
 
@@ -36,13 +36,14 @@ EnvMapData buildEnvMap(const ir::TextureImage& image, bool uniform) {
   const size_t n = size_t(m.width) * m.height;
   float peak = 0;
   for (float v : image.rgb) peak = std::max(peak, v);
-  if (peak > kHalfMax) m.scale = peak / kHalfMax * 1.0001f;
+  // The peak stored near the top of the shared exponent's range: every
+  // texel within 2^30 of it keeps its 9 bits (dim maps and bright ones).
+  if (peak > 0) m.scale = peak / kSharedExponentMax;  // (packing clamps a rounding above)
   const float inv_scale = 1.0f / m.scale;
-  m.texels.resize(2 * n);
+  m.texels.resize(n);
   for (size_t i = 0; i < n; ++i) {
     const float* c = &image.rgb[3 * i];
-    m.texels[2 * i] = glm::packHalf2x16(glm::vec2(c[0], c[1]) * inv_scale);
-    m.texels[2 * i + 1] = glm::packHalf2x16(glm::vec2(c[2] * inv_scale, 0.0f));
+    m.texels[i] = packSharedExponent(glm::vec3(c[0], c[1], c[2]) * inv_scale);
   }
   // A texel cell lies between four texel centres; its weight is their mean
   // luminance as stored (the kernel's radiance), so that it is positive
@@ -122,9 +123,7 @@ EnvMapData buildEnvMap(const ir::TextureImage& image, bool uniform) {
 }
 
 glm::vec3 envMapTexel(const EnvMapData& m, int x, int y) {
-  const size_t i = size_t(y) * m.width + x;
-  const glm::vec2 rg = glm::unpackHalf2x16(m.texels[2 * i]);
-  return glm::vec3(rg, glm::unpackHalf2x16(m.texels[2 * i + 1]).x);
+  return unpackSharedExponent(m.texels[size_t(y) * m.width + x]);
 }
 
 namespace {

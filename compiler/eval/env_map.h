@@ -34,10 +34,10 @@ struct EnvMapData {
   int cells_x = 0, cells_y = 0;  // width - 1, height - 1
   // The sampling grid: min(cells_x, kEnvGridMaxX) x min(cells_y, kEnvGridMaxY).
   int grid_x = 0, grid_y = 0;
-  // Stored texel * scale = radiance: half floats end at 65504, so a map with
-  // brighter texels (a sun) is stored scaled down.
+  // Stored texel * scale = radiance: the map is stored with its peak near
+  // the shared exponent's largest value (32704), whatever its brightness.
   float scale = 1;
-  // Two words a texel, rows from the top: packHalf2x16(r, g), packHalf2x16(b, 0).
+  // One word a texel, rows from the top: packSharedExponent(r, g, b).
   std::vector<uint32_t> texels;
   // grid_x * grid_y: row by row, the CDF of the grid's cells to the end of
   // each (the last of a row is 1); then grid_y: the CDF of the rows.

@@ -1,16 +1,17 @@
 // The environment light sky(map: ...), emitted only for a scene that has one
 // (docs/lighting.md). Its data are words of the scene data from float index
-// kEnvTexels: two a texel, half-float RGB (rows from the top); then, from
+// kEnvTexels: one a texel, RGB with a shared exponent (rows from the top); then, from
 // kEnvColumnCdf, the CDF of the sampling grid's cells in each of its rows;
 // from kEnvRowCdf, the rows' CDF.
 // compiler/eval/env_map.h is the CPU twin, against which the tests check it.
 
 float sdEnvWord(int k) { return sd_data[k >> 2][k & 3]; }
 
+// eval/shared_exponent.h: r, g, b's 9 bits and their exponent in one word.
 vec3 sdEnvTexel(int x, int y) {
-  int k = kEnvTexels + 2 * (y * kEnvWidth + x);
-  vec2 rg = unpackHalf2x16(floatBitsToUint(sdEnvWord(k)));
-  return vec3(rg, unpackHalf2x16(floatBitsToUint(sdEnvWord(k + 1))).x);
+  uint w = floatBitsToUint(sdEnvWord(kEnvTexels + y * kEnvWidth + x));
+  uvec3 q = uvec3(w & 511u, (w >> 9) & 511u, ((w >> 18) & 31u) | ((w >> 23) & 480u));
+  return vec3(q) * uintBitsToFloat((((w >> 23) & 31u) + 103u) << 23);  // 2^(e - 24)
 }
 
 // rotation: the map turned about +y by kEnvRotation = (cos, sin) of its angle.
