@@ -65,16 +65,16 @@ scene {{ sphere(radius: 1, material: diffuse(albedo: [1, 1, 1])) }}
               f"worst pixel off by {worst:.3f} (< 0.25)")
 
 
-def seen_directly(sdfc, tmp):
-    w = 64
+def seen_directly(sdfc, tmp, w=64):
     rgb = envmap.studio(w)
-    envmap.write_exr(os.path.join(tmp, "studio.exr"), rgb)
+    name = "studio.exr" if w == 64 else f"studio {w}.exr"
+    envmap.write_exr(os.path.join(tmp, name), rgb)
     cam = {"position": np.array([0.0, 0.3, 0.0]), "target": np.array([1.0, 0.5, -0.4]),
            "up": np.array([0, 1, 0.0]), "fov": 60.0, "aperture": 0.0}
     scene = os.path.join(tmp, "direct.sdf")
     write(scene, f"""render(size: [{W}, {H}], spp: 32, bounces: 0)
 camera(position: [0, 0.3, 0], target: [1, 0.5, -0.4], fov: 60)
-sky(map: "studio.exr", rotation: 90, strength: 0.5)
+sky(map: "{name}", rotation: 90, strength: 0.5)
 scene {{ translate([0, -50, 0]) {{ sphere(radius: 0.1) }} }}
 """)
     img = render(sdfc, scene, os.path.join(tmp, "direct.pfm"))
@@ -93,7 +93,7 @@ scene {{ translate([0, -50, 0]) {{ sphere(radius: 0.1) }} }}
     want = 0.5 * ((rgb[y0, x0] * (1 - fs) + rgb[y0, x1] * fs) * (1 - ft) + (rgb[y1, x0] * (1 - fs) + rgb[y1, x1] * fs) * ft)
     rel = np.abs(img - want) / np.maximum(want, 1e-3)
     check(float(np.median(rel)) < 0.01 and float(img.max()) > 1.0,
-          f"map seen directly: median relative error {np.median(rel):.4f} (< 1%), brightest {img.max():.2f} "
+          f"map seen directly ({w} x {w // 2}): median relative error {np.median(rel):.4f} (< 1%), brightest {img.max():.2f} "
           "(the key light is in view)")
 
 
@@ -132,6 +132,7 @@ def main():
     with tempfile.TemporaryDirectory(prefix="sdfc env map ") as tmp:
         furnace(args.sdfc, tmp)
         seen_directly(args.sdfc, tmp)
+        seen_directly(args.sdfc, tmp, 10)  # a small map of odd size
         mis_against_bsdf(args.sdfc, tmp)
         coarse_grid(args.sdfc, tmp)
     return 1 if failures else 0
