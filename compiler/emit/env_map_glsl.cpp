@@ -38,11 +38,13 @@ EnvMapLayout appendEnvMapData(const ir::Sky& sky, std::vector<float>& data) {
   EnvMapLayout l;
   l.width = map.width;
   l.height = map.height;
+  l.grid_x = map.grid_x;
+  l.grid_y = map.grid_y;
   l.scale = map.scale;
   padToVec4(data);
   l.texels = data.size();
-  // Half-float pairs of finite non-negative values: their high half never
-  // makes a NaN or infinity of the float the word is carried in.
+  // Shared-exponent words are never a NaN or infinity as floats
+  // (eval/shared_exponent.h): carried in the float data as they are.
   data.reserve(data.size() + map.texels.size() + map.column_cdf.size() + map.row_cdf.size() + 8);
   for (uint32_t w : map.texels) data.push_back(wordAsFloat(w));
   l.column_cdf = data.size();
@@ -62,12 +64,14 @@ void emitEnvMap(const ir::Sky& sky, const EnvMapLayout& l, const std::set<std::s
       << ", kEnvRowCdf = " << l.row_cdf << ";\n";
   out << "const int kEnvCellsX = " << l.width - 1 << ", kEnvCellsY = " << l.height - 1
       << ";  // the cells between texel centres\n";
-  out << "const int kEnvColumnSteps = " << searchSteps(l.width - 1) << ", kEnvRowSteps = "
-      << searchSteps(l.height - 1) << ";\n";
+  out << "const int kEnvGridX = " << l.grid_x << ", kEnvGridY = " << l.grid_y
+      << ";  // the sampling grid's cells (at most 512 x 256)\n";
+  out << "const int kEnvColumnSteps = " << searchSteps(l.grid_x) << ", kEnvRowSteps = " << searchSteps(l.grid_y)
+      << ";\n";
   out << "const float kEnvScale = " << glslFloat(sky.strength * l.scale) << ";  // strength x storage scale\n";
   out << "const vec2 kEnvRotation = vec2(" << glslFloat(std::cos(a)) << ", " << glslFloat(std::sin(a)) << ");\n";
-  out << "const float kEnvPdfScale = " << glslFloat(double(l.width - 1) * (l.height - 1) / (2 * M_PI * M_PI))
-      << ";  // cells per steradian at sin(theta) = 1\n";
+  out << "const float kEnvPdfScale = " << glslFloat(double(l.grid_x) * l.grid_y / (2 * M_PI * M_PI))
+      << ";  // grid cells per steradian at sin(theta) = 1\n";
   out << filterFeatures(embeddedSource("kernel/envmap.glsl"), features);
 }
 

@@ -15,6 +15,7 @@ namespace sdfc {
 struct EnvMapLayout {
   size_t texels = 0, column_cdf = 0, row_cdf = 0;
   int width = 0, height = 0;
+  int grid_x = 0, grid_y = 0;  // the sampling grid (eval/env_map.h)
   float scale = 1;
 };
 

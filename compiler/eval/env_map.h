@@ -11,8 +11,13 @@
 // y up, as Mitsuba 3's envmap: u = atan2(x, -z) / 2 pi, v = acos(y) / pi,
 // and texel (i, j) (j from the top) at u = i / (W - 1), v = j / (H - 1): the
 // first and last columns both on the seam, the top row at the zenith.
-// Radiance is bilinear between the four texels around a direction, and the
-// distribution is over those (W - 1) x (H - 1) cells.
+// Radiance is bilinear between the four texels around a direction. The
+// distribution is over a grid of at most kEnvGridMaxX x kEnvGridMaxY equal
+// cells in (u, v): the (W - 1) x (H - 1) cells between texels for a map up
+// to 513 x 257, coarser cells (each weighted by the mean of the texel cells
+// it covers) for a larger one, so that sampling reads a table that stays in
+// cache whatever the map's size; a direction is drawn uniformly in its cell,
+// and its pdf is that cell's.
 #pragma once
 #include <cstdint>
 #include <glm/glm.hpp>
@@ -22,18 +27,22 @@
 
 namespace sdfc {
 
+constexpr int kEnvGridMaxX = 512, kEnvGridMaxY = 256;
+
 struct EnvMapData {
   int width = 0, height = 0;
   int cells_x = 0, cells_y = 0;  // width - 1, height - 1
-  // Stored texel * scale = radiance: half floats end at 65504, so a map with
-  // brighter texels (a sun) is stored scaled down.
+  // The sampling grid: min(cells_x, kEnvGridMaxX) x min(cells_y, kEnvGridMaxY).
+  int grid_x = 0, grid_y = 0;
+  // Stored texel * scale = radiance: the map is stored with its peak near
+  // the shared exponent's largest value (32704), whatever its brightness.
   float scale = 1;
-  // Two words a texel, rows from the top: packHalf2x16(r, g), packHalf2x16(b, 0).
+  // One word a texel, rows from the top: packSharedExponent(r, g, b).
   std::vector<uint32_t> texels;
-  // cells_x * cells_y: row by row, the CDF of the cells to the end of each
-  // (the last of a row is 1); then cells_y: the CDF of the rows.
+  // grid_x * grid_y: row by row, the CDF of the grid's cells to the end of
+  // each (the last of a row is 1); then grid_y: the CDF of the rows.
   std::vector<float> column_cdf, row_cdf;
-  // The sum of the weights (luminance * sin(theta) a cell): 0 for a black map.
+  // The sum of the weights (mean luminance * sin(theta) a grid cell): 0 for a black map.
   double total_weight = 0;
 };
 

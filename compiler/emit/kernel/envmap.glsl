@@ -1,16 +1,17 @@
 // The environment light sky(map: ...), emitted only for a scene that has one
 // (docs/lighting.md). Its data are words of the scene data from float index
-// kEnvTexels: two a texel, half-float RGB (rows from the top); then, from
-// kEnvColumnCdf, the CDF of the cells between texels in each row of cells;
+// kEnvTexels: one a texel, RGB with a shared exponent (rows from the top); then, from
+// kEnvColumnCdf, the CDF of the sampling grid's cells in each of its rows;
 // from kEnvRowCdf, the rows' CDF.
 // compiler/eval/env_map.h is the CPU twin, against which the tests check it.
 
 float sdEnvWord(int k) { return sd_data[k >> 2][k & 3]; }
 
+// eval/shared_exponent.h: r, g, b's 9 bits and their exponent in one word.
 vec3 sdEnvTexel(int x, int y) {
-  int k = kEnvTexels + 2 * (y * kEnvWidth + x);
-  vec2 rg = unpackHalf2x16(floatBitsToUint(sdEnvWord(k)));
-  return vec3(rg, unpackHalf2x16(floatBitsToUint(sdEnvWord(k + 1))).x);
+  uint w = floatBitsToUint(sdEnvWord(kEnvTexels + y * kEnvWidth + x));
+  uvec3 q = uvec3(w & 511u, (w >> 9) & 511u, ((w >> 18) & 31u) | ((w >> 23) & 480u));
+  return vec3(q) * uintBitsToFloat((((w >> 23) & 31u) + 103u) << 23);  // 2^(e - 24)
 }
 
 // rotation: the map turned about +y by kEnvRotation = (cos, sin) of its angle.
@@ -27,10 +28,9 @@ vec2 sdEnvUv(vec3 d) {
   return vec2(u - floor(u), acos(clamp(d.y, -1.0, 1.0)) * (1.0 / 3.14159265358979));
 }
 
-// Radiance toward dir: bilinear, texel (i, j) at u = i / (W - 1), v = j / (H - 1)
-// (the first and last columns on the seam, as Mitsuba 3).
-vec3 sdSky(vec3 dir) {
-  vec2 uv = sdEnvUv(sdEnvToLocal(dir));
+// Radiance at map coordinates uv: bilinear, texel (i, j) at u = i / (W - 1),
+// v = j / (H - 1) (the first and last columns on the seam, as Mitsuba 3).
+vec3 sdEnvRadianceUv(vec2 uv) {
   float s = uv.x * float(kEnvCellsX), t = uv.y * float(kEnvCellsY);
   int x0 = min(int(s), kEnvCellsX - 1), y0 = min(int(t), kEnvCellsY - 1);
   float a = s - float(x0);
@@ -38,6 +38,9 @@ vec3 sdSky(vec3 dir) {
   vec3 bottom = mix(sdEnvTexel(x0, y0 + 1), sdEnvTexel(x0 + 1, y0 + 1), a);
   return mix(top, bottom, t - float(y0)) * kEnvScale;
 }
+
+// Radiance toward dir.
+vec3 sdSky(vec3 dir) { return sdEnvRadianceUv(sdEnvUv(sdEnvToLocal(dir))); }
 
 #ifdef SDFC_TRACE
 // The first index of cdf[base, base + n) above u (the last is 1 > u). A
@@ -55,44 +58,49 @@ int sdEnvFind(int base, int n, int steps, float u) {
   return lo;
 }
 
-// The solid-angle pdf of the cell a local direction falls in.
-float sdEnvCellPdf(int x, int y, float sin_theta) {
+// The solid-angle pdf of sampling a direction at uv, sin_theta its distance
+// from the y axis: its grid cell's probability, uniform over the cell.
+float sdEnvPdfUv(vec2 uv, float sin_theta) {
+  int x = min(int(uv.x * float(kEnvGridX)), kEnvGridX - 1);
+  int y = min(int(uv.y * float(kEnvGridY)), kEnvGridY - 1);
   float p_row = sdEnvWord(kEnvRowCdf + y) - (y > 0 ? sdEnvWord(kEnvRowCdf + y - 1) : 0.0);
-  int row = kEnvColumnCdf + y * kEnvCellsX;
+  int row = kEnvColumnCdf + y * kEnvGridX;
   float p_col = sdEnvWord(row + x) - (x > 0 ? sdEnvWord(row + x - 1) : 0.0);
   return sin_theta > 0.0 ? p_row * p_col * kEnvPdfScale / sin_theta : 0.0;
 }
 
-// A direction drawn in proportion to luminance x sin(theta) by u in [0, 1)^2.
-bool sampleEnvLight(vec2 u, out vec3 wi, out float pdf, out vec3 radiance) {
+// A direction drawn in proportion to the grid's weights (mean luminance x
+// sin(theta)) by u in [0, 1)^2, uniformly in its cell, with its map
+// coordinates: the caller reads the radiance there only for a shadow ray
+// that may carry it (sdEnvRadianceUv).
+bool sampleEnvLight(vec2 u, out vec3 wi, out float pdf, out vec2 uv) {
   wi = vec3(0.0, 1.0, 0.0);
   pdf = 0.0;
-  radiance = vec3(0.0);
-  int y = sdEnvFind(kEnvRowCdf, kEnvCellsY, kEnvRowSteps, u.y);
+  uv = vec2(0.0);
+  int y = sdEnvFind(kEnvRowCdf, kEnvGridY, kEnvRowSteps, u.y);
   float r0 = y > 0 ? sdEnvWord(kEnvRowCdf + y - 1) : 0.0;
   float p_row = sdEnvWord(kEnvRowCdf + y) - r0;
-  int row = kEnvColumnCdf + y * kEnvCellsX;
-  int x = sdEnvFind(row, kEnvCellsX, kEnvColumnSteps, u.x);
+  int row = kEnvColumnCdf + y * kEnvGridX;
+  int x = sdEnvFind(row, kEnvGridX, kEnvColumnSteps, u.x);
   float c0 = x > 0 ? sdEnvWord(row + x - 1) : 0.0;
   float p_col = sdEnvWord(row + x) - c0;
   if (p_row <= 0.0 || p_col <= 0.0) return false;
-  float uu = (float(x) + (u.x - c0) / p_col) / float(kEnvCellsX);
-  float vv = (float(y) + (u.y - r0) / p_row) / float(kEnvCellsY);
-  float theta = 3.14159265358979 * vv, phi = 6.28318530717959 * uu;
+  uv = vec2((float(x) + (u.x - c0) / p_col) / float(kEnvGridX), (float(y) + (u.y - r0) / p_row) / float(kEnvGridY));
+  float theta = 3.14159265358979 * uv.y, phi = 6.28318530717959 * uv.x;
   float sin_theta = sin(theta);
   if (sin_theta <= 0.0) return false;
   pdf = p_row * p_col * kEnvPdfScale / sin_theta;
   wi = sdEnvToWorld(vec3(sin_theta * sin(phi), cos(theta), -sin_theta * cos(phi)));
-  radiance = sdSky(wi);
   return true;
 }
 
-// The solid-angle pdf of sampleEnvLight drawing world direction wi.
-float envLightPdf(vec3 wi) {
-  vec3 d = sdEnvToLocal(wi);
+// Radiance toward a ray's direction that escaped, and (with_pdf) the solid-
+// angle pdf of sampleEnvLight drawing it, from one (u, v).
+vec3 sdEnvMiss(vec3 dir, bool with_pdf, out float pdf) {
+  vec3 d = sdEnvToLocal(dir);
   vec2 uv = sdEnvUv(d);
-  int x = min(int(uv.x * float(kEnvCellsX)), kEnvCellsX - 1);
-  int y = min(int(uv.y * float(kEnvCellsY)), kEnvCellsY - 1);
-  return sdEnvCellPdf(x, y, sqrt(d.x * d.x + d.z * d.z));
+  pdf = with_pdf ? sdEnvPdfUv(uv, sqrt(d.x * d.x + d.z * d.z)) : 0.0;
+  return sdEnvRadianceUv(uv);
 }
+
 #endif

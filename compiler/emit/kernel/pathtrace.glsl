@@ -612,6 +612,7 @@ float misBsdfWeight(float bsdf_pdf, float light_pdf) {
 // from p: lightPdf, or the environment map's, which varies with wi.
 // The map's pdf of the direction sampleLight drew last (not recomputed from wi).
 float g_env_sample_pdf = 0.0;
+vec2 g_env_sample_uv = vec2(0.0);  // and its map coordinates
 float neeLightPdf(int index, vec3 p, vec3 wi) {
   if (index == kLightCount - 1) return g_env_sample_pdf / float(kLightCount);
   return lightPdf(index, p);
@@ -623,7 +624,8 @@ bool sampleLight(int index, vec3 p, vec2 u, out vec3 wi, out float dist, out vec
 #ifdef SDFC_HAS_ENVMAP
   if (index == kLightCount - 1) {
     dist = 3.0e38;  // to infinity, as the sun
-    return sampleEnvLight(u, wi, g_env_sample_pdf, radiance);
+    radiance = vec3(0.0);  // read by the caller at g_env_sample_uv if the ray may carry it
+    return sampleEnvLight(u, wi, g_env_sample_pdf, g_env_sample_uv);
   }
 #endif
 #ifdef SDFC_HAS_SUN
@@ -875,10 +877,13 @@ vec3 tracePath(vec3 ro, vec3 rd, int max_bounces, bool record_aov) {
 #endif
       if (t < 0.0) {
         if (record_aov && depth == 0) g_aov_steps = steps;
-        vec3 sky = sdSky(rd);
 #ifdef SDFC_HAS_ENVMAP
         // The map is a light of next-event estimation too: MIS-weighted.
-        if (prev_pdf > 0.0) sky *= misBsdfWeight(prev_pdf, envLightPdf(rd) / float(kLightCount));
+        float env_pdf;
+        vec3 sky = sdEnvMiss(rd, prev_pdf > 0.0, env_pdf);
+        if (prev_pdf > 0.0) sky *= misBsdfWeight(prev_pdf, env_pdf / float(kLightCount));
+#else
+        vec3 sky = sdSky(rd);
 #endif
 #ifdef SDFC_HAS_SUN
         // sdSky holds no sun disc: the kernel adds it, MIS-weighted against NEE.
@@ -981,6 +986,7 @@ vec3 tracePath(vec3 ro, vec3 rd, int max_bounces, bool record_aov) {
 #ifdef SDFC_HAS_ENVMAP
         // The map's pdf of the drawn direction (0: nothing was drawn).
         float light_pdf = neeLightPdf(index, origin, wi);
+        if (index == kLightCount - 1 && !blocked && light_pdf > 0.0) le = sdEnvRadianceUv(g_env_sample_uv);
         if (!blocked && light_pdf > 0.0) {
 #else
         if (!blocked) {
