@@ -11,6 +11,7 @@
 #include <fstream>
 #include <random>
 #include <sstream>
+#include <unistd.h>
 
 #include "camera.h"
 #include "driver/compile.h"
@@ -785,7 +786,9 @@ class PythonRandom {
 // standing at a cell's face (a cell of tiny reach). The depth is exact: 400
 // pixels against float64 over every sphere, and those 5.
 TEST_F(InstancesGpu, AMillionSpheresTakeFixedSlotsWithinTheStorageRange) {
-  const std::filesystem::path dir = std::filesystem::path(testing::TempDir()) / "sdfc_million";
+  // Per process: worktrees running this suite at once share the temporary folder.
+  const std::filesystem::path dir =
+      std::filesystem::path(testing::TempDir()) / ("sdfc_million_" + std::to_string(getpid()));
   std::filesystem::create_directories(dir);
   {
     PythonRandom rng(1);
@@ -811,6 +814,8 @@ TEST_F(InstancesGpu, AMillionSpheresTakeFixedSlotsWithinTheStorageRange) {
   options.emit.march.image_height = 360;
   Diagnostics diags;
   const CompiledScene data = compileSource((dir / "scene.sdf").string(), text, options, diags);
+  std::error_code ignored;
+  std::filesystem::remove_all(dir, ignored);  // read by now; 30 MB a run
   ASSERT_TRUE(data.ok) << diags.format();
   std::vector<const ir::Node*> sets;
   collectSets(data.scene.root, sets);
