@@ -255,21 +255,40 @@ void createRenderPipeline(RenderPipeline& pipeline, const VulkanContext& context
   vkDestroyShaderModule(device, frag, nullptr);
 }
 
-void warmAttachmentViews(const VulkanContext& context) {
-  VkDevice device = context.device;
-  VkImage image = VK_NULL_HANDLE;
-  VkDeviceMemory memory = VK_NULL_HANDLE;
-  VkImageView view = VK_NULL_HANDLE;
+namespace {
+
+// One render target attachment (and the warm-up's 1x1 one).
+VkImageCreateInfo attachmentImageInfo(uint32_t width, uint32_t height) {
   VkImageCreateInfo info{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
   info.imageType = VK_IMAGE_TYPE_2D;
   info.format = kAttachmentFormat;
-  info.extent = {1, 1, 1};
+  info.extent = {width, height, 1};
   info.mipLevels = 1;
   info.arrayLayers = 1;
   info.samples = VK_SAMPLE_COUNT_1_BIT;
   info.tiling = VK_IMAGE_TILING_OPTIMAL;
   info.usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
   info.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+  return info;
+}
+
+VkImageViewCreateInfo attachmentViewInfo(VkImage image) {
+  VkImageViewCreateInfo view{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
+  view.image = image;
+  view.viewType = VK_IMAGE_VIEW_TYPE_2D;
+  view.format = kAttachmentFormat;
+  view.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+  return view;
+}
+
+}  // namespace
+
+void warmAttachmentViews(const VulkanContext& context) {
+  VkDevice device = context.device;
+  VkImage image = VK_NULL_HANDLE;
+  VkDeviceMemory memory = VK_NULL_HANDLE;
+  VkImageView view = VK_NULL_HANDLE;
+  const VkImageCreateInfo info = attachmentImageInfo(1, 1);
   // Failures are left to the real target's creation, which reports them.
   if (vkCreateImage(device, &info, nullptr, &image) == VK_SUCCESS) {
     VkMemoryRequirements reqs{};
@@ -284,11 +303,7 @@ void warmAttachmentViews(const VulkanContext& context) {
     }
     if (vkAllocateMemory(device, &alloc, nullptr, &memory) == VK_SUCCESS &&
         vkBindImageMemory(device, image, memory, 0) == VK_SUCCESS) {
-      VkImageViewCreateInfo view_info{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
-      view_info.image = image;
-      view_info.viewType = VK_IMAGE_VIEW_TYPE_2D;
-      view_info.format = kAttachmentFormat;
-      view_info.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+      const VkImageViewCreateInfo view_info = attachmentViewInfo(image);
       if (vkCreateImageView(device, &view_info, nullptr, &view) == VK_SUCCESS)
         vkDestroyImageView(device, view, nullptr);
     }
@@ -326,16 +341,7 @@ void createRenderTarget(RenderTarget& target, const VulkanContext& context,
     // Images: one allocation for all three (same size and requirements).
     VkMemoryRequirements reqs{};
     for (uint32_t i = 0; i < kAttachmentCount; ++i) {
-      VkImageCreateInfo info{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
-      info.imageType = VK_IMAGE_TYPE_2D;
-      info.format = kAttachmentFormat;
-      info.extent = {width, height, 1};
-      info.mipLevels = 1;
-      info.arrayLayers = 1;
-      info.samples = VK_SAMPLE_COUNT_1_BIT;
-      info.tiling = VK_IMAGE_TILING_OPTIMAL;
-      info.usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
-      info.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+      const VkImageCreateInfo info = attachmentImageInfo(width, height);
       VK_CHECK(vkCreateImage(device, &info, nullptr, &target.images[i]));
     }
     vkGetImageMemoryRequirements(device, target.images[0], &reqs);
@@ -347,11 +353,7 @@ void createRenderTarget(RenderTarget& target, const VulkanContext& context,
     VK_CHECK(vkAllocateMemory(device, &alloc, nullptr, &target.image_memory));
     for (uint32_t i = 0; i < kAttachmentCount; ++i) {
       VK_CHECK(vkBindImageMemory(device, target.images[i], target.image_memory, stride * i));
-      VkImageViewCreateInfo view{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
-      view.image = target.images[i];
-      view.viewType = VK_IMAGE_VIEW_TYPE_2D;
-      view.format = kAttachmentFormat;
-      view.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+      const VkImageViewCreateInfo view = attachmentViewInfo(target.images[i]);
       VK_CHECK(vkCreateImageView(device, &view, nullptr, &target.views[i]));
     }
     VkFramebufferCreateInfo fb{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
