@@ -18,7 +18,6 @@ namespace {
 
 struct PushConstants {
   uint32_t width, height, scale, out_width, out_height, covered_width, covered_height;
-  uint32_t curve;  // 0 linear (clamp), 1 aces, 2 neutral
   uint32_t bgr;
   float exposure_scale;
 };
@@ -51,7 +50,7 @@ layout(std430, set = 0, binding = 2) readonly buffer Thresholds { float t[256]; 
 layout(constant_id = 0) const uint kCurve = 2u;
 layout(push_constant) uniform Params {
   uint width, height, scale, out_width, out_height, covered_width, covered_height;
-  uint curve, bgr;
+  uint bgr;
   float exposure_scale;
 } p;
 
@@ -283,6 +282,8 @@ void DisplayPass::record(VkCommandBuffer cmd, const ToneMap& tone, const Display
     VK_CHECK(vkFlushMappedMemoryRanges(context_.device, 1, &flush));
   }
   bind(output, output_size);
+  // The curve picks the pipeline (its specialisation constant: 0 linear, 1 aces, 2 neutral).
+  const uint32_t curve = tone.curve == ToneCurve::Clamp ? 0u : tone.curve == ToneCurve::AcesFit ? 1u : 2u;
   PushConstants pc{};
   pc.width = std::max(1u, layout.width);
   pc.height = std::max(1u, layout.height);
@@ -291,10 +292,9 @@ void DisplayPass::record(VkCommandBuffer cmd, const ToneMap& tone, const Display
   pc.out_height = layout.out_height;
   pc.covered_width = layout.covered_width;
   pc.covered_height = layout.covered_height;
-  pc.curve = tone.curve == ToneCurve::Clamp ? 0u : tone.curve == ToneCurve::AcesFit ? 1u : 2u;
   pc.bgr = layout.bgr ? 1u : 0u;
   pc.exposure_scale = std::exp2(tone.exposure_stops);  // as toSrgb8: taken once
-  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipelineFor(pc.curve));
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipelineFor(curve));
   vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_, 0, 1, &set_, 0, nullptr);
   vkCmdPushConstants(cmd, layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof pc, &pc);
   vkCmdDispatch(cmd, (layout.out_width + kGroup - 1) / kGroup, layout.out_height, 1);

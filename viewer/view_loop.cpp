@@ -119,27 +119,23 @@ struct FrameSplit {
   std::vector<FrameParts> frames;
   void add(const FrameParts& parts) { frames.push_back(parts); }
   std::string line(const char* what) const {
-    auto median = [&](double FrameParts::*part) {
+    // The median over the frames of f(frame): a part, or the whole interval.
+    auto median = [&](auto f) {
       std::vector<double> v;
-      for (const FrameParts& f : frames) v.push_back(f.*part);
+      for (const FrameParts& frame : frames) v.push_back(f(frame));
       if (v.empty()) return 0.0;
       std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
       return v[v.size() / 2];
     };
-    std::vector<double> intervals;
-    for (const FrameParts& f : frames) intervals.push_back(f.interval());
-    double interval = 0;
-    if (!intervals.empty()) {
-      std::nth_element(intervals.begin(), intervals.begin() + intervals.size() / 2, intervals.end());
-      interval = intervals[intervals.size() / 2];
-    }
+    auto part = [&](double FrameParts::*p) { return median([p](const FrameParts& f) { return f.*p; }); };
+    const double interval = median([](const FrameParts& f) { return f.interval(); });
     char text[320];
     std::snprintf(text, sizeof text,
                   "%s (median of %zu, ms): interval %.2f = pass %.2f + mean %.2f + tone map and copy "
                   "submitted %.2f + acquire %.2f + present %.2f + wait %.2f",
-                  what, frames.size(), interval, median(&FrameParts::pass), median(&FrameParts::tone),
-                  median(&FrameParts::copy), median(&FrameParts::acquire), median(&FrameParts::present),
-                  median(&FrameParts::wait));
+                  what, frames.size(), interval, part(&FrameParts::pass), part(&FrameParts::tone),
+                  part(&FrameParts::copy), part(&FrameParts::acquire), part(&FrameParts::present),
+                  part(&FrameParts::wait));
     return text;
   }
 };
