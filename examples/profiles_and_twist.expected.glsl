@@ -877,6 +877,7 @@ vec3 tracePath(vec3 ro, vec3 rd, int max_bounces, bool record_aov) {
   bool shadow_ray = false, shadow_valid = false;
   vec3 shadow_origin = vec3(0.0), shadow_dir = vec3(0.0), shadow_radiance = vec3(0.0);
   float shadow_dist = -1.0;
+  bool escaped = false;  // the path left the scene along rd
   const int light_samples = kNextEvent ? int(frame.light_samples) : 0;
   for (int it = loopZero(); it < max_bounces + 1 + max_bounces * light_samples; it++) {
     g_loop_iterations++;
@@ -891,10 +892,7 @@ vec3 tracePath(vec3 ro, vec3 rd, int max_bounces, bool record_aov) {
     } else {
       if (t < 0.0) {
         if (record_aov && depth == 0) g_aov_steps = steps;
-        vec3 sky = sdSky(rd);
-        // sdSky holds no sun disc: the kernel adds it, MIS-weighted against NEE.
-        if (dot(rd, kSunDir) >= kSunCosAngle) sky += kSunRadiance * misBsdfWeight(prev_pdf, lightPdf(0, prev_pos));
-        radiance += throughput * sky;
+        escaped = true;  // its sky is added after the loop
         break;
       }
 
@@ -991,6 +989,14 @@ vec3 tracePath(vec3 ro, vec3 rd, int max_bounces, bool record_aov) {
       throughput /= q;
     }
     depth++;
+  }
+  // A path escapes at most once, so its sky is read here, once a path, not in
+  // every iteration: lavapipe runs every branch of the loop's body under a mask.
+  if (escaped) {
+    vec3 sky = sdSky(rd);
+    // sdSky holds no sun disc: the kernel adds it, MIS-weighted against NEE.
+    if (dot(rd, kSunDir) >= kSunCosAngle) sky += kSunRadiance * misBsdfWeight(prev_pdf, lightPdf(0, prev_pos));
+    radiance += throughput * sky;
   }
   return radiance;
 }

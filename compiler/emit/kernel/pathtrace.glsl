@@ -815,6 +815,7 @@ vec3 tracePath(vec3 ro, vec3 rd, int max_bounces, bool record_aov) {
   bool shadow_ray = false, shadow_valid = false;
   vec3 shadow_origin = vec3(0.0), shadow_dir = vec3(0.0), shadow_radiance = vec3(0.0);
   float shadow_dist = -1.0;
+  bool escaped = false;  // the path left the scene along rd
   const int light_samples = kNextEvent ? int(frame.light_samples) : 0;
 #ifndef SDFC_NO_AOVS
 #if defined(SDFC_HAS_MIRROR) || defined(SDFC_HAS_GLASS) || defined(SDFC_HAS_METAL)
@@ -877,19 +878,7 @@ vec3 tracePath(vec3 ro, vec3 rd, int max_bounces, bool record_aov) {
 #endif
       if (t < 0.0) {
         if (record_aov && depth == 0) g_aov_steps = steps;
-#ifdef SDFC_HAS_ENVMAP
-        // The map is a light of next-event estimation too: MIS-weighted.
-        float env_pdf;
-        vec3 sky = sdEnvMiss(rd, prev_pdf > 0.0, env_pdf);
-        if (prev_pdf > 0.0) sky *= misBsdfWeight(prev_pdf, env_pdf / float(kLightCount));
-#else
-        vec3 sky = sdSky(rd);
-#endif
-#ifdef SDFC_HAS_SUN
-        // sdSky holds no sun disc: the kernel adds it, MIS-weighted against NEE.
-        if (dot(rd, kSunDir) >= kSunCosAngle) sky += kSunRadiance * misBsdfWeight(prev_pdf, lightPdf(0, prev_pos));
-#endif
-        radiance += throughput * sky;
+        escaped = true;  // its sky is added after the loop
         break;
       }
 
@@ -1073,6 +1062,23 @@ vec3 tracePath(vec3 ro, vec3 rd, int max_bounces, bool record_aov) {
       throughput /= q;
     }
     depth++;
+  }
+  // A path escapes at most once, so its sky is read here, once a path, not in
+  // every iteration: lavapipe runs every branch of the loop's body under a mask.
+  if (escaped) {
+#ifdef SDFC_HAS_ENVMAP
+    // The map is a light of next-event estimation too: MIS-weighted.
+    float env_pdf;
+    vec3 sky = sdEnvMiss(rd, prev_pdf > 0.0, env_pdf);
+    if (prev_pdf > 0.0) sky *= misBsdfWeight(prev_pdf, env_pdf / float(kLightCount));
+#else
+    vec3 sky = sdSky(rd);
+#endif
+#ifdef SDFC_HAS_SUN
+    // sdSky holds no sun disc: the kernel adds it, MIS-weighted against NEE.
+    if (dot(rd, kSunDir) >= kSunCosAngle) sky += kSunRadiance * misBsdfWeight(prev_pdf, lightPdf(0, prev_pos));
+#endif
+    radiance += throughput * sky;
   }
   return radiance;
 }
