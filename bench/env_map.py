@@ -3,7 +3,7 @@
 targets: at most 15% of the sun-and-sky castle's samples per second for any
 map up to 4096 x 2048; faster than uniform sampling in relMSE at equal time).
 
-    bench/env_map.py [--sdfc build/cli/sdfc] [--reps 5] [--size 320x180] [--spp 16]
+    bench/env_map.py [--sdfc build/cli/sdfc] [--against other/sdfc] [--reps 5] [--size 320x180] [--spp 16]
                      [--out bench/results/ENV_MAP.md]
 
 1. Cost: examples/castle.sdf as it is (gradient sky and sun) and with its sky
@@ -67,6 +67,13 @@ def cost(args, tmp, lines):
         with open(scene, "w") as f:
             f.write(castle.replace(SKY, f'sky(map: "studio {w}.exr")'))
         scenes[f"castle, map {w} x {w // 2} + sun"] = scene
+    # With --against, each scene is run by both binaries, alternated: a
+    # paired A/B in one run (A the other binary, B --sdfc).
+    binaries = [("", args.sdfc)] if not args.against else [(" (A)", args.against), (" (B)", args.sdfc)]
+    castles = {tag: "castle (gradient sky + sun)" + tag for tag, _ in binaries}
+    sdfc_of = {name + tag: sdfc for name in scenes for tag, sdfc in binaries}
+    castle_of = {name + tag: castles[tag] for name in scenes for tag, _ in binaries}
+    scenes = {name + tag: path for name, path in scenes.items() for tag, _ in binaries}
     speeds = {k: [] for k in scenes}
     cpus = {k: [] for k in scenes}
     loads = {k: [] for k in scenes}
@@ -75,24 +82,25 @@ def cost(args, tmp, lines):
     for rep in range(args.reps):
         order = list(scenes) if rep % 2 == 0 else list(scenes)[::-1]
         for name in order:
-            info = sb.render(args.sdfc, scenes[name], out, flags)
+            sdfc = sdfc_of[name]
+            info = sb.render(sdfc, scenes[name], out, flags)
             # The same render at 1 spp: its CPU seconds are the fixed costs
             # (compile, JIT, map load); the difference is the N - 1 samples'.
-            one = sb.render(args.sdfc, scenes[name], out, ["--size", args.size, "--spp", "1", "--denoise", "none"])
+            one = sb.render(sdfc, scenes[name], out, ["--size", args.size, "--spp", "1", "--denoise", "none"])
             speeds[name].append(info["spp_per_s"])
             cpus[name].append(info["cpu_s"] - one["cpu_s"])
             # The map's fixed cost: `--emit ir` reads and checks it; `--emit glsl`
             # also builds its distribution and the scene data (no glslang).
-            _, ir_cpu, ir_rss, _ = run_measured([args.sdfc, "compile", scenes[name], "--emit", "ir", "-o",
+            _, ir_cpu, ir_rss, _ = run_measured([sdfc, "compile", scenes[name], "--emit", "ir", "-o",
                                                  os.path.join(tmp, "k.txt")])
-            _, gl_cpu, gl_rss, _ = run_measured([args.sdfc, "compile", scenes[name], "--emit", "glsl", "-o",
+            _, gl_cpu, gl_rss, _ = run_measured([sdfc, "compile", scenes[name], "--emit", "glsl", "-o",
                                                  os.path.join(tmp, "k.glsl")])
             loads[name].append((ir_cpu, gl_cpu, gl_rss))
             print(f"rep {rep} {name}: {info['spp_per_s']:.3f} spp/s, {info['cpu_s']:.2f} CPU s; check {ir_cpu:.2f} "
                   f"CPU s, check + emit {gl_cpu:.2f} CPU s, {gl_rss:.0f} MiB", flush=True)
-    base_name = list(scenes)[0]
+    against = f" --against {args.against}" if args.against else ""
     lines += ["## Cost against the castle", "",
-              f"`bench/env_map.py --reps {args.reps} --size {args.size} --spp {args.spp}`, cases alternated run "
+              f"`bench/env_map.py --reps {args.reps} --size {args.size} --spp {args.spp}{against}`, cases alternated run "
               "by run. The machine is shared (load ~15 on 2 CPUs): wall-clock samples per second swing 3x "
               "between runs, so the cost is the CPU seconds of the samples (lavapipe's threads included): a "
               "render's CPU seconds less those of the same render at 1 spp (the fixed costs: compile, JIT, "
@@ -102,7 +110,7 @@ def cost(args, tmp, lines):
               "check CPU s | check + emit CPU s |",
               "|---|---|---|---|---|---|"]
     for name in scenes:
-        ratio = statistics.median(b / a for a, b in zip(cpus[name], cpus[base_name]))
+        ratio = statistics.median(b / a for a, b in zip(cpus[name], cpus[castle_of[name]]))
         lines.append(f"| {name} | {statistics.median(cpus[name]):.2f} | {ratio:.3f} | "
                      f"{statistics.median(speeds[name]):.3f} | "
                      f"{statistics.median(l[0] for l in loads[name]):.2f} | "
@@ -147,6 +155,7 @@ def main():
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--sdfc", default=os.path.join(ROOT, "build", "cli", "sdfc"))
     p.add_argument("--reps", type=int, default=5)
+    p.add_argument("--against", help="a second sdfc binary (A) to run the cost part against --sdfc (B), paired")
     p.add_argument("--size", default="320x180")
     p.add_argument("--spp", type=int, default=32)
     p.add_argument("--ref-spp", type=int, default=1024)
