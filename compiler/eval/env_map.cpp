@@ -39,7 +39,7 @@ EnvMapData buildEnvMap(const ir::TextureImage& image, bool uniform) {
   // the texel cells' over its area (exact integer overlaps: the identity when
   // the grid is the texel cells), times sin(theta) at its centre; it is
   // positive wherever the radiance in it is. A black map falls back to
-  // uniform weights, keeping its CDFs defined (its samples carry no light).
+  // uniform weights, keeping its tables defined (its samples carry no light).
   m.grid_x = std::min(m.cells_x, kEnvGridMaxX);
   m.grid_y = std::min(m.cells_y, kEnvGridMaxY);
   std::vector<double> lum(n);
