@@ -54,15 +54,17 @@ double chiSquareLimit(int k) {
 void expectSamplesFollowThePdf(const EnvMapData& map) {
   // Bins in (cos theta, phi), not the map's cells: the test checks where in
   // a cell a sample lands (uniformly in u and v) and the direction it maps
-  // to. A bin's expected share is exact: each grid cell's probability
-  // spread uniformly over its rectangle in (u, v), times its
+  // to. A bin's expected share is exact: each grid cell's probability (from
+  // the CDFs) spread uniformly over its rectangle in (u, v), times its
   // overlap with the bin's rectangle there.
   const int kCos = 16, kPhi = 32;
   std::vector<double> expected(kCos * kPhi, 0.0), observed(kCos * kPhi, 0.0);
   auto overlap = [](double a0, double a1, double b0, double b1) { return std::max(0.0, std::min(a1, b1) - std::max(a0, b0)); };
   for (int y = 0; y < map.grid_y; ++y) {
+    const double p_row = map.row_cdf[y] - (y > 0 ? map.row_cdf[y - 1] : 0.0f);
     for (int x = 0; x < map.grid_x; ++x) {
-      const double p = map.cell_p[size_t(y) * map.grid_x + x];
+      const float* row = &map.column_cdf[size_t(y) * map.grid_x];
+      const double p = p_row * (row[x] - (x > 0 ? row[x - 1] : 0.0f));
       if (p <= 0) continue;
       const double v0 = double(y) / map.grid_y, v1 = double(y + 1) / map.grid_y;
       const double u0 = double(x) / map.grid_x, u1 = double(x + 1) / map.grid_x;
@@ -146,7 +148,7 @@ TEST(EnvMap, CoarseGridSamplesFollowThePdfChiSquare) {
   const EnvMapData map = buildEnvMap(testMap(1100));
   ASSERT_EQ(map.grid_x, kEnvGridMaxX);
   ASSERT_EQ(map.grid_y, kEnvGridMaxY);
-  EXPECT_EQ(map.cell_p.size(), size_t(kEnvGridMaxX) * kEnvGridMaxY);
+  EXPECT_EQ(map.column_cdf.size(), size_t(kEnvGridMaxX) * kEnvGridMaxY);
   expectSamplesFollowThePdf(map);
 }
 
@@ -314,9 +316,9 @@ TEST(EnvMap, EmittedOnlyWhenUsed) {
   const CompiledScene lit = compile("sky(map: \"ok.exr\", rotation: 90)");
   EXPECT_NE(lit.emitted.glsl.find("sampleEnvLight"), std::string::npos);
   EXPECT_NE(lit.emitted.glsl.find("SDFC_HAS_ENVMAP"), std::string::npos);
-  // One shared-exponent word a texel, a vec4 for each of the 7 x 3 cells
-  // between texel centres and for each of their 3 rows.
-  EXPECT_EQ(lit.emitted.scene_data.size(), size_t(8 * 4 + 4 * (7 * 3 + 3)));
+  // One shared-exponent word a texel, the CDF of the 7 x 3 cells between
+  // texel centres and of their 3 rows (a vec4's multiple already).
+  EXPECT_EQ(lit.emitted.scene_data.size(), size_t(8 * 4 + 7 * 3 + 3));
 }
 
 }  // namespace

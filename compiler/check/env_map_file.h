@@ -10,8 +10,8 @@
 
 namespace sdfc {
 
-// The largest map: 4096 x 2048 texels, 34 MiB of scene data (a shared-
-// exponent word a texel and the alias tables of a 512 x 256 grid; eval/env_map.h).
+// The largest map: 4096 x 2048 texels, 32.5 MiB of scene data (a shared-
+// exponent word a texel and the CDFs of a 512 x 256 grid; eval/env_map.h).
 constexpr int kMaxEnvMapWidth = 4096;
 
 struct EnvMapFile {

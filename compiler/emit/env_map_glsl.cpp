@@ -22,6 +22,13 @@ void padToVec4(std::vector<float>& data) {
   while (data.size() % 4) data.push_back(0.0f);
 }
 
+// Halvings that find an index among n.
+int searchSteps(int n) {
+  int steps = 0;
+  while ((1 << steps) < n) ++steps;
+  return steps;
+}
+
 }  // namespace
 
 EnvMapLayout appendEnvMapData(const ir::Sky& sky, std::vector<float>& data) {
@@ -38,20 +45,12 @@ EnvMapLayout appendEnvMapData(const ir::Sky& sky, std::vector<float>& data) {
   l.texels = data.size();
   // Shared-exponent words are never a NaN or infinity as floats
   // (eval/shared_exponent.h): carried in the float data as they are.
-  const size_t cells = map.cell_p.size();
-  data.reserve(data.size() + map.texels.size() + 4 * (cells + map.grid_y) + 8);
+  data.reserve(data.size() + map.texels.size() + map.column_cdf.size() + map.row_cdf.size() + 8);
   for (uint32_t w : map.texels) data.push_back(wordAsFloat(w));
-  // A vec4 a cell: (threshold, alias, p, p of the alias), the alias's p so
-  // that a draw is one read; then a vec4 a row: (threshold, alias, 0, 0).
-  padToVec4(data);
-  l.cells = data.size();
-  for (size_t i = 0; i < cells; ++i) {
-    const size_t row = i - i % size_t(map.grid_x);
-    const int alias = map.cells.alias[i];
-    data.insert(data.end(), {map.cells.threshold[i], float(alias), map.cell_p[i], map.cell_p[row + alias]});
-  }
-  l.rows = data.size();
-  for (int y = 0; y < map.grid_y; ++y) data.insert(data.end(), {map.rows.threshold[y], float(map.rows.alias[y]), 0.0f, 0.0f});
+  l.column_cdf = data.size();
+  data.insert(data.end(), map.column_cdf.begin(), map.column_cdf.end());
+  l.row_cdf = data.size();
+  data.insert(data.end(), map.row_cdf.begin(), map.row_cdf.end());
   padToVec4(data);
   return l;
 }
@@ -61,12 +60,14 @@ void emitEnvMap(const ir::Sky& sky, const EnvMapLayout& l, const std::set<std::s
   const double a = sky.rotation_degrees * M_PI / 180.0;
   out << "\n// The environment map (sky(map: ...)): " << l.width << " x " << l.height << " texels.\n";
   out << "const int kEnvWidth = " << l.width << ", kEnvHeight = " << l.height << ";\n";
-  out << "const int kEnvTexels = " << l.texels << ", kEnvCells = " << l.cells / 4 << ", kEnvRows = " << l.rows / 4
-      << ";  // kEnvTexels in words, the others in vec4s\n";
+  out << "const int kEnvTexels = " << l.texels << ", kEnvColumnCdf = " << l.column_cdf
+      << ", kEnvRowCdf = " << l.row_cdf << ";\n";
   out << "const int kEnvCellsX = " << l.width - 1 << ", kEnvCellsY = " << l.height - 1
       << ";  // the cells between texel centres\n";
   out << "const int kEnvGridX = " << l.grid_x << ", kEnvGridY = " << l.grid_y
       << ";  // the sampling grid's cells (at most 512 x 256)\n";
+  out << "const int kEnvColumnSteps = " << searchSteps(l.grid_x) << ", kEnvRowSteps = " << searchSteps(l.grid_y)
+      << ";\n";
   out << "const float kEnvScale = " << glslFloat(sky.strength * l.scale) << ";  // strength x storage scale\n";
   out << "const vec2 kEnvRotation = vec2(" << glslFloat(std::cos(a)) << ", " << glslFloat(std::sin(a)) << ");\n";
   out << "const float kEnvPdfScale = " << glslFloat(double(l.grid_x) * l.grid_y / (2 * M_PI * M_PI))

@@ -13,7 +13,7 @@ namespace sdfc {
 
 // Where the map's data lie in the scene data, in floats, and its size.
 struct EnvMapLayout {
-  size_t texels = 0, cells = 0, rows = 0;  // cells and rows: vec4-aligned
+  size_t texels = 0, column_cdf = 0, row_cdf = 0;
   int width = 0, height = 0;
   int grid_x = 0, grid_y = 0;  // the sampling grid (eval/env_map.h)
   float scale = 1;

@@ -13,6 +13,18 @@ constexpr float kPi = 3.14159265358979f;
 
 float luminance(const glm::vec3& c) { return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b; }
 
+// The first index in cdf[0, n) whose value exceeds u (cdf ends at 1 > u): as
+// the kernel's loop, a fixed log2(n) + 1 halvings.
+int findInterval(const float* cdf, int n, float u) {
+  int lo = 0, hi = n - 1;
+  while (lo < hi) {
+    const int mid = (lo + hi) / 2;
+    if (cdf[mid] > u) hi = mid;
+    else lo = mid + 1;
+  }
+  return lo;
+}
+
 }  // namespace
 
 EnvMapData buildEnvMap(const ir::TextureImage& image, bool uniform) {
@@ -39,7 +51,7 @@ EnvMapData buildEnvMap(const ir::TextureImage& image, bool uniform) {
   // the texel cells' over its area (exact integer overlaps: the identity when
   // the grid is the texel cells), times sin(theta) at its centre; it is
   // positive wherever the radiance in it is. A black map falls back to
-  // uniform weights, keeping its tables defined (its samples carry no light).
+  // uniform weights, keeping its CDFs defined (its samples carry no light).
   m.grid_x = std::min(m.cells_x, kEnvGridMaxX);
   m.grid_y = std::min(m.cells_y, kEnvGridMaxY);
   std::vector<double> lum(n);
@@ -86,24 +98,27 @@ EnvMapData buildEnvMap(const ir::TextureImage& image, bool uniform) {
       for (int x = 0; x < m.grid_x; ++x) row_sum[y] += weights[size_t(y) * m.grid_x + x] = 1;
     }
   }
-  // The rows by their sums; in each row its cells by their weights (a row
-  // of weight 0 is never drawn: uniform ones keep its table defined).
-  m.rows = buildAliasTable(row_sum);
-  m.cells.threshold.resize(cells);
-  m.cells.alias.resize(cells);
-  m.cell_p.resize(cells);
+  m.column_cdf.resize(cells);
+  for (int y = 0; y < m.grid_y; ++y) {
+    double acc = 0;
+    float* row = &m.column_cdf[size_t(y) * m.grid_x];
+    for (int x = 0; x < m.grid_x; ++x) {
+      acc += weights[size_t(y) * m.grid_x + x];
+      // A row of weight 0 is never drawn and its pdf is 0 whatever its
+      // columns are: uniform ones keep its CDF increasing.
+      row[x] = row_sum[y] > 0 ? float(acc / row_sum[y]) : float(double(x + 1) / m.grid_x);
+    }
+    row[m.grid_x - 1] = 1.0f;
+  }
   double total = 0;
   for (double r : row_sum) total += r;
-  std::vector<double> row_weights(m.grid_x);
+  m.row_cdf.resize(m.grid_y);
+  double acc = 0;
   for (int y = 0; y < m.grid_y; ++y) {
-    for (int x = 0; x < m.grid_x; ++x) {
-      row_weights[x] = row_sum[y] > 0 ? weights[size_t(y) * m.grid_x + x] : 1.0;
-      m.cell_p[size_t(y) * m.grid_x + x] = float(row_sum[y] > 0 ? weights[size_t(y) * m.grid_x + x] / total : 0.0);
-    }
-    const AliasTable row = buildAliasTable(row_weights);
-    std::copy(row.threshold.begin(), row.threshold.end(), m.cells.threshold.begin() + size_t(y) * m.grid_x);
-    std::copy(row.alias.begin(), row.alias.end(), m.cells.alias.begin() + size_t(y) * m.grid_x);
+    acc += row_sum[y];
+    m.row_cdf[y] = float(acc / total);
   }
+  m.row_cdf[m.grid_y - 1] = 1.0f;
   return m;
 }
 
@@ -131,31 +146,31 @@ glm::vec3 envMapRadiance(const EnvMapData& m, const glm::vec3& d) {
 
 bool sampleEnvMap(const EnvMapData& m, glm::vec2 u, glm::vec3& dir, float& pdf) {
   pdf = 0;
-  // A row, then a cell in it; each draw's remainder places the point in
-  // the cell, as the kernel does.
-  float fy, fx;
-  const int y = sampleAlias(m.rows.threshold.data(), m.rows.alias.data(), m.grid_y, u.y, fy);
-  const size_t row = size_t(y) * m.grid_x;
-  const int x = sampleAlias(&m.cells.threshold[row], &m.cells.alias[row], m.grid_x, u.x, fx);
-  const float p = m.cell_p[row + x];
-  if (p <= 0) return false;
-  const float uu = (float(x) + fx) / float(m.grid_x);
-  const float vv = (float(y) + fy) / float(m.grid_y);
+  const int y = findInterval(m.row_cdf.data(), m.grid_y, u.y);
+  const float r0 = y > 0 ? m.row_cdf[y - 1] : 0.0f, p_row = m.row_cdf[y] - r0;
+  const float* row = &m.column_cdf[size_t(y) * m.grid_x];
+  const int x = findInterval(row, m.grid_x, u.x);
+  const float c0 = x > 0 ? row[x - 1] : 0.0f, p_col = row[x] - c0;
+  if (p_row <= 0 || p_col <= 0) return false;
+  const float uu = (float(x) + (u.x - c0) / p_col) / float(m.grid_x);
+  const float vv = (float(y) + (u.y - r0) / p_row) / float(m.grid_y);
   const float theta = kPi * vv, phi = 2 * kPi * uu;
   const float sin_theta = std::sin(theta);
   if (sin_theta <= 0) return false;
   dir = glm::vec3(sin_theta * std::sin(phi), std::cos(theta), -sin_theta * std::cos(phi));
-  pdf = p * float(m.grid_x) * float(m.grid_y) / (2 * kPi * kPi * sin_theta);
+  pdf = p_row * p_col * float(m.grid_x) * float(m.grid_y) / (2 * kPi * kPi * sin_theta);
   return true;
 }
 
 float envMapPdf(const EnvMapData& m, const glm::vec3& d) {
   const glm::vec2 uv = uvOf(d);
   const int x = std::min(int(uv.x * m.grid_x), m.grid_x - 1), y = std::min(int(uv.y * m.grid_y), m.grid_y - 1);
-  const float p = m.cell_p[size_t(y) * m.grid_x + x];
+  const float p_row = m.row_cdf[y] - (y > 0 ? m.row_cdf[y - 1] : 0.0f);
+  const float* row = &m.column_cdf[size_t(y) * m.grid_x];
+  const float p_col = row[x] - (x > 0 ? row[x - 1] : 0.0f);
   const float sin_theta = std::sqrt(d.x * d.x + d.z * d.z);
   if (sin_theta <= 0) return 0;
-  return p * float(m.grid_x) * float(m.grid_y) / (2 * kPi * kPi * sin_theta);
+  return p_row * p_col * float(m.grid_x) * float(m.grid_y) / (2 * kPi * kPi * sin_theta);
 }
 
 }  // namespace sdfc

@@ -3,8 +3,6 @@
 // (marginal rows, then a column in the row; Pharr, Jakob and Humphreys,
 // "Physically Based Rendering", 4th ed., sec. 12.5.2), weighted by luminance
 // times sin(theta) so that directions are drawn in proportion to their power.
-// Rows and cells are drawn from alias tables (eval/alias_table.h): a read
-// each, where a CDF's binary search took 9 + 8 dependent reads.
 // The sampling functions here are the CPU twin of kernel/envmap.glsl, in
 // float32 as the kernel does it: the tests check the kernel's sampling
 // against its pdf through them (tests/env_map_test.cpp).
@@ -25,7 +23,6 @@
 #include <glm/glm.hpp>
 #include <vector>
 
-#include "eval/alias_table.h"
 #include "ir/scene.h"
 
 namespace sdfc {
@@ -42,12 +39,9 @@ struct EnvMapData {
   float scale = 1;
   // One word a texel, rows from the top: packSharedExponent(r, g, b).
   std::vector<uint32_t> texels;
-  // The rows' alias table (grid_y), and a table a row over its cells, row
-  // after row in one (grid_x * grid_y; aliases within the row).
-  AliasTable rows, cells;
-  // grid_x * grid_y: each cell's probability (its row's times its share of
-  // the row), the pdf's factor.
-  std::vector<float> cell_p;
+  // grid_x * grid_y: row by row, the CDF of the grid's cells to the end of
+  // each (the last of a row is 1); then grid_y: the CDF of the rows.
+  std::vector<float> column_cdf, row_cdf;
   // The sum of the weights (mean luminance * sin(theta) a grid cell): 0 for a black map.
   double total_weight = 0;
 };

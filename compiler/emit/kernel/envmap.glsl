@@ -1,9 +1,8 @@
 // The environment light sky(map: ...), emitted only for a scene that has one
-// (docs/lighting.md). Its data are in the scene data: from float index
-// kEnvTexels one word a texel, RGB with a shared exponent (rows from the top);
-// from vec4 index kEnvCells one vec4 a cell of the sampling grid, row by row,
-// its row's alias table (threshold, alias, p, the alias's p; p the cell's
-// probability); from kEnvRows the rows' alias table (threshold, alias, 0, 0).
+// (docs/lighting.md). Its data are words of the scene data from float index
+// kEnvTexels: one a texel, RGB with a shared exponent (rows from the top); then, from
+// kEnvColumnCdf, the CDF of the sampling grid's cells in each of its rows;
+// from kEnvRowCdf, the rows' CDF.
 // compiler/eval/env_map.h is the CPU twin, against which the tests check it.
 
 float sdEnvWord(int k) { return sd_data[k >> 2][k & 3]; }
@@ -44,47 +43,53 @@ vec3 sdEnvRadianceUv(vec2 uv) {
 vec3 sdSky(vec3 dir) { return sdEnvRadianceUv(sdEnvUv(sdEnvToLocal(dir))); }
 
 #ifdef SDFC_TRACE
+// The first index of cdf[base, base + n) above u (the last is 1 > u). A
+// constant count of halvings: the compiler unrolls it (no run-time loop to
+// count against lavapipe's cap; runtime/loop_budget.h).
+int sdEnvFind(int base, int n, int steps, float u) {
+  int lo = 0, hi = n - 1;
+  for (int i = 0; i < steps; i++) {
+    if (lo < hi) {
+      int mid = (lo + hi) >> 1;
+      if (sdEnvWord(base + mid) > u) hi = mid;
+      else lo = mid + 1;
+    }
+  }
+  return lo;
+}
+
 // The solid-angle pdf of sampling a direction at uv, sin_theta its distance
 // from the y axis: its grid cell's probability, uniform over the cell.
 float sdEnvPdfUv(vec2 uv, float sin_theta) {
   int x = min(int(uv.x * float(kEnvGridX)), kEnvGridX - 1);
   int y = min(int(uv.y * float(kEnvGridY)), kEnvGridY - 1);
-  float p = sd_data[kEnvCells + y * kEnvGridX + x].z;
-  return sin_theta > 0.0 ? p * kEnvPdfScale / sin_theta : 0.0;
-}
-
-// An alias table's draw (eval/alias_table.h): u's bucket, its own index or
-// the entry's alias by u's fraction in the bucket against the threshold; the
-// fraction, rescaled, is a new uniform number (returned in f).
-int sdEnvAlias(float u, int n, vec4 entry_of_bucket, int bucket, out float f) {
-  float s = min(u * float(n) - float(bucket), 0.99999994);
-  bool own = s < entry_of_bucket.x;
-  f = min(own ? s / entry_of_bucket.x : (s - entry_of_bucket.x) / (1.0 - entry_of_bucket.x), 0.99999994);
-  return own ? bucket : int(entry_of_bucket.y);
+  float p_row = sdEnvWord(kEnvRowCdf + y) - (y > 0 ? sdEnvWord(kEnvRowCdf + y - 1) : 0.0);
+  int row = kEnvColumnCdf + y * kEnvGridX;
+  float p_col = sdEnvWord(row + x) - (x > 0 ? sdEnvWord(row + x - 1) : 0.0);
+  return sin_theta > 0.0 ? p_row * p_col * kEnvPdfScale / sin_theta : 0.0;
 }
 
 // A direction drawn in proportion to the grid's weights (mean luminance x
-// sin(theta)) by u in [0, 1)^2: a row, a cell in it, and a point uniformly in
-// the cell from what is left of u; with its map coordinates: the caller
-// reads the radiance there only for a shadow ray that may carry it
-// (sdEnvRadianceUv).
+// sin(theta)) by u in [0, 1)^2, uniformly in its cell, with its map
+// coordinates: the caller reads the radiance there only for a shadow ray
+// that may carry it (sdEnvRadianceUv).
 bool sampleEnvLight(vec2 u, out vec3 wi, out float pdf, out vec2 uv) {
   wi = vec3(0.0, 1.0, 0.0);
   pdf = 0.0;
   uv = vec2(0.0);
-  int by = min(int(u.y * float(kEnvGridY)), kEnvGridY - 1);
-  float fy, fx;
-  int y = sdEnvAlias(u.y, kEnvGridY, sd_data[kEnvRows + by], by, fy);
-  int bx = min(int(u.x * float(kEnvGridX)), kEnvGridX - 1);
-  vec4 cell = sd_data[kEnvCells + y * kEnvGridX + bx];
-  int x = sdEnvAlias(u.x, kEnvGridX, cell, bx, fx);
-  float p = x == bx ? cell.z : cell.w;
-  if (p <= 0.0) return false;
-  uv = vec2((float(x) + fx) / float(kEnvGridX), (float(y) + fy) / float(kEnvGridY));
+  int y = sdEnvFind(kEnvRowCdf, kEnvGridY, kEnvRowSteps, u.y);
+  float r0 = y > 0 ? sdEnvWord(kEnvRowCdf + y - 1) : 0.0;
+  float p_row = sdEnvWord(kEnvRowCdf + y) - r0;
+  int row = kEnvColumnCdf + y * kEnvGridX;
+  int x = sdEnvFind(row, kEnvGridX, kEnvColumnSteps, u.x);
+  float c0 = x > 0 ? sdEnvWord(row + x - 1) : 0.0;
+  float p_col = sdEnvWord(row + x) - c0;
+  if (p_row <= 0.0 || p_col <= 0.0) return false;
+  uv = vec2((float(x) + (u.x - c0) / p_col) / float(kEnvGridX), (float(y) + (u.y - r0) / p_row) / float(kEnvGridY));
   float theta = 3.14159265358979 * uv.y, phi = 6.28318530717959 * uv.x;
   float sin_theta = sin(theta);
   if (sin_theta <= 0.0) return false;
-  pdf = p * kEnvPdfScale / sin_theta;
+  pdf = p_row * p_col * kEnvPdfScale / sin_theta;
   wi = sdEnvToWorld(vec3(sin_theta * sin(phi), cos(theta), -sin_theta * cos(phi)));
   return true;
 }
