@@ -51,7 +51,7 @@ float applyToneCurve(float linear, const ToneMap& tone_map);
 float srgbEncode(float linear);                               // sRGB OETF (IEC 61966-2-1)
 float srgbDecode(float encoded);                              // its inverse
 // A tone-mapped value in [0, 1] -> its sRGB byte: round(clamp(srgbEncode(v)) * 255).
-// srgb8Fast gives the same byte by a search in a 256-entry threshold table (no pow).
+// srgb8Fast gives the same byte from a 256-entry threshold table (no pow).
 uint8_t srgb8Direct(float tone_mapped);
 uint8_t srgb8Fast(float tone_mapped);
 // srgb8Fast's table: [k] = the smallest float whose byte is k ([0] = -1). The

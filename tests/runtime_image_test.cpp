@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <limits>
 #include <random>
 #include <string>
 
@@ -206,9 +207,14 @@ TEST(RuntimeImage, Srgb8TableMatchesDirectFormula) {
   EXPECT_EQ(mismatches, 0u) << "of " << checked;
   EXPECT_EQ(srgb8Fast(0.0f), 0);
   EXPECT_EQ(srgb8Fast(1.0f), 255);
+  // Outside [0, 1] as srgb8Direct clamps: below 0 (and NaN) 0, above 1 255.
+  for (float v : {-0.0f, -1e-30f, -3.0f, -std::numeric_limits<float>::infinity(), std::nanf(""),
+                  std::numeric_limits<float>::denorm_min(), 1.0000001f, 7.5f, std::numeric_limits<float>::infinity()})
+    EXPECT_EQ(srgb8Fast(v), srgb8Direct(std::isnan(v) ? 0.0f : v)) << v;
 
-  // toSrgb8 as a whole (its tone curve has exp2 hoisted) against the per-value formula.
-  FloatImage image(97, 31);
+  // toSrgb8 as a whole (its tone curve has exp2 hoisted; an image this large
+  // is converted in two halves on two threads) against the per-value formula.
+  FloatImage image(97, 700);
   std::mt19937 rng(3);
   std::uniform_real_distribution<float> value(-1.0f, 20.0f);
   for (float& v : image.rgba) v = value(rng) * value(rng) / 20.0f;
