@@ -2,7 +2,9 @@
 
 #include <zlib.h>
 
+#include <exception>
 #include <stdexcept>
+#include <thread>
 #include <vector>
 
 namespace sdfc {
@@ -23,6 +25,73 @@ void appendChunk(std::string& out, const char type[4], const std::string& data) 
   appendBigEndian(out, uint32_t(crc32(0, crc_from, uInt(4 + data.size()))));
 }
 
+// Raw deflate (no zlib header or check) of data[0, n) at level 1, primed with
+// `dictionary` (the bytes before it, so its matches may reach back into them);
+// ended with a sync flush (byte-aligned, not final) unless `last`.
+std::string deflatePart(const uint8_t* data, size_t n, const uint8_t* dictionary, size_t dictionary_n, bool last) {
+  z_stream stream{};
+  if (deflateInit2(&stream, 1, Z_DEFLATED, -15, 8, Z_DEFAULT_STRATEGY) != Z_OK)
+    throw std::runtime_error("cannot encode PNG: zlib failed to start");
+  if (dictionary_n > 0 && deflateSetDictionary(&stream, dictionary, uInt(dictionary_n)) != Z_OK) {
+    deflateEnd(&stream);
+    throw std::runtime_error("cannot encode PNG: zlib failed");
+  }
+  // deflateBound covers the data; the sync flush adds at most 5 bytes (an empty stored block).
+  std::string out(deflateBound(&stream, uLong(n)) + 16, '\0');
+  stream.next_in = const_cast<Bytef*>(data);
+  stream.avail_in = uInt(n);
+  stream.next_out = reinterpret_cast<Bytef*>(out.data());
+  stream.avail_out = uInt(out.size());
+  const int status = deflate(&stream, last ? Z_FINISH : Z_SYNC_FLUSH);
+  const bool done = last ? status == Z_STREAM_END : status == Z_OK && stream.avail_in == 0 && stream.avail_out > 0;
+  out.resize(stream.total_out);
+  deflateEnd(&stream);
+  if (!done) throw std::runtime_error("cannot encode PNG: zlib failed");
+  return out;
+}
+
+// The zlib stream (RFC 1950) of data[0, n): deflated in two halves on two threads
+// when it is large, the second primed with the first's last 32 KiB (the window),
+// joined as one deflate stream (the first ends with a sync flush) and checked by
+// the halves' Adler-32s combined; pigz splits its input the same way.
+std::string zlibStream(const uint8_t* data, size_t n) {
+  constexpr size_t kWindow = 32768, kSplitFrom = size_t(1) << 18;
+  std::string out("\x78\x01", 2);  // deflate, 32 KiB window, fastest level (FLEVEL 0)
+  uLong adler = adler32(0L, Z_NULL, 0);
+  if (n < kSplitFrom || std::thread::hardware_concurrency() < 2) {
+    out += deflatePart(data, n, nullptr, 0, true);
+    adler = adler32(adler, data, uInt(n));
+  } else {
+    const size_t half = n / 2;
+    std::string second;
+    uLong adler_second = 0;
+    std::exception_ptr failed;
+    std::thread worker([&] {
+      try {
+        second = deflatePart(data + half, n - half, data + half - kWindow, kWindow, true);
+        adler_second = adler32(adler32(0L, Z_NULL, 0), data + half, uInt(n - half));
+      } catch (...) {
+        failed = std::current_exception();
+      }
+    });
+    std::string first;
+    try {
+      first = deflatePart(data, half, nullptr, 0, false);
+    } catch (...) {
+      worker.join();
+      throw;
+    }
+    adler = adler32(adler, data, uInt(half));
+    worker.join();
+    if (failed) std::rethrow_exception(failed);
+    out += first;
+    out += second;
+    adler = adler32_combine(adler, adler_second, z_off_t(n - half));
+  }
+  appendBigEndian(out, uint32_t(adler));
+  return out;
+}
+
 }  // namespace
 
 std::string encodePng(const uint8_t* rgb, uint32_t width, uint32_t height) {
@@ -37,18 +106,7 @@ std::string encodePng(const uint8_t* rgb, uint32_t width, uint32_t height) {
     for (size_t i = 0; i < stride; ++i) out[1 + i] = uint8_t(row[i] - (i >= 3 ? row[i - 3] : 0));
   }
 
-  z_stream stream{};
-  if (deflateInit2(&stream, 1, Z_DEFLATED, 15, 8, Z_DEFAULT_STRATEGY) != Z_OK)
-    throw std::runtime_error("cannot encode PNG: zlib failed to start");
-  std::string idat(deflateBound(&stream, uLong(filtered.size())), '\0');
-  stream.next_in = filtered.data();
-  stream.avail_in = uInt(filtered.size());
-  stream.next_out = reinterpret_cast<Bytef*>(idat.data());
-  stream.avail_out = uInt(idat.size());
-  const int status = deflate(&stream, Z_FINISH);  // deflateBound: one call is enough
-  idat.resize(stream.total_out);
-  deflateEnd(&stream);
-  if (status != Z_STREAM_END) throw std::runtime_error("cannot encode PNG: zlib failed");
+  const std::string idat = zlibStream(filtered.data(), filtered.size());
 
   std::string ihdr;
   appendBigEndian(ihdr, width);
