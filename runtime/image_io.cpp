@@ -320,7 +320,13 @@ std::vector<uint8_t> toSrgb8(const FloatImage& image, const ToneMap& tone_map) {
     convert(0, n);
     return bytes;
   }
-  std::thread second(convert, half, n);
+  std::thread second;
+  try {
+    second = std::thread(convert, half, n);
+  } catch (const std::system_error&) {  // no thread to be had: one does it all
+    convert(0, n);
+    return bytes;
+  }
   convert(0, half);
   second.join();
   return bytes;

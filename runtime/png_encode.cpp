@@ -4,6 +4,7 @@
 
 #include <exception>
 #include <stdexcept>
+#include <system_error>
 #include <thread>
 #include <vector>
 
@@ -58,22 +59,28 @@ std::string zlibStream(const uint8_t* data, size_t n) {
   constexpr size_t kWindow = 32768, kSplitFrom = size_t(1) << 18;
   std::string out("\x78\x01", 2);  // deflate, 32 KiB window, fastest level (FLEVEL 0)
   uLong adler = adler32(0L, Z_NULL, 0);
-  if (n < kSplitFrom || std::thread::hardware_concurrency() < 2) {
+  const size_t half = n / 2;
+  std::string second;
+  uLong adler_second = 0;
+  std::exception_ptr failed;
+  std::thread worker;
+  if (n >= kSplitFrom && std::thread::hardware_concurrency() >= 2) {
+    try {
+      worker = std::thread([&] {
+        try {
+          second = deflatePart(data + half, n - half, data + half - kWindow, kWindow, true);
+          adler_second = adler32(adler32(0L, Z_NULL, 0), data + half, uInt(n - half));
+        } catch (...) {
+          failed = std::current_exception();
+        }
+      });
+    } catch (const std::system_error&) {  // no thread to be had: one stream, as for a small image
+    }
+  }
+  if (!worker.joinable()) {
     out += deflatePart(data, n, nullptr, 0, true);
     adler = adler32(adler, data, uInt(n));
   } else {
-    const size_t half = n / 2;
-    std::string second;
-    uLong adler_second = 0;
-    std::exception_ptr failed;
-    std::thread worker([&] {
-      try {
-        second = deflatePart(data + half, n - half, data + half - kWindow, kWindow, true);
-        adler_second = adler32(adler32(0L, Z_NULL, 0), data + half, uInt(n - half));
-      } catch (...) {
-        failed = std::current_exception();
-      }
-    });
     std::string first;
     try {
       first = deflatePart(data, half, nullptr, 0, false);
