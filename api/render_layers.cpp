@@ -5,8 +5,8 @@
 #include <iterator>
 
 #include "camera.h"
-#include "denoise_features.h"
 #include "eval/evaluator.h"
+#include "for_each_row.h"
 
 namespace sdfc {
 

@@ -1,34 +1,18 @@
 // What the feature-guided denoisers (denoise_svgf, denoise_nlm) share: the
 // renderer's first-hit attachments unpacked into flat per-pixel arrays, the
-// edge-stopping weight between two pixels, and a row-parallel loop.
+// edge-stopping weight between two pixels (and, from for_each_row.h, a
+// row-parallel loop).
 #pragma once
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
-#include <thread>
 #include <vector>
 
 #include "float_image.h"
+#include "for_each_row.h"
 
 namespace sdfc {
-
-// Runs body(y) for every row on up to hardware_concurrency threads; rows are
-// independent, and each row's result is the same whatever thread runs it.
-template <typename Body>
-void forEachRow(int height, const Body& body) {
-  const int threads = std::clamp<int>(int(std::thread::hardware_concurrency()), 1, 8);
-  if (threads == 1 || height < 16) {
-    for (int y = 0; y < height; ++y) body(y);
-    return;
-  }
-  std::vector<std::thread> pool;
-  for (int t = 0; t < threads; ++t)
-    pool.emplace_back([&, t] {
-      for (int y = t; y < height; y += threads) body(y);
-    });
-  for (std::thread& thread : pool) thread.join();
-}
 
 // Mean of `in` (w x h pixels of `channels` values) over each pixel's
 // (2 radius + 1)^2 box, counting only the pixels inside the image; separable.

@@ -212,8 +212,8 @@ TEST(RuntimeImage, Srgb8TableMatchesDirectFormula) {
                   std::numeric_limits<float>::denorm_min(), 1.0000001f, 7.5f, std::numeric_limits<float>::infinity()})
     EXPECT_EQ(srgb8Fast(v), srgb8Direct(std::isnan(v) ? 0.0f : v)) << v;
 
-  // toSrgb8 as a whole (its tone curve has exp2 hoisted; an image this large
-  // is converted in two halves on two threads) against the per-value formula.
+  // toSrgb8 as a whole (its tone curve has exp2 hoisted; its rows converted
+  // on several threads) against the per-value formula.
   FloatImage image(97, 700);
   std::mt19937 rng(3);
   std::uniform_real_distribution<float> value(-1.0f, 20.0f);
