@@ -10,15 +10,20 @@ uint sdNoiseMix(uint h) {
   return h;
 }
 
-const vec3 kNoiseGradients[12] = vec3[](
-    vec3(1, 1, 0), vec3(-1, 1, 0), vec3(1, -1, 0), vec3(-1, -1, 0),
-    vec3(1, 0, 1), vec3(-1, 0, 1), vec3(1, 0, -1), vec3(-1, 0, -1),
-    vec3(0, 1, 1), vec3(0, -1, 1), vec3(0, 1, -1), vec3(0, -1, -1));
+// dot(G[k], d) for the 12 cube-edge gradients G[k] of eval/noise.h, k = h mod 12
+// (G[0..3] = (+-1, +-1, 0), G[4..7] = (+-1, 0, +-1), G[8..11] = (0, +-1, +-1);
+// bit 0 of k negates the first nonzero component, bit 1 the second): the same
+// sums as the table's dot, without a per-lane load from a constant array.
+float sdNoiseGradientDot(uint k, vec3 d) {
+  float a = k < 8u ? d.x : d.y;
+  float b = k < 4u ? d.y : d.z;
+  return ((k & 1u) != 0u ? -a : a) + ((k & 2u) != 0u ? -b : b);
+}
 
 float sdNoiseCorner(ivec3 i, vec3 f, ivec3 o) {
   ivec3 c = i + o;
   uint h = sdNoiseMix(uint(c.x) ^ sdNoiseMix(uint(c.y) ^ sdNoiseMix(uint(c.z))));
-  return dot(kNoiseGradients[h % 12u], f - vec3(o));
+  return sdNoiseGradientDot(h % 12u, f - vec3(o));
 }
 
 float sdGradientNoise(vec3 p) {
