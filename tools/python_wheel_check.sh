@@ -3,8 +3,6 @@
 # pybind11 from PyPI, in pip's isolated build environment), the wheel installed
 # into a fresh virtual environment with numpy and pytest, and python/tests run
 # there against the command line in build/ (tools/setup.sh builds it first).
-# With ccache and CCACHE_BASEDIR set (as .ci/run does), the wheel's build reuses
-# the objects of build/: same flags, paths relative to the checkout.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root="$PWD"
