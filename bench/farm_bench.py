@@ -61,12 +61,7 @@ def main():
     ap.add_argument("--merge-shards", type=int, default=64)
     ap.add_argument("--out", default=os.path.join(ROOT, "bench/results/FARM.md"))
     args = ap.parse_args()
-    machine = machine_info()
-    if machine["device"] == "?":  # no vulkaninfo: sdfc's own list
-        devices = subprocess.run([args.sdfc, "devices"], capture_output=True, text=True).stdout
-        # The first device line ("0: name (CPU, Mesa 25.0.7)"), after the "driver:" line.
-        lines_ = [l for l in devices.splitlines() if l[:1].isdigit()]
-        machine["device"] = lines_[0].partition(": ")[2] if lines_ else "?"
+    machine = machine_info(args.sdfc)
     lines = []
 
     def say(text=""):

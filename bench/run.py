@@ -455,7 +455,7 @@ def main():
     start = time.time()
     if args.converge:
         return main_converge(args, start)
-    info = sb.machine_info()
+    info = sb.machine_info(args.sdfc)
     try:
         import subprocess
         info["git"] = subprocess.run(["git", "-C", ROOT, "rev-parse", "--short", "HEAD"],

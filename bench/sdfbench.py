@@ -258,8 +258,10 @@ def exact_roots(sdf, ro, rd, t_max, step_scale, min_step_rel=2e-6, max_iter=2000
 
 # ---------------------------------------------------------------- machine
 
-def machine_info():
-    """CPU model and cores (lscpu), Vulkan driver (vulkaninfo --summary)."""
+def machine_info(sdfc=None):
+    """CPU model and cores (lscpu); the Vulkan device and driver: with `sdfc`,
+    the first device `sdfc devices` lists (the one it renders on, which may be
+    its bundled lavapipe), else vulkaninfo --summary's (the system's)."""
     info = {"cpu": "?", "cores": str(os.cpu_count()), "device": "?", "driver": "?"}
     try:
         out = subprocess.run(["lscpu"], capture_output=True, text=True).stdout
@@ -272,13 +274,24 @@ def machine_info():
     except OSError:
         pass
     try:
-        out = subprocess.run(["vulkaninfo", "--summary"], capture_output=True, text=True).stdout
-        m = re.search(r"deviceName\s*=\s*(.*)", out)
-        if m:
-            info["device"] = m.group(1).strip()
-        m = re.search(r"driverInfo\s*=\s*(.*)", out)
-        if m:
-            info["driver"] = m.group(1).strip()
+        if sdfc:
+            # "driver: bundled lavapipe ... (/path/lvp_icd.json)", then
+            # "0: llvmpipe (LLVM 15.0.6, 256 bits) (CPU, Mesa 25.0.7)"
+            out = subprocess.run([sdfc, "devices"], capture_output=True, text=True).stdout
+            drivers = [l.partition(": ")[2] for l in out.splitlines() if l.startswith("driver: ")]
+            devices = [l.partition(": ")[2] for l in out.splitlines() if l[:1].isdigit()]
+            if devices:
+                info["device"] = devices[0]
+            if drivers:  # without the manifest's path
+                info["driver"] = re.sub(r"\s*\(/[^()]*\)$", "", drivers[0])
+        else:
+            out = subprocess.run(["vulkaninfo", "--summary"], capture_output=True, text=True).stdout
+            m = re.search(r"deviceName\s*=\s*(.*)", out)
+            if m:
+                info["device"] = m.group(1).strip()
+            m = re.search(r"driverInfo\s*=\s*(.*)", out)
+            if m:
+                info["driver"] = m.group(1).strip()
     except OSError:
         pass
     info["lp_num_threads"] = os.environ.get("LP_NUM_THREADS",
