@@ -101,6 +101,8 @@ std::vector<SceneCase> operatorScenes() {
       {"repeat infinite overlapping",
        "scene { repeat(cell: [1, 0, 1]) { translate([0.3, 0, 0]) { box(size: [0.9, 0.5, 0.4]) } } }"},
       {"repeat limited", "scene { repeat(cell: [0.8, 0.8, 0], count: [3, 2, 0]) { sphere(radius: 0.5) } }"},
+      {"repeat off-centre inside its cell",
+       "scene { repeat(cell: [2, 0, 1.5]) { translate([0.75, 0.3, -0.4]) { box(size: [0.5, 0.5, 0.5]) } } }"},
       {"elongate", "scene { elongate([0.6, 0, 0.3]) { torus(major: 0.5, minor: 0.15) } }"},
       {"morph", "scene { morph(t: 0.3) { sphere(radius: 0.6) box(size: [1, 1, 1]) } }"},
       {"round", "scene { round(radius: 0.2) { box(size: [1, 0.6, 0.8]) } }"},

@@ -230,6 +230,21 @@ TEST(Operators, RepeatWithOffCentreChild) {
   EXPECT_EQ(wrong, 0) << "points where repeat misses the nearest copy";
 }
 
+// A child inside its cell but off its centre: a copy in the next cell can be
+// nearer than the cell's own (cell 2, the copy in [0.5, 1] along x: at x = -0.9
+// the own copy is 1.4 away, the next cell's 0.1). Only the own cell was once
+// evaluated, so the distance was 14x too large there and a march along x
+// stepped through the nearer copy. The three cells give the exact distance.
+TEST(Operators, RepeatWithOffCentreChildInsideItsCell) {
+  const Compiled c = compile("repeat(cell: [2, 0, 1.5]) { translate([0.75, 0.3, -0.4]) { box(size: [0.5, 0.5, 0.5]) } }");
+  auto child = [](dvec3 q) { return box(q - dvec3(0.75, 0.3, -0.4), dvec3(0.5, 0.5, 0.5)); };
+  EXPECT_NEAR(c.distance({-0.9, 0.3, -0.4}), 0.1, kExact);
+  for (dvec3 p : randomPoints(3000, 4, 13))
+    ASSERT_NEAR(c.distance(p), bruteRepeat(p, {2, 0, 1.5}, {0, 0, 0}, child), kExact)
+        << p.x << " " << p.y << " " << p.z;
+  EXPECT_TRUE(c.scene.scene.root->exact);
+}
+
 // Offsets: a rounded box is a box grown by the radius (the rounded box of
 // the larger size), a shell of a sphere is | |p| - r | - t / 2, and both keep
 // the child's material and exactness.

@@ -71,11 +71,15 @@ class Analyzer {
         break;
       }
       case ir::NodeKind::Rotate: {
-        // Time-varying angle: any rotation about the axis; bound by a sphere.
+        // A constant angle: the rotated box (repeat reads whether it is off
+        // its cell's centre). Time-varying: any rotation about the axis; a sphere.
         const double r = first->bounds.finite()
                              ? std::max(glm::length(first->bounds.lo), glm::length(first->bounds.hi))
                              : kInf;
-        n.bounds = std::isfinite(r) ? Aabb{dvec3(-r), dvec3(r)} : Aabb::infinite();
+        if (n.amount.isConst() && first->bounds.finite())
+          n.bounds = transformBox(first->bounds, rotationMatrix(n.vec.value(), n.amount.value), dvec3(0));
+        else
+          n.bounds = std::isfinite(r) ? Aabb{dvec3(-r), dvec3(r)} : Aabb::infinite();
         n.cost += 0.5;
         break;
       }
@@ -422,7 +426,8 @@ class Analyzer {
       }
       if (repeatNeedsNeighbours(n, a)) {
         cells_evaluated *= 3;
-        n.exact = false;
+        // Inside its cell, the three cells give the exact distance (passes.h).
+        if (repeatReach(n, a) > cell[a] / 2) n.exact = false;
         if (repeatReach(n, a) > cell[a] * 1.5)
           diags_.warning(n.range, "repeat-reach", "the repeated shape reaches more than one cell beyond its own "
                                   "along axis " + std::string(1, "xyz"[a]) +
@@ -451,6 +456,12 @@ Aabb transformBox(const Aabb& b, const glm::dmat3& m, const dvec3& t) {
 double repeatReach(const ir::Node& repeat, int axis) {
   const Aabb& b = repeat.children[0]->bounds;
   return b.finite() ? std::max(std::fabs(b.lo[axis]), std::fabs(b.hi[axis])) : kInf;
+}
+
+bool repeatOffCentre(const ir::Node& repeat, int axis) {
+  const Aabb& b = repeat.children[0]->bounds;
+  // A few ulps of the reach: a centred child's bounds cancel to rounding.
+  return b.finite() && std::fabs(b.lo[axis] + b.hi[axis]) > 1e-9 * repeatReach(repeat, axis);
 }
 
 void analyze(ir::Scene& scene, Diagnostics& diags) {

@@ -65,9 +65,21 @@ MarchLimits deriveMarchLimits(const ir::Scene& scene, const MarchPolicy& policy)
 // (infinite when unbounded). Past half a cell, the cells on either side can
 // hold the nearest copy: analysis, evaluator and emitter all decide by this.
 double repeatReach(const ir::Node& repeat, int axis);
+// Whether the child's bounds are off the cell's centre along `axis`.
+bool repeatOffCentre(const ir::Node& repeat, int axis);
+// The cells on either side are tried too when the child reaches past half a
+// cell, or when it sits off the centre: a copy in the next cell can then be
+// nearer than the cell's own (cell 2, a copy spanning x in [0.5, 1]: at x =
+// -0.9 the own copy is 1.4 away, the next cell's 0.1), and a march stepping by
+// the own copy's distance passed through the nearer one. For a child inside
+// its cell, the cells beyond those are never nearer (each of their points has
+// a nearer twin one cell back), so the three give the exact distance. A child
+// whose box is centred is taken from its own cell alone: exact when it is
+// symmetric about the centre, not for parts on opposite corners of a centred
+// box (docs/language.md says so).
 inline bool repeatNeedsNeighbours(const ir::Node& repeat, int axis) {
   const double cell = repeat.vec.value()[axis];
-  return cell != 0 && repeatReach(repeat, axis) > cell / 2;
+  return cell != 0 && (repeatReach(repeat, axis) > cell / 2 || repeatOffCentre(repeat, axis));
 }
 
 // Rotation by `degrees` about unit `axis` (right-handed), as a matrix.
