@@ -73,13 +73,14 @@ class Analyzer {
       case ir::NodeKind::Rotate: {
         // A constant angle: the rotated box (repeat reads whether it is off
         // its cell's centre). Time-varying: any rotation about the axis; a sphere.
-        const double r = first->bounds.finite()
-                             ? std::max(glm::length(first->bounds.lo), glm::length(first->bounds.hi))
-                             : kInf;
-        if (n.amount.isConst() && first->bounds.finite())
+        if (!first->bounds.finite()) {
+          n.bounds = Aabb::infinite();
+        } else if (n.amount.isConst()) {
           n.bounds = transformBox(first->bounds, rotationMatrix(n.vec.value(), n.amount.value), dvec3(0));
-        else
-          n.bounds = std::isfinite(r) ? Aabb{dvec3(-r), dvec3(r)} : Aabb::infinite();
+        } else {
+          const double r = std::max(glm::length(first->bounds.lo), glm::length(first->bounds.hi));
+          n.bounds = Aabb{dvec3(-r), dvec3(r)};
+        }
         n.cost += 0.5;
         break;
       }
