@@ -295,6 +295,9 @@ RenderOutput renderAdaptive(Renderer& renderer, const CameraDesc& camera,
   if (settings.view != gpu::kViewBeauty || settings.spp < 4)
     return renderHalves(renderer, camera, settings, halves, progress, interrupt);
   const auto start = Clock::now();
+  // The draws' hierarchy visits as the renderer's own passes get them.
+  RenderSettings visits_settings = settings;
+  visits_settings.loop_cap = renderer.loopCap();
   const uint32_t n = settings.spp;
   const uint32_t half = n / 2;  // per half on average (an odd spp drops one sample)
   // First phase per half: the share, at least 1, at most all.
@@ -397,7 +400,7 @@ RenderOutput renderAdaptive(Renderer& renderer, const CameraDesc& camera,
       for (uint32_t y0 = 0; y0 < h; y0 += band_rows) {
         const uint32_t rows = std::min(band_rows, h - y0);
         frame.params.tile_y = y0;
-        buildDraws(count, first_index, w, y0, rows, frame.params, settings, draws);
+        buildDraws(count, first_index, w, y0, rows, frame.params, visits_settings, draws);
         if (draws.empty()) continue;
         st.draws += draws.size();
         const float* pass = renderer.runDraws(w, band_rows, rows, draws, settings.pass_timeout_seconds,

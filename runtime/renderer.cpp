@@ -47,6 +47,7 @@ uint32_t chooseSamplesPerPass(const RenderSettings& settings) {
 
 uint32_t traversalVisitsFor(const RenderSettings& settings, uint32_t sample_count) {
   if (settings.instance_sets == 0) return 0;
+  if (!settings.loop_cap) return kUncappedTraversalVisits;
   if (settings.loop_iterations_per_sample == 0) return kMinTraversalVisits;  // unknown kernel
   const uint64_t kernel = uint64_t(settings.loop_iterations_per_pass) +
                           uint64_t(sample_count) * settings.loop_iterations_per_sample;
@@ -194,6 +195,7 @@ Accumulation Renderer::startAccumulation(const CameraDesc& camera, const RenderS
                                        std::max<uint32_t>(acc.height, 1));
   acc.band_count = (acc.height + acc.band_rows - 1) / std::max<uint32_t>(acc.band_rows, 1);
   acc.settings = settings;
+  acc.settings.loop_cap = context_.loop_cap;
   acc.params = makeFrameParams(camera, acc.width, acc.height, settings.time);
   acc.params.seed = settings.seed;
   acc.params.view = settings.view;
@@ -333,11 +335,15 @@ RenderOutput Renderer::render(const CameraDesc& camera, const RenderSettings& se
                  "lavapipe's cap of %u; some pixels may be cut short\n",
                  settings.loop_iterations_per_sample, settings.loop_iterations_per_pass,
                  gpu::kLavapipeLoopCap);
-  if (settings.instance_sets > 0 && traversalVisitsFor(settings, 1) < 8)
+  RenderSettings on_this_driver = settings;
+  on_this_driver.loop_cap = context_.loop_cap;
+  if (settings.instance_sets > 0 && traversalVisitsFor(on_this_driver, 1) < 8)
     std::fprintf(stderr,
-                 "sdfc: warning: the loop cap leaves %u hierarchy visits per scene evaluation; "
-                 "instances may be marched slowly or missed (fewer bounces or steps help)\n",
-                 traversalVisitsFor(settings, 1));
+                 "sdfc: warning: this driver's loop cap leaves %u hierarchy visits per scene "
+                 "evaluation: instances may be marched slowly and parts thinner than a pixel "
+                 "missed (fewer bounces or steps help; Mesa 25's lavapipe, tools/lavapipe25.sh, "
+                 "has no cap)\n",
+                 traversalVisitsFor(on_this_driver, 1));
 
   Accumulation acc = startAccumulation(camera, settings, false);
   const uint32_t width = acc.width, height = acc.height;

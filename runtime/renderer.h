@@ -60,6 +60,9 @@ struct RenderSettings {
   // evaluation keeps at least kMinTraversalVisits hierarchy visits, and
   // frame.traversal_visits is set from the cap (traversalVisitsWithinCap).
   uint32_t instance_sets = 0;
+  // The driver caps loops (VulkanContext::loop_cap; the Renderer sets this from
+  // its context). Without a cap a traversal takes every visit it needs.
+  bool loop_cap = true;
   // 0 = auto: about kAutoPixelSamplesPerPass pixel-samples per pass, at most 64 spp.
   // Deliberately not timing-based, so pass splits (and thus images) are reproducible.
   uint32_t max_samples_per_pass = 0;
@@ -93,6 +96,10 @@ constexpr uint32_t kAutoMaxSamplesPerPass = 64;
 // sample for it), and the most it grants (a bound on one evaluation's work).
 constexpr uint32_t kMinTraversalVisits = 48;
 constexpr uint32_t kMaxTraversalVisits = 256;
+// frame.traversal_visits on a driver without the loop cap: never reached (a
+// traversal ends when its stack is empty, after at most 2 visits per node), so
+// every set is evaluated exactly.
+constexpr uint32_t kUncappedTraversalVisits = 1u << 30;
 // frame.traversal_visits for a pass of `sample_count` samples under `settings`.
 uint32_t traversalVisitsFor(const RenderSettings& settings, uint32_t sample_count);
 // render() draws full-width bands of about this many pixels (at least one row), so
@@ -174,6 +181,8 @@ class Renderer {
   // A compiled scene's kernel, its scene data and its camera-inside test (the
   // test reads `compiled.scene`, so `compiled` must outlive the renderer).
   Renderer(const VulkanContext& context, const CompiledScene& compiled);
+  // The driver caps loops (VulkanContext::loop_cap): hierarchy visits are rationed.
+  bool loopCap() const { return context_.loop_cap; }
   ~Renderer();
   Renderer(const Renderer&) = delete;
   Renderer& operator=(const Renderer&) = delete;

@@ -155,6 +155,13 @@ const char* deviceTypeName(VkPhysicalDeviceType type) {
   }
 }
 
+bool driverCapsLoops(const VkPhysicalDeviceProperties& props) {
+  // Measured (docs/lavapipe.md): lavapipe of Vulkan 1.3 (Mesa 22.3.6) caps,
+  // that of Vulkan 1.4 (Mesa 25.0.7) does not; a GPU does not. A CPU device
+  // we have not measured is assumed to cap (rationed visits cost only time).
+  return props.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU && VK_API_VERSION_MINOR(props.apiVersion) <= 3;
+}
+
 std::string driverText(VkPhysicalDevice device) {
   // driverInfo ("Mesa 25.0.7-2~bpo12+1 (LLVM 15.0.6)") when the device has
   // VK_KHR_driver_properties (core in 1.2; both lavapipes have it): lavapipe's
@@ -238,6 +245,7 @@ void createContext(VulkanContext& context, const ContextOptions& options) {
 
     context.physical_device = devices[chosen];
     vkGetPhysicalDeviceProperties(context.physical_device, &context.properties);
+    context.loop_cap = driverCapsLoops(context.properties);
     vkGetPhysicalDeviceMemoryProperties(context.physical_device, &context.memory_properties);
     context.queue_family = static_cast<uint32_t>(graphicsQueueFamily(context.physical_device));
 

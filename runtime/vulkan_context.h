@@ -24,6 +24,8 @@ const char* deviceTypeName(VkPhysicalDeviceType type);
 // The driver's release, e.g. "Mesa 25.0.7" (from VkPhysicalDeviceDriverProperties),
 // else the raw driverVersion in hex.
 std::string driverText(VkPhysicalDevice device);
+// Whether the device's driver caps loop iterations (VulkanContext::loop_cap).
+bool driverCapsLoops(const VkPhysicalDeviceProperties& props);
 
 // All physical devices (creates and destroys a temporary instance).
 std::vector<DeviceInfo> listDevices();
@@ -53,6 +55,11 @@ struct VulkanContext {
   VkQueue queue = VK_NULL_HANDLE;
   VkCommandPool command_pool = VK_NULL_HANDLE;
   bool validation_enabled = false;  // the layer was found and enabled
+  // The driver ends a shader invocation's loops after gpu::kLavapipeLoopCap
+  // iterations in total (Mesa 22.3.6's lavapipe; 25.0.7's and GPUs' do not:
+  // DriverFacts.LoopCapIsMeasured). Then hierarchy visits are rationed
+  // (runtime/loop_budget.h); without it a traversal runs to its end, exact.
+  bool loop_cap = true;
   // Held by whoever submits to or waits on `queue` (vkQueueSubmit, present,
   // vkDeviceWaitIdle need the queue externally synchronised). `sdfc view`'s
   // worker thread draws a new kernel once to have the driver compile it; the frame

@@ -61,6 +61,8 @@ TEST(DriverFacts, LoopCapIsMeasured) {
     // way the driver must do one of the two, for every loop length.
     const bool capped = ran(200000u) == gpu::kLavapipeLoopCap;
     std::printf("[ driver   ] loops %s\n", capped ? "end at the cap" : "run to the end");
+    // The renderer rations hierarchy visits exactly where loops are capped.
+    EXPECT_EQ(context.loop_cap, capped);
     if (lavapipe && VK_API_VERSION_MINOR(context.properties.apiVersion) <= 3) {
       EXPECT_TRUE(capped);
     }

@@ -1198,8 +1198,13 @@ class SceneWriter {
       g.code << "    a = sd_data[" << nb << " + 2 * ni];\n    b = sd_data[" << nb << " + 2 * ni + 1];\n";
       g.code << "    // Far from the nearest box compared with its size: the least box distance\n"
                 "    // left is within a factor 2 of the distance; enough for a march step.\n";
-      g.code << "    if (sm[sp] >= sd[sp] && sd[sp] > " << glslFloat(kFarBoxFactor) << " * distance(a.xyz, b.xyz)) {\n";
-      g.code << "      " << best << " = min(" << best << ", sm[sp]" << (smooth ? " - 0.25 * k" : "") << ");\n";
+      // A blend of children all at least m away is at least m - 1.25 k (each
+      // smooth minimum lowers by at most k / 4 and none acts below m - k), so
+      // a smooth set takes this exit only where that is at least half of m:
+      // a positive bound, never a hit.
+      g.code << "    if (sm[sp] >= sd[sp] && sd[sp] > " << glslFloat(kFarBoxFactor) << " * distance(a.xyz, b.xyz)"
+             << (smooth ? " && sm[sp] >= 2.5 * k" : "") << ") {\n";
+      g.code << "      " << best << " = min(" << best << ", sm[sp]" << (smooth ? " - 1.25 * k" : "") << ");\n";
       g.code << "      sp = 0;\n      break;\n    }\n";
       g.code << "    int first = int(a.w), count = int(b.w);\n";
       g.code << "    if (count == 0) {\n";
@@ -1241,10 +1246,11 @@ class SceneWriter {
       for (int j = 0; j < kPrunesPerVisit; ++j)
         g.code << "    if (sp > 0 && sd[sp - 1] >= " << best << slack << ") sp--;\n";
       g.code << "  }\n";
-      g.code << "  // Out of visits: what is left on the stack is no nearer than its least box"
-             << (smooth ? " (a blend lowers it by at most k/4)" : "") << ".\n";
-      g.code << "  if (sp > 0) " << best << " = min(" << best << ", sm[sp - 1]" << (smooth ? " - 0.25 * k" : "")
-             << ");\n";
+      g.code << "  // Out of visits (only where the driver caps loops): what is left on the stack is\n"
+             << "  // no nearer than its least box" << (smooth ? " (a blend lowers that by at most 1.25 k)" : "")
+             << ", a lower bound that march() must not stop on.\n";
+      g.code << "  if (sp > 0) {\n    " << best << " = min(" << best << ", sm[sp - 1]" << (smooth ? " - 1.25 * k" : "")
+             << ");\n" << (options_.with_kernel ? "    g_bound_only = true;\n" : "") << "  }\n";
       g.code << "  return best;\n}\n";
       functions_ << g.code.str();
       if (l.grid) gridFunction(n, l, mat, name, one, tree);
@@ -1786,6 +1792,8 @@ EmitResult emitGlsl(const ir::Scene& scene, const EmitOptions& options) {
   if (options.with_kernel && countEventFromName(options.count_event, count_kind, count_quantity))
     result.stats.features.insert("SDFC_COUNT_EVENTS");
   result.stats.instance_sets = writer.instanceSets();
+  // Traversals that may run out of visits where the driver caps loops.
+  if (options.with_kernel && result.stats.instance_sets > 0) result.stats.features.insert("SDFC_HAS_BOUND_ONLY");
   result.stats.traversals_per_evaluation =
       scene.root ? traversalsPerEvaluation(*scene.root, writer.traversalFreeSet()) : 0;
   result.scene_data = writer.takeData();

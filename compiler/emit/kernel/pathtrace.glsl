@@ -295,6 +295,9 @@ float march(vec3 ro, vec3 rd, float t_max, float side, bool shade, out int steps
 #ifdef SDFC_HAS_SPHERE_HIT
       g_ray_any = 1e30;
 #endif
+#ifdef SDFC_HAS_BOUND_ONLY
+      g_bound_only = false;
+#endif
     }
     // The one scene call (sdSceneMaterial is sdScene and a constant when the
     // scene has one material).
@@ -313,6 +316,13 @@ float march(vec3 ro, vec3 rd, float t_max, float side, bool shade, out int steps
       continue;
     }
     float d = side * dm.x;
+#ifdef SDFC_HAS_BOUND_ONLY
+    // A lower bound (out of visits, on a driver that caps loops) is a step, never
+    // a stop: at least a pixel's width (4 bands), so rays rationed to a few
+    // visits still cross the set in budget; a part thinner than that may be
+    // passed there (docs/large_scenes.md), never hit where it is not.
+    if (g_bound_only) d = max(d, 4.0 * hitEps(ro_mag, t));
+#endif
 #ifdef SDFC_HAS_RAY_SKIP
     // A skip shorter than float resolves at t would not move the ray: at the
     // exit face of a cell whose reach is tiny (its 9th sphere just outside),

@@ -19,6 +19,12 @@ const float kTwoPi = 6.28318530717959;
 // Every loop iteration of this invocation adds one (the kViewIterations view),
 // so tests can prove lavapipe's 65,535-iteration cap is never reached.
 uint g_loop_iterations = 0u;
+#ifdef SDFC_HAS_BOUND_ONLY
+// The last scene evaluation may be a lower bound, not the distance (an
+// instance traversal out of visits where the driver caps loops): march()
+// steps on it but never stops on it (docs/design/large_scenes.md).
+bool g_bound_only = false;
+#endif
 
 // A zero the compiler cannot see through (push constant), so loops starting at it
 // are kept as loops instead of being unrolled with sdScene copied into each copy.
