@@ -117,12 +117,12 @@ int uniformMaterial(const ir::Node& n, int inherited) {
   if (n.children.empty()) return mine;
   if (n.kind == ir::NodeKind::Instances) {
     // Per distinct instance material, once (a million instances share a few).
-    std::set<int> seen;
+    std::set<std::pair<int, int>> seen;
     int common = kMixed - 1;
     for (const ir::Instance& inst : n.instances->instances) {
       const int m = inst.material >= 0 ? inst.material : mine;
-      if (!seen.insert(m).second) continue;
-      const int u = uniformMaterial(*n.children[0], m);
+      if (!seen.insert({m, inst.templ}).second) continue;
+      const int u = uniformMaterial(*n.children[inst.templ], m);
       if (common == kMixed - 1) common = u;
       else if (u != common) return kMixed;
       if (common == kMixed) return kMixed;
@@ -453,6 +453,9 @@ class SceneWriter {
     int stride = 1;      // vec4 per record
     bool affine = false; // records hold a 3x4 map and a scale
     int param_vec4 = 0;  // vec4 of primitive parameters after the placement
+    // A mixed set (several templates): each record's template index follows
+    // its parameters, at float slot set.param_count of the parameter vec4s.
+    bool mixed = false;
     bool grid = false;   // a grid: header (2 vec4), cells (1 vec4 each), lists (4 per vec4)
     size_t grid_header = 0, grid_cells = 0, grid_entries = 0;
     bool grid_records = false;  // lists hold copies of one-vec4 records, not indices
@@ -682,7 +685,8 @@ class SceneWriter {
     InstanceLayout l;
     l.id = static_cast<int>(instance_layouts_.size());
     l.affine = !set.transforms.empty();
-    l.param_vec4 = (set.param_count + 3) / 4;
+    l.mixed = n.children.size() > 1;
+    l.param_vec4 = (set.param_count + (l.mixed ? 1 : 0) + 3) / 4;
     l.stride = (l.affine ? 4 : 1) + l.param_vec4;
     // Indices are stored as float values: exact below 2^24.
     l.nodes = data_.size() / 4;
@@ -710,6 +714,7 @@ class SceneWriter {
       for (int v = 0; v < l.param_vec4; ++v) {
         float c[4] = {0, 0, 0, 0};
         for (int j = 0; j < 4 && v * 4 + j < set.param_count; ++j) c[j] = float(set.paramsOf(i)[v * 4 + j]);
+        if (l.mixed && set.param_count / 4 == v) c[set.param_count % 4] = float(inst.templ);
         pushVec4(c[0], c[1], c[2], c[3]);
       }
     }
@@ -1109,7 +1114,6 @@ class SceneWriter {
     const std::string name = (mat ? "sdmi" : "sdi") + std::to_string(l.id) + "_one";
     if (!helper_names_.insert(name).second) return name;
     const ir::InstanceSet& set = *n.instances;
-    const ir::Node& templ = *n.children[0];
     Function g;
     g.code << (mat ? "vec2 " : "float ") << name << "(vec3 p, int rec" << (mat ? ", float inherited" : "")
            << ") {\n";
@@ -1124,15 +1128,15 @@ class SceneWriter {
       g.code << "  vec3 q = p + sd_data[rec].xyz;\n";
     }
     if (mat) g.code << "  float m = " << material << " >= 0.0 ? " << material << " : inherited;\n";
-    std::string r;
-    if (set.param_count > 0) {
-      // The template's primitive with this instance's parameters.
+    const int base = l.affine ? 4 : 1;
+    for (int v = 0; v < l.param_vec4; ++v) g.code << "  vec4 a" << v << " = sd_data[rec + " << base + v << "];\n";
+    auto slot = [](int j) { return "a" + std::to_string(j / 4) + "." + "xyzw"[j % 4]; };
+    // Template t's value at q: its primitive with this record's parameters,
+    // or its code.
+    auto value = [&](const ir::Node& templ) {
+      if (!ir::takesParams(set, templ)) return node(templ, "q", g, mat, mat ? "m" : "-1.0");
       const PrimitiveInfo& info = primitiveInfo(templ.primitive);
       needPrimitive(info);
-      const int base = l.affine ? 4 : 1;
-      for (int v = 0; v < l.param_vec4; ++v)
-        g.code << "  vec4 a" << v << " = sd_data[rec + " << base + v << "];\n";
-      auto slot = [](int j) { return "a" + std::to_string(j / 4) + "." + "xyzw"[j % 4]; };
       std::string call = std::string(info.glsl_function) + "(q";
       int j = 0;
       for (const ParamSpec& spec : info.params) {
@@ -1144,11 +1148,26 @@ class SceneWriter {
         }
       }
       call += ")";
-      g.code << "  float d = " << call << ";" << lineComment(templ) << " " << info.name << "\n";
+      const std::string d = var(g, "d");
+      g.code << "  float " << d << " = " << call << ";" << lineComment(templ) << " " << info.name << "\n";
       if (options_.count_evaluations && options_.with_kernel) g.code << "  g_loop_iterations++;\n";
-      r = mat ? "vec2(d, m)" : "d";
+      return mat ? "vec2(" + d + ", m)" : d;
+    };
+    std::string r;
+    if (!l.mixed) {
+      r = value(*n.children[0]);
     } else {
-      r = node(templ, "q", g, mat, mat ? "m" : "-1.0");
+      // One branch per template: lanes in lockstep run the branches some lane
+      // takes, and a branch no lane takes is skipped.
+      r = var(g, "part");
+      g.code << "  int t = int(" << slot(set.param_count) << ");\n";
+      g.code << "  " << (mat ? "vec2 " : "float ") << r << ";\n";
+      for (size_t t = 0; t < n.children.size(); ++t) {
+        g.code << "  " << (t == 0 ? "" : "} else ") << (t + 1 < n.children.size() ? "if (t == " + std::to_string(t) + ") " : "") << "{\n";
+        const std::string v = value(*n.children[t]);
+        g.code << "  " << r << " = " << v << ";\n";
+      }
+      g.code << "  }\n";
     }
     if (!scale.empty()) r = mat ? "vec2(" + r + ".x * " + scale + ", " + r + ".y)" : "(" + r + " * " + scale + ")";
     g.code << "  return " << r << ";\n}\n";

@@ -74,9 +74,9 @@ EvalResult Evaluator::evalInstance(const ir::Node& n, size_t i, const dvec3& p, 
     q = set.transforms[inst.transform].linear * p + inst.offset;
     scale = set.transforms[inst.transform].scale;
   }
-  const ir::Node& templ = *n.children[0];
+  const ir::Node& templ = *n.children[inst.templ];
   EvalResult r;
-  if (set.param_count > 0) {
+  if (ir::takesParams(set, templ)) {
     r = {primitiveInfo(templ.primitive).distance(set.paramsOf(i), q), mat};
   } else {
     r = evalNode(templ, q, mat);

@@ -20,6 +20,9 @@ struct Instance {
   glm::dvec3 offset{0};
   std::int32_t transform = -1;
   std::int32_t material = -1;  // -1: the material the union passes down
+  // Which child of the Instances node this copy is: a set of distinct parts
+  // (a mixed set) has one template per primitive kind or definition.
+  std::int32_t templ = 0;
 };
 
 struct InstanceTransform {
@@ -79,7 +82,9 @@ struct InstanceSet {
   std::vector<Instance> instances;  // in leaf order once the hierarchy is built
   std::vector<InstanceTransform> transforms;
   // Per-instance primitive arguments, replacing the template's (the template
-  // is then a constant primitive): param_count per instance, flattened.
+  // is then a constant primitive): param_count per instance, flattened. In a
+  // mixed set, param_count is the most any primitive template takes, and
+  // instances of a definition template carry zeros.
   int param_count = 0;
   std::vector<double> params;
   std::vector<BvhNode> nodes;

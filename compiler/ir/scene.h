@@ -120,12 +120,21 @@ inline bool isProfile(const Node& n) {
   return isProfile(*n.children[0]);
 }
 
+// The template instance i of Instances node n is a copy of.
+inline const Node& templateOf(const Node& n, size_t i) { return *n.children[n.instances->instances[i].templ]; }
+// A primitive template whose arguments each instance carries (set.params).
+inline bool takesParams(const InstanceSet& set, const Node& templ) {
+  return set.param_count > 0 && templ.kind == NodeKind::Primitive && templ.definition.empty();
+}
+
 // A point cloud: the copies of an Instances node are one sphere of constant
 // radius placed by offsets alone (no rotation or scale, no per-instance
 // parameters). The grid ranks its spheres by their own distance
 // (passes/instance_grid.cpp); the emitter gives it fixed slots, analytic ray
 // hits and radial normals.
 inline bool isSphereCloud(const InstanceSet& set, const Node& templ) {
+  for (const Instance& i : set.instances)
+    if (i.templ != 0) return false;  // a mixed set
   return set.transforms.empty() && set.param_count == 0 && templ.kind == NodeKind::Primitive &&
          templ.primitive == PrimitiveKind::Sphere && !templ.args.empty() && templ.args[0].isConst();
 }

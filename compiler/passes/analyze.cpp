@@ -232,23 +232,30 @@ class Analyzer {
 
   void instances(ir::Node& n) {
     ir::InstanceSet& set = *n.instances;
-    const ir::Node& templ = *n.children[0];
     const bool smooth = !n.smooth.isConst() || n.smooth.value > 0;
     if (set.nodes.empty() && set.size() > 0) {
-      buildInstanceHierarchy(set, templ);
+      buildInstanceHierarchy(set, n);
       // A blend needs every copy within best + k: the grid's lists do not promise that.
-      if (!smooth) buildInstanceGrid(set, templ);
+      if (!smooth) buildInstanceGrid(set, n);
     }
     n.bounds = set.nodes.empty() ? Aabb{} : set.nodes[0].box;
     if (smooth && n.bounds.finite()) n.bounds = n.bounds.grow(upper(n.smooth) / 4);
-    n.exact = templ.exact && !smooth;
+    n.exact = !smooth;
+    n.lipschitz = 0;
+    double cost = 0;
+    for (const ir::NodeRef& templ : n.children) {
+      n.exact = n.exact && templ->exact;
+      n.lipschitz = std::max(n.lipschitz, templ->lipschitz);
+      cost = std::max(cost, templ->cost);
+    }
     // A torus with per-instance parameters may be a spindle somewhere.
-    if (set.param_count > 0 && templ.primitive == PrimitiveKind::Torus)
-      for (size_t i = 0; i < set.size() && n.exact; ++i)
+    for (size_t i = 0; i < set.size() && n.exact; ++i) {
+      const ir::Node& templ = ir::templateOf(n, i);
+      if (ir::takesParams(set, templ) && templ.primitive == PrimitiveKind::Torus)
         n.exact = set.paramsOf(i)[1] <= set.paramsOf(i)[0];
-    n.lipschitz = templ.lipschitz;
+    }
     // A visit per hierarchy level and a leaf: what one evaluation costs.
-    n.cost = (templ.cost * ir::kBvhLeafSize + 1) * (set.depth + 1);
+    n.cost = (cost * ir::kBvhLeafSize + 1) * (set.depth + 1);
   }
 
   // twist(rate) about y, k = rate in radians per unit: the child is read at
@@ -483,7 +490,7 @@ double smallestPart(const ir::Node& n, double size) {
   if (n.kind == ir::NodeKind::Instances && !n.children.empty()) {
     const ir::InstanceSet& set = *n.instances;
     for (size_t i = 0; i < set.size(); ++i) {
-      const Aabb b = instanceBounds(set, i, *n.children[0]);
+      const Aabb b = instanceBounds(set, i, n);
       if (b.finite() && !b.empty()) size = std::min(size, std::max(glm::length(b.hi - b.lo), 1e-12));
     }
     return size;

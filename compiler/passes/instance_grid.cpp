@@ -49,7 +49,8 @@ double ballBoxDistance(const Aabb& box, const dvec3& c, double r) {
 
 }  // namespace
 
-void buildInstanceGrid(ir::InstanceSet& set, const ir::Node& templ) {
+void buildInstanceGrid(ir::InstanceSet& set, const ir::Node& node) {
+  const ir::Node& templ = *node.children[0];  // the point cloud's sphere, when it is one
   ir::InstanceGrid& g = set.grid;
   g = ir::InstanceGrid{};
   const size_t n = set.size();
@@ -58,7 +59,7 @@ void buildInstanceGrid(ir::InstanceSet& set, const ir::Node& templ) {
   std::vector<double> sizes(n);
   Aabb bounds;
   for (size_t i = 0; i < n; ++i) {
-    boxes[i] = instanceBounds(set, i, templ);
+    boxes[i] = instanceBounds(set, i, node);
     if (!boxes[i].finite()) return;
     bounds = bounds.unite(boxes[i]);
     const dvec3 e = boxes[i].hi - boxes[i].lo;

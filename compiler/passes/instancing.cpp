@@ -72,43 +72,56 @@ std::string templateKey(const Peeled& p) {
   return buf;
 }
 
-ir::NodeRef makeInstances(const std::vector<Peeled>& members, const ir::Scalar& smooth,
+// One set of the groups' copies: a template per group (a mixed set when
+// there are several: each copy records its template's index).
+ir::NodeRef makeInstances(const std::vector<std::vector<Peeled>>& groups, const ir::Scalar& smooth,
                           SourceRange range, const std::string& origin) {
   auto set = std::make_shared<ir::InstanceSet>();
   set->origin = origin;
-  const ir::NodeRef& first = members[0].shape;
-  ir::NodeRef templ = first;
-  if (first->kind == ir::NodeKind::Primitive && first->definition.empty()) {
-    // A fresh template without the material (each instance carries its own).
-    templ = std::make_shared<ir::Node>(*first);
-    templ->material = -1;
-    bool same = true;
-    for (const Peeled& m : members)
-      for (size_t a = 0; a < first->args.size() && same; ++a)
-        same = m.shape->args[a].value == first->args[a].value;
-    if (!same) {
-      set->param_count = static_cast<int>(first->args.size());
-      set->params.reserve(members.size() * first->args.size());
-      for (const Peeled& m : members)
-        for (const ir::Scalar& a : m.shape->args) set->params.push_back(a.value);
-    }
-  }
-  set->instances.reserve(members.size());
-  for (const Peeled& m : members) {
-    ir::Instance inst;
-    inst.offset = m.offset;
-    inst.material = m.material;
-    if (m.linear != glm::dmat3(1.0) || m.scale != 1) {
-      inst.transform = static_cast<int>(set->transforms.size());
-      set->transforms.push_back({m.linear, m.scale});
-    }
-    set->instances.push_back(inst);
-  }
   auto node = std::make_shared<ir::Node>();
+  // Primitive groups whose copies differ carry their arguments per instance;
+  // then every primitive group of the set does (one record layout).
+  bool params = false;
+  size_t param_count = 0;
+  for (const std::vector<Peeled>& members : groups) {
+    const ir::Node& first = *members[0].shape;
+    if (first.kind != ir::NodeKind::Primitive || !first.definition.empty()) continue;
+    param_count = std::max(param_count, first.args.size());
+    for (const Peeled& m : members)
+      for (size_t a = 0; a < first.args.size() && !params; ++a) params = m.shape->args[a].value != first.args[a].value;
+  }
+  if (params) set->param_count = static_cast<int>(param_count);
+  for (size_t g = 0; g < groups.size(); ++g) {
+    const ir::NodeRef& first = groups[g][0].shape;
+    ir::NodeRef templ = first;
+    const bool primitive = first->kind == ir::NodeKind::Primitive && first->definition.empty();
+    if (primitive) {
+      // A fresh template without the material (each instance carries its own).
+      templ = std::make_shared<ir::Node>(*first);
+      templ->material = -1;
+    }
+    node->children.push_back(templ);
+    for (const Peeled& m : groups[g]) {
+      ir::Instance inst;
+      inst.offset = m.offset;
+      inst.material = m.material;
+      inst.templ = static_cast<std::int32_t>(g);
+      if (m.linear != glm::dmat3(1.0) || m.scale != 1) {
+        inst.transform = static_cast<int>(set->transforms.size());
+        set->transforms.push_back({m.linear, m.scale});
+      }
+      set->instances.push_back(inst);
+      if (set->param_count > 0) {
+        const size_t at = set->params.size();
+        set->params.resize(at + set->param_count, 0.0);
+        if (primitive)
+          for (size_t a = 0; a < m.shape->args.size(); ++a) set->params[at + a] = m.shape->args[a].value;
+      }
+    }
+  }
   node->kind = ir::NodeKind::Instances;
   node->range = range;
   node->smooth = smooth;
-  node->children = {templ};
   node->instances = set;
   return node;
 }
@@ -123,10 +136,10 @@ ir::NodeRef expandInstances(const ir::Node& n) {
   u->definition = n.definition;
   u->smooth = n.smooth;
   for (size_t i = 0; i < set.size(); ++i) {
-    ir::NodeRef shape = n.children[0];
-    if (set.param_count > 0) {
+    ir::NodeRef shape = n.children[set.instances[i].templ];
+    if (ir::takesParams(set, *shape)) {
       shape = std::make_shared<ir::Node>(*shape);
-      for (int a = 0; a < set.param_count; ++a) shape->args[a] = ir::constant(set.paramsOf(i)[a]);
+      for (size_t a = 0; a < shape->args.size(); ++a) shape->args[a] = ir::constant(set.paramsOf(i)[a]);
     }
     auto placed = std::make_shared<ir::Node>();
     placed->kind = ir::NodeKind::Affine;
@@ -288,7 +301,7 @@ class Former {
     if (!sharp(*n) || set.size() < 2) return {n};
     std::vector<Aabb> boxes(set.size());
     for (size_t i = 0; i < set.size(); ++i) {
-      boxes[i] = instanceBounds(set, i, *n->children[0]);
+      boxes[i] = instanceBounds(set, i, *n);
       if (!boxes[i].finite()) return {n};
     }
     const std::vector<std::vector<std::uint32_t>> groups = farGroups(boxes);
@@ -329,24 +342,57 @@ class Former {
       ok[i] = peel(u.children[i], peeled[i]);
       if (ok[i]) groups[templateKey(peeled[i])].push_back(i);
     }
+    // Which groups become data, and in which set: a group of enough copies
+    // is a set of its own, as is a point cloud (its own fast path); the other
+    // groups, distinct parts among them, are one mixed set when together
+    // they are enough (one search instead of one per kind: issue 46).
+    std::vector<std::vector<std::string>> sets;
+    std::vector<std::string> mixed;
+    size_t mixed_count = 0;
+    for (const auto& [key, members] : groups) {
+      const bool cloud = key == "primitive sphere" && dataForm(members.size()) && cloudOf(members, peeled);
+      if (cloud || (dataForm(members.size()) && groups.size() == 1)) {
+        sets.push_back({key});
+      } else {
+        mixed.push_back(key);
+        mixed_count += members.size();
+      }
+    }
+    // Templates in the order the union names them (keys of definitions are
+    // addresses, which differ from run to run).
+    std::sort(mixed.begin(), mixed.end(),
+              [&](const std::string& a, const std::string& b) { return groups[a][0] < groups[b][0]; });
+    if (dataForm(mixed_count)) {
+      sets.push_back(mixed);
+    } else {
+      // Too few in all: the groups large enough alone are still sets.
+      for (const std::string& key : mixed)
+        if (dataForm(groups[key].size())) sets.push_back({key});
+    }
     std::vector<int> group_of(u.children.size(), -1);
     std::vector<ir::NodeRef> formed;
-    for (const auto& [key, members] : groups) {
-      if (!dataForm(members.size())) continue;
-      const ir::Node& shape = *peeled[members[0]].shape;
-      const std::string label = shape.definition.empty() ? primitiveInfo(shape.primitive).name
-                                                         : "'" + shape.definition + "'";
-      std::vector<Peeled> m;
-      m.reserve(members.size());
-      for (size_t i : members) {
-        m.push_back(std::move(peeled[i]));
-        group_of[i] = static_cast<int>(formed.size());
+    for (const std::vector<std::string>& keys : sets) {
+      std::vector<std::vector<Peeled>> members;
+      size_t count = 0;
+      std::string label;
+      for (const std::string& key : keys) {
+        const ir::Node& shape = *peeled[groups[key][0]].shape;
+        if (!label.empty()) label += ", ";
+        label += shape.definition.empty() ? primitiveInfo(shape.primitive).name : "'" + shape.definition + "'";
+        members.emplace_back();
+        for (size_t i : groups[key]) {
+          members.back().push_back(std::move(peeled[i]));
+          group_of[i] = static_cast<int>(formed.size());
+        }
+        count += groups[key].size();
       }
-      formed.push_back(makeInstances(m, u.smooth, u.range,
-                                     "union of " + std::to_string(members.size()) + " " + label));
+      const std::string origin = keys.size() > 4
+                                     ? "union of " + std::to_string(count) + " parts of " + std::to_string(keys.size()) + " kinds"
+                                     : "union of " + std::to_string(count) + " " + label;
+      formed.push_back(makeInstances(members, u.smooth, u.range, origin));
     }
     if (formed.empty()) return;
-    // Each group takes the place of its first member, as its far groups when
+    // Each set takes the place of its first member, as its far groups when
     // the union is sharp.
     std::vector<ir::NodeRef> kept;
     std::vector<bool> placed(formed.size(), false);
@@ -359,6 +405,16 @@ class Former {
       }
     }
     u.children = std::move(kept);
+  }
+
+  // The copies are one sphere of constant radius placed by offsets alone.
+  static bool cloudOf(const std::vector<size_t>& members, const std::vector<Peeled>& peeled) {
+    const ir::Node& first = *peeled[members[0]].shape;
+    for (size_t i : members) {
+      const Peeled& p = peeled[i];
+      if (p.linear != glm::dmat3(1.0) || p.scale != 1 || p.shape->args[0].value != first.args[0].value) return false;
+    }
+    return true;
   }
 };
 
@@ -401,27 +457,28 @@ struct Builder {
 
 }  // namespace
 
-Aabb instanceLocalBounds(const ir::InstanceSet& set, size_t i, const ir::Node& templ) {
-  if (set.param_count == 0) return templ.bounds;
+Aabb instanceLocalBounds(const ir::InstanceSet& set, size_t i, const ir::Node& n) {
+  const ir::Node& templ = *n.children[set.instances[i].templ];
+  if (!ir::takesParams(set, templ)) return templ.bounds;
   return primitiveInfo(templ.primitive).bounds(set.paramsOf(i));
 }
 
-Aabb instanceBounds(const ir::InstanceSet& set, size_t i, const ir::Node& templ) {
+Aabb instanceBounds(const ir::InstanceSet& set, size_t i, const ir::Node& n) {
   const ir::Instance& inst = set.instances[i];
-  const Aabb local = instanceLocalBounds(set, i, templ);
+  const Aabb local = instanceLocalBounds(set, i, n);
   if (inst.transform < 0) return {local.lo - inst.offset, local.hi - inst.offset};
   // local = A p + b  =>  p = A^-1 (local - b)
   const glm::dmat3 inv = glm::inverse(set.transforms[inst.transform].linear);
   return transformBox(local, inv, -(inv * inst.offset));
 }
 
-void buildInstanceHierarchy(ir::InstanceSet& set, const ir::Node& templ) {
+void buildInstanceHierarchy(ir::InstanceSet& set, const ir::Node& node) {
   const size_t n = set.size();
   Builder b;
   b.boxes.resize(n);
   b.centres.resize(n);
   for (size_t i = 0; i < n; ++i) {
-    b.boxes[i] = instanceBounds(set, i, templ);
+    b.boxes[i] = instanceBounds(set, i, node);
     b.centres[i] = b.boxes[i].center();
   }
   b.order.resize(n);

@@ -22,11 +22,11 @@ struct InstancingOptions {
 };
 void formInstances(ir::Scene& scene, const InstancingOptions& options);
 // The hierarchy over an instance set (analyze builds it once bounds are known).
-void buildInstanceHierarchy(ir::InstanceSet& set, const ir::Node& templ);
+void buildInstanceHierarchy(ir::InstanceSet& set, const ir::Node& n);
 // The grid over an instance set (passes/instance_grid.cpp; left empty when it
 // would not pay), and its bound at p in float64 given each instance's distance
 // (NaN where the cell defers to the hierarchy): what the shader computes.
-void buildInstanceGrid(ir::InstanceSet& set, const ir::Node& templ);
+void buildInstanceGrid(ir::InstanceSet& set, const ir::Node& n);
 ir::GridCellAt instanceGridCellAt(const ir::InstanceGrid& grid, const glm::dvec3& p);
 double instanceGridBound(const ir::InstanceSet& set, const glm::dvec3& p,
                          const std::function<double(size_t)>& distance_of);
@@ -38,8 +38,10 @@ double instanceGridRaySkip(const ir::InstanceSet& set, const glm::dvec3& p, cons
                            const std::function<double(size_t)>& hit_of);
 // The box holding b mapped by p -> m * p + t (infinite and empty boxes stay so).
 Aabb transformBox(const Aabb& b, const glm::dmat3& m, const glm::dvec3& t);
-Aabb instanceLocalBounds(const ir::InstanceSet& set, size_t i, const ir::Node& templ);
-Aabb instanceBounds(const ir::InstanceSet& set, size_t i, const ir::Node& templ);
+// Instance i's bounds in its template's frame and in the set's; n is the
+// Instances node (its children are the templates).
+Aabb instanceLocalBounds(const ir::InstanceSet& set, size_t i, const ir::Node& n);
+Aabb instanceBounds(const ir::InstanceSet& set, size_t i, const ir::Node& n);
 void analyze(ir::Scene& scene, Diagnostics& diags);
 // A scene far from the world origin, seen from near by, is moved to the
 // camera's frame (passes/rebase.cpp): scene.origin says where that frame is.
