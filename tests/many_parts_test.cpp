@@ -138,6 +138,33 @@ TEST(ManyParts, MixedSetEqualsTheInlineCode) {
   }
 }
 
+// A block with many holes: the shapes a hard subtract cuts away are a
+// union, which becomes data; the value equals the inline code's.
+TEST(ManyParts, HolesCutAwayBecomeData) {
+  const std::string text = mixedParts(5, 40, "union", 5, true);
+  const std::string flat = [&] {
+    // The same cuts as direct children of the subtract (how people write it).
+    std::string t = text;
+    t.erase(t.find("  union {\n"), 10);
+    t.erase(t.rfind("  }\n  }"), 4);
+    return t;
+  }();
+  const CompiledScene data = checkedParts(flat, 32), inline_form = checkedParts(flat, 0);
+  ASSERT_TRUE(data.ok && inline_form.ok);
+  EXPECT_EQ(countSets(*data.scene.root), 1);
+  const Evaluator fast(data.scene), brute(inline_form.scene);
+  std::mt19937 rng(4);
+  std::uniform_real_distribution<double> u(-4, 4);
+  int inside = 0;
+  for (int i = 0; i < 3000; ++i) {
+    const dvec3 p(u(rng), u(rng), u(rng));
+    const double a = fast.distance(p), b = brute.distance(p);
+    ASSERT_NEAR(a, b, 1e-12 * (1 + std::fabs(b))) << p.x << " " << p.y << " " << p.z;
+    inside += b < 0;
+  }
+  EXPECT_GT(inside, 300);
+}
+
 class ManyPartsGpu : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {

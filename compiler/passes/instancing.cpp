@@ -271,6 +271,19 @@ class Former {
       }
       return;
     }
+    if (ref->kind == ir::NodeKind::Subtract && sharp(*ref) && dataForm(ref->children.size() - 1)) {
+      // max(a, -b1, ..., -bn) = max(a, -min(b1, ..., bn)): the shapes cut
+      // away are a union, which may become data (a block with a thousand holes).
+      auto cut = std::make_shared<ir::Node>();
+      cut->kind = ir::NodeKind::Union;
+      cut->range = ref->range;
+      cut->children.assign(ref->children.begin() + 1, ref->children.end());
+      ref->children.resize(1);
+      ref->children.push_back(cut);
+      done_.insert(cut.get());
+      group(*cut);
+      return;
+    }
     if (ref->kind != ir::NodeKind::Union) return;
     if (sharp(*ref)) {
       std::vector<ir::NodeRef> flat;

@@ -1,0 +1,238 @@
+#!/usr/bin/python3
+"""Scenes of many distinct parts (issue 46): cost and exactness per family and
+part count, written to bench/results/many_parts.md (and .json).
+
+  bench/many_parts.py [--sdfc build/cli/sdfc] [--before OLD_SDFC]
+                      [--families molecule,kitbash,tree,holes,city,chess]
+                      [--counts 10,100,1000] [--smooth 0.05] [--repeats 3]
+                      [--size 320x180] [--spp 8] [--mesh-counts 1000] [--quick]
+
+Families come from bench/many_parts_scenes.py. Per family and count:
+  - compile: `sdfc compile --emit spv` wall seconds (SPIR-V cache off);
+  - first image: `sdfc render` at 64x36, 1 spp, lavapipe's shader cache off:
+    pipeline creation and the whole process (its first draw compiles the
+    kernel with LLVM); peak RSS of that process (/usr/bin/time);
+  - spp/s at --size and --spp with no denoiser (median of --repeats, the
+    binaries interleaved when --before is given), and CPU ms per sample;
+  - primary steps per pixel (`--view steps`' mean);
+  - pixels off: a 160x90 depth render checked against `sdfc eval` (float64):
+    a hit must lie within a pixel's footprint of the surface and no surface
+    may lie clearly before it on the ray (the check of tests/many_parts_test.cpp);
+  - with --mesh-counts: `sdfc mesh` at resolution 128 of the smooth molecule.
+Needs numpy (Debian's python3-numpy: run with /usr/bin/python3) and /usr/bin/time.
+"""
+import argparse
+import json
+import math
+import os
+import re
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+
+import numpy as np
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(HERE)
+sys.path.insert(0, HERE)
+import many_parts_scenes as mps  # noqa: E402
+import sdfbench as sb  # noqa: E402
+
+
+def timed(cmd, env=None):
+    """Wall seconds, peak RSS (MiB) and stderr of a whole process."""
+    full = ["/usr/bin/time", "-f", "MAXRSS %M"] + cmd
+    start = time.perf_counter()
+    p = subprocess.run(full, capture_output=True, text=True, env=env)
+    wall = time.perf_counter() - start
+    if p.returncode != 0:
+        raise RuntimeError(f"{' '.join(cmd)} failed ({p.returncode}):\n{p.stderr[-2000:]}")
+    m = re.search(r"MAXRSS (\d+)", p.stderr)
+    return wall, (int(m.group(1)) / 1024 if m else float("nan")), p.stderr
+
+
+def cold_env():
+    env = dict(os.environ, SDFC_NO_CACHE="1", MESA_SHADER_CACHE_DISABLE="true")
+    env.setdefault("GALLIVM_PERF", "")
+    return env
+
+
+def first_image(sdfc, scene, out):
+    wall, rss, err = timed([sdfc, "render", scene, "-o", out, "--size", "64x36", "--spp", "1",
+                            "--denoise", "none", "--timings"], cold_env())
+    m = re.search(r"pipeline[^0-9]*([0-9.]+) ?ms", err)
+    return wall, rss, float(m.group(1)) if m else float("nan")
+
+
+def compile_s(sdfc, scene):
+    start = time.perf_counter()
+    subprocess.run([sdfc, "compile", scene, "--emit", "spv", "-o", os.devnull], check=True,
+                   capture_output=True, env=cold_env())
+    return time.perf_counter() - start
+
+
+def sampling(sdfc, scene, out, size, spp):
+    info = sb.render(sdfc, scene, out, ["--size", size, "--spp", str(spp), "-Wno-bound"])
+    return info["spp_per_s"], info["cpu_s"]
+
+
+def primary_steps(sdfc, scene, dir_, size):
+    path = os.path.join(dir_, "steps.pfm")
+    info = sb.render(sdfc, scene, path, ["--size", size, "--spp", "1", "--view", "steps", "-Wno-bound"])
+    # The steps view's PFM holds the raw count (bench/geometry.py).
+    return float(np.mean(np.rint(sb.read_pfm(path)[..., 0])))
+
+
+def pixels_off(sdfc, scene, dir_, width=160, height=90):
+    """(hit pixels, off the surface, a surface clearly before, missed) against float64."""
+    path = os.path.join(dir_, "depth.pfm")
+    sb.render(sdfc, scene, path, ["--size", f"{width}x{height}", "--spp", "1", "--view", "depth", "-q"])
+    depth = sb.read_pfm(path)[..., 0].reshape(-1)
+    cam = sb.parse_camera(sb.compile_text(sdfc, scene, "ir"))
+    ro, rd = sb.camera_rays(cam, width, height)
+    rd = rd.reshape(-1, 3)
+    tan_half = math.tan(math.radians(cam["fov"]) / 2)
+    fp = lambda t: np.maximum(t, 1e-3) * 2 * tan_half / height
+    ev = sb.Evaluator(sdfc, scene)
+    try:
+        n = len(rd)
+        hit = depth >= 0
+        field = np.full(n, np.nan)
+        field[hit] = ev(ro + rd[hit] * depth[hit, None])
+        off = hit & (np.abs(field) > fp(depth))
+        # The float64 march, all rays at once (tests/many_parts_test.cpp's rule).
+        t = np.zeros(n)
+        found = np.zeros(n, bool)
+        active = np.ones(n, bool)
+        reach = 4 * np.linalg.norm(ro)
+        for _ in range(600):
+            idx = np.nonzero(active)[0]
+            if len(idx) == 0:
+                break
+            d = ev(ro + rd[idx] * t[idx, None])
+            f = fp(t[idx])
+            near = d < 0.25 * f
+            far = idx[~near]
+            t[far] += d[~near]
+            cand = idx[near]
+            if len(cand):
+                inside = np.zeros(len(cand), bool)
+                for j in range(9):
+                    pts = ro + rd[cand] * (t[cand] + 0.5 * j * fp(t[cand]))[:, None]
+                    inside |= ev(pts) < -0.5 * fp(t[cand])
+                found[cand[inside]] = True
+                active[cand[inside]] = False
+                rest = cand[~inside]
+                t[rest] += np.maximum(d[near][~inside], 0.5 * fp(t[rest]))
+            active &= t < reach
+        early = hit & found & (t < depth - 2 * fp(depth))
+        missed = ~hit & found
+        return int(hit.sum()), int(off.sum()), int(early.sum()), int(missed.sum())
+    finally:
+        ev.close()
+
+
+def mesh_s(sdfc, scene, dir_):
+    out = os.path.join(dir_, "m.stl")
+    wall, rss, _ = timed([sdfc, "mesh", scene, "-o", out, "--resolution", "128"])
+    return wall, rss
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--sdfc", default=os.path.join(ROOT, "build", "cli", "sdfc"))
+    ap.add_argument("--before", help="an older sdfc, timed interleaved with --sdfc")
+    ap.add_argument("--families", default="molecule,kitbash,tree,holes,city,chess")
+    ap.add_argument("--counts", default="10,100,1000")
+    ap.add_argument("--smooth", type=float, default=0.05)
+    ap.add_argument("--repeats", type=int, default=3)
+    ap.add_argument("--size", default="320x180")
+    ap.add_argument("--spp", type=int, default=8)
+    ap.add_argument("--mesh-counts", default="")
+    ap.add_argument("--no-check", action="store_true", help="skip the float64 pixel check")
+    ap.add_argument("--out", default=os.path.join(HERE, "results", "many_parts.md"))
+    args = ap.parse_args()
+    binaries = [("after", args.sdfc)] + ([("before", args.before)] if args.before else [])
+    families = args.families.split(",")
+    counts = [int(c) for c in args.counts.split(",")]
+    rows = []
+    lines = []
+
+    def emit(line=""):
+        print(line, flush=True)
+        lines.append(line)
+
+    emit("# Scenes of many distinct parts (bench/many_parts.py)")
+    emit()
+    machine = sb.machine_info(args.sdfc)
+    emit(f"Machine: {machine['cpu']}, {machine['cores']} cores, {machine['device']}, {machine['driver']}. Size {args.size}, {args.spp} spp, no denoiser, "
+         f"smooth {args.smooth} where the family blends; medians of {args.repeats}.")
+    emit()
+    head = "| family | parts | binary | compile s | first image s | pipeline ms | peak MiB | spp/s | CPU ms/sample | primary steps | hit px | off | before | missed |"
+    emit(head)
+    emit("|" + "---|" * head.count("|")[:-1] if False else "|" + "|".join(["---"] * (head.count("|") - 1)) + "|")
+    with tempfile.TemporaryDirectory(prefix="many_parts_") as dir_:
+        for fam in families:
+            for n in counts:
+                smooth = args.smooth if fam in ("molecule", "kitbash") else 0.0
+                scene = os.path.join(dir_, f"{fam}_{n}.sdf")
+                with open(scene, "w") as f:
+                    f.write(mps.scene(fam, n, smooth))
+                per = {name: {"spp": [], "cpu": []} for name, _ in binaries}
+                for _ in range(args.repeats):
+                    for name, exe in binaries:
+                        spp_s, cpu = sampling(exe, scene, os.path.join(dir_, "b.pfm"), args.size, args.spp)
+                        per[name]["spp"].append(spp_s)
+                        per[name]["cpu"].append(1000 * cpu / args.spp)
+                for name, exe in binaries:
+                    row = dict(family=fam, parts=n, binary=name, smooth=smooth)
+                    row["compile_s"] = compile_s(exe, scene)
+                    row["first_image_s"], row["peak_mib"], row["pipeline_ms"] = first_image(
+                        exe, scene, os.path.join(dir_, "f.png"))
+                    row["spp_per_s"] = statistics.median(per[name]["spp"])
+                    row["cpu_ms_per_sample"] = statistics.median(per[name]["cpu"])
+                    row["primary_steps"] = primary_steps(exe, scene, dir_, args.size)
+                    if not args.no_check:
+                        row["hits"], row["off"], row["early"], row["missed"] = pixels_off(exe, scene, dir_)
+                    rows.append(row)
+                    emit(f"| {fam} | {n} | {name} | {row['compile_s']:.2f} | {row['first_image_s']:.2f} | "
+                         f"{row['pipeline_ms']:.0f} | {row['peak_mib']:.0f} | {row['spp_per_s']:.2f} | "
+                         f"{row['cpu_ms_per_sample']:.0f} | {row['primary_steps']:.1f} | "
+                         f"{row.get('hits', '-')} | {row.get('off', '-')} | {row.get('early', '-')} | "
+                         f"{row.get('missed', '-')} |")
+        if args.mesh_counts:
+            emit()
+            emit("| mesh: molecule parts | binary | `sdfc mesh --resolution 128` s | peak MiB |")
+            emit("|---|---|---|---|")
+            for n in [int(c) for c in args.mesh_counts.split(",")]:
+                scene = os.path.join(dir_, f"mesh_{n}.sdf")
+                with open(scene, "w") as f:
+                    f.write(mps.scene("molecule", n, args.smooth))
+                for name, exe in binaries:
+                    wall, rss = mesh_s(exe, scene, dir_)
+                    rows.append(dict(family="molecule-mesh", parts=n, binary=name, mesh_s=wall, peak_mib=rss))
+                    emit(f"| {n} | {name} | {wall:.2f} | {rss:.0f} |")
+    # Cost growth per family: spp/s of the smallest count over each count's.
+    emit()
+    emit("Cost per sample relative to the family's smallest count (CPU ms per sample):")
+    emit()
+    for name, _ in binaries:
+        for fam in families:
+            base = [r for r in rows if r["family"] == fam and r["binary"] == name and r["parts"] == counts[0]]
+            if not base:
+                continue
+            parts = [f"{r['parts']}: {r['cpu_ms_per_sample'] / base[0]['cpu_ms_per_sample']:.2f}x"
+                     for r in rows if r["family"] == fam and r["binary"] == name and "cpu_ms_per_sample" in r]
+            emit(f"- {name} {fam}: " + ", ".join(parts))
+    os.makedirs(os.path.dirname(args.out), exist_ok=True)
+    with open(args.out, "w") as f:
+        f.write("\n".join(lines) + "\n")
+    with open(os.path.splitext(args.out)[0] + ".json", "w") as f:
+        json.dump(rows, f, indent=1)
+    print(f"wrote {args.out}")
+
+
+if __name__ == "__main__":
+    main()
