@@ -177,6 +177,13 @@ messy = 'scene{instances(positions:file("my points.csv")){sphere(radius:0.1)}}\n
 c.notify("textDocument/didChange", {"textDocument": {"uri": uri, "version": 5}, "contentChanges": [{"text": messy}]})
 r = c.request("textDocument/formatting", {**doc, "options": {"tabSize": 2, "insertSpaces": True}})["result"]
 check("formatting keeps strings", r and 'file("my points.csv")' in r[0]["newText"], r)
+# A document with an import formats (the server died on Format Document: the
+# formatter took the value of the import statement, which has none).
+messy = 'import   "parts.sdf"  as parts\nscene{parts.post(2)}\n'
+c.notify("textDocument/didChange", {"textDocument": {"uri": puri, "version": 2}, "contentChanges": [{"text": messy}]})
+r = c.request("textDocument/formatting", {**pdoc, "options": {"tabSize": 2, "insertSpaces": True}})["result"]
+check("formatting a document with an import", r and r[0]["newText"] ==
+      'import "parts.sdf" as parts\nscene { parts.post(2) }\n', r)
 
 # Malformed and out-of-order messages: protocol errors, never a crash.
 c.send_raw(b"{not json")
