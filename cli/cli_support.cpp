@@ -10,7 +10,6 @@
 #include <cstring>
 #include <filesystem>
 #include <limits>
-#include <regex>
 #include <sstream>
 #include <fstream>
 #include <iostream>
@@ -124,8 +123,10 @@ CLI::Validator wholeNumberIn(long long lo, long long hi) {
   range << lo << " to " << hi;
   return CLI::Validator(
       [lo, hi, range = range.str()](std::string& text) {
-        static const std::regex kWhole(R"([-+]?[0-9]{1,18})");
-        if (std::regex_match(text, kWhole)) {
+        // [-+]?[0-9]{1,18}, scanned by hand (std::regex recurses per character).
+        const size_t sign = !text.empty() && (text[0] == '-' || text[0] == '+') ? 1 : 0;
+        const size_t digits = text.size() - sign;
+        if (digits >= 1 && digits <= 18 && text.find_first_not_of("0123456789", sign) == std::string::npos) {
           const long long value = std::stoll(text);
           if (value >= lo && value <= hi) return std::string();
         }

@@ -29,6 +29,21 @@ for v in 0x10 inf 1e999 nan 1,5; do
   expect 2 "-D expects name=number with a plain decimal number" -- "$sdfc" check "$work/r.sdf" -D "r=$v"
 done
 expect 0 "" -- "$sdfc" check "$work/r.sdf" -D r=+1.5e0
+# Long numbers are refused cleanly (std::regex recursed once per character
+# and overflowed the stack: exit 139).
+digits=$(head -c 30000 /dev/zero | tr '\0' 7)
+ones=$(head -c 100000 /dev/zero | tr '\0' 1)
+for cmd in check eval render; do
+  out=()
+  [ "$cmd" = render ] && out=(-o "$work/x.png")
+  expect 2 "-D expects name=number" -- "$sdfc" "$cmd" "$work/r.sdf" -D "r=$digits" "${out[@]}"
+done
+expect 0 "" -- "$sdfc" check "$work/r.sdf" -D "r=0.$ones"
+echo "0 0 0" >"$work/origin.txt"
+expect 0 "" -- "$sdfc" eval "$work/r.sdf" -D "r=0.$ones" --points "$work/origin.txt"
+expect 2 "--frames takes frame numbers A-B at --fps" -- "$sdfc" render "$scene" --frames "1-2:0.$ones" -o "$work/x.png"
+expect 2 "--spp" -- "$sdfc" render "$scene" --spp "$digits" -o "$work/x.png"
+expect 2 "--size" -- "$sdfc" render "$scene" --size "${digits}x1" -o "$work/x.png"
 # A directory as the scene: unreadable input.
 expect 4 "it is a directory, not a scene file" -- "$sdfc" check "$work"
 # The output directory is checked before compiling or rendering.

@@ -108,6 +108,12 @@ edits = r["changes"][uri]
 check("rename edits", len(edits) == len(refs) and all(e["newText"] == "granite" for e in edits), r)
 r = c.request("textDocument/rename", {**doc, "position": use, "newName": "sphere"})
 check("rename to a built-in refused", r.get("error", {}).get("code") == -32803, r)
+# A 30,000-character name (std::regex overflowed the stack on it): renamed, no crash.
+r = c.request("textDocument/rename", {**doc, "position": use, "newName": "g" * 30000})
+check("rename to a very long name", "result" in r and r["result"]["changes"][uri][0]["newText"] == "g" * 30000,
+      str(r)[:200])
+r = c.request("textDocument/rename", {**doc, "position": use, "newName": "1" * 30000})
+check("rename to a very long bad name refused", r.get("error", {}).get("code") == -32803, str(r)[:200])
 
 # Parametric definitions and imports, in a real directory with a space in its name.
 tmpdir = tempfile.mkdtemp(prefix="lsp params ")
