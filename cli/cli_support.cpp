@@ -14,6 +14,7 @@
 #include <fstream>
 #include <iostream>
 #include <stdexcept>
+#include <sys/stat.h>
 #include <unistd.h>
 
 namespace sdfc {
@@ -75,6 +76,25 @@ int loadOptionsFrom(const CommandLine& cl, api::LoadOptions& load) {
   return kExitOk;
 }
 
+bool outputIsAnInput(const std::string& output, const std::string& scene_path, const CompiledScene& c) {
+  struct stat out;
+  if (output.empty() || output == "-" || ::stat(output.c_str(), &out) != 0) return false;  // nothing there yet
+  std::vector<std::string> inputs = {scene_path};
+  for (const auto& file : c.scene.imported_sources) inputs.push_back(file->path);
+  inputs.insert(inputs.end(), c.scene.data_files.begin(), c.scene.data_files.end());
+  for (const std::string& input : inputs) {
+    struct stat in;
+    if (::stat(input.c_str(), &in) == 0 && in.st_dev == out.st_dev && in.st_ino == out.st_ino) {
+      std::cerr << "sdfc: error: the output '" << output << "' is "
+                << (input == scene_path ? std::string("the scene being read")
+                                        : "'" + input + "', which the scene reads")
+                << "; choose another -o\n";
+      return true;
+    }
+  }
+  return false;
+}
+
 LoadedScene loadScene(const CommandLine& cl, Diagnostics& diags, bool emit, bool spirv,
                       CompileOptions options, bool options_given) {
   LoadedScene out;
@@ -98,6 +118,9 @@ LoadedScene loadScene(const CommandLine& cl, Diagnostics& diags, bool emit, bool
   }
   if (!scene->ok()) out.exit_code = kExitScene;
   out.compiled = std::move(scene->compiled);
+  // Every command that writes -o: never over one of its inputs (a scene
+  // exported or compiled over itself was lost).
+  if (out.exit_code == kExitOk && outputIsAnInput(cl.output, cl.input, out.compiled)) out.exit_code = kExitUsage;
   // The caller's list keeps the diagnostics, and the files they point into, alive.
   for (const Diagnostic& d : scene->diagnostics.all()) diags.add(d);
   out.keep = std::move(scene);

@@ -285,6 +285,9 @@ int runRender(const CommandLine& cl) {
   timings.add("waited for the device", device_wait, "(after the compile's " +
               std::to_string(std::lround(compile_seconds * 1000)) + " ms)");
   if (loaded.exit_code != kExitOk) return loaded.exit_code;
+  // loadScene checked -o itself; a sequence's frames are other names.
+  for (int frame : frame_numbers)
+    if (outputIsAnInput(farm::framePath(cl.output, frame), cl.input, loaded.compiled)) return kExitUsage;
   VulkanContext& context = scoped_context->get();
   adaptToDevice(loaded, cl, context, o, features);
   const CompiledScene& compiled = loaded.compiled;

@@ -67,6 +67,31 @@ expect 0 "" -- "$sdfc" compile "$scene" -o "$work/out.glsl"
 expect 1 "at most 16 'light's" -- "$sdfc" compile "$root/fuzz/regressions/issue18_seventeen_lights.sdf" -o "$work/l.glsl"
 expect 1 "beyond the range of the shader's float32 numbers" -- "$sdfc" compile "$root/fuzz/regressions/issue18_sun_direction_overflow.sdf" -o "$work/s.glsl"
 
+# No command writes over one of its inputs (the scene, an import, a data
+# file), by file identity: export and compile once overwrote the scene.
+mkdir "$work/in"
+printf 'let post = sphere(radius: 1)\n' >"$work/in/lib.sdf"
+printf '0 0 0\n2 0 0\n' >"$work/in/p.csv"
+printf 'import "lib.sdf" as l\nscene { l.post instances(positions: file("p.csv")) { sphere(radius: 0.1) } }\n' >"$work/in/s.sdf"
+cp "$work/in/s.sdf" "$work/in/s.orig"
+ln "$work/in/s.sdf" "$work/in/hard.glsl"
+ln -s s.sdf "$work/in/soft.html"
+expect 2 "-o must end in .html, got '$work/in/s.sdf'" -- "$sdfc" export "$work/in/s.sdf" -o "$work/in/s.sdf"
+expect 2 "the output .* is the scene being read" -- "$sdfc" compile "$work/in/s.sdf" --emit glsl -o "$work/in/s.sdf"
+expect 2 "the output .* is the scene being read" -- "$sdfc" compile "$work/in/s.sdf" --emit glsl -o "$work/in/hard.glsl"
+expect 2 "the output .* is the scene being read" -- "$sdfc" export "$work/in/s.sdf" -o "$work/in/soft.html"
+expect 2 "the output .*/in/../in/s.sdf' is the scene being read" -- "$sdfc" compile "$work/in/s.sdf" --emit ir -o "$work/in/../in/s.sdf"
+expect 2 "lib.sdf', which the scene reads" -- "$sdfc" compile "$work/in/s.sdf" --emit glsl -o "$work/in/lib.sdf"
+expect 2 "p.csv', which the scene reads" -- "$sdfc" compile "$work/in/s.sdf" --emit ir -o "$work/in/p.csv"
+cmp -s "$work/in/s.sdf" "$work/in/s.orig" || fail "the scene was overwritten"
+[ "$(cat "$work/in/lib.sdf")" = "let post = sphere(radius: 1)" ] || fail "the import was overwritten"
+[ "$(head -c 5 "$work/in/p.csv")" = "0 0 0" ] || fail "the point file was overwritten"
+# export's -o ends in .html (.glsl for Shadertoy), as render's and mesh's have their extensions.
+expect 2 "-o must end in .html, got '$work/in/noext'" -- "$sdfc" export "$work/in/s.sdf" -o "$work/in/noext"
+expect 2 "-o must end in .glsl" -- "$sdfc" export "$work/in/s.sdf" -o "$work/in/x.html" --target shadertoy
+[ ! -e "$work/in/noext" ] || fail "export -o noext wrote a file"
+expect 0 "" -- "$sdfc" compile "$work/in/s.sdf" --emit glsl -o "$work/in/out.glsl"
+
 # A full disk (a 64 KiB tmpfs, when this machine lets us mount one): the
 # image write fails with exit 4 and the previous file stays whole.
 full=$work/full
