@@ -27,6 +27,16 @@ expect 2 "^sdfc: error: --spp: expects a whole number from 1 to 1048576, got '0'
 expect 2 "^sdfc: error: -o '.*x.jpg': unknown image extension '.jpg'" -- "$sdfc" render "$scene" -o "$work/x.jpg"
 expect 4 "^sdfc: error: cannot write '$work/frames/f.png': the folder '$work/frames' does not exist \(sdfc creates no folders" -- "$sdfc" render "$scene" -o "$work/frames/f.png"
 
+# eval --material names the material a shape renders with: a shape without
+# `material:` takes the file's first (it printed '-'); '-' only when the file
+# defines none.
+printf 'let red = diffuse(albedo: [1, 0, 0])\nlet blue = diffuse(albedo: [0, 0, 1])\nscene { translate([-5, 0, 0]) { sphere(radius: 1, material: red) } sphere(radius: 1) translate([5, 0, 0]) { sphere(radius: 1, material: blue) } }\n' >"$work/mat.sdf"
+got=$(printf '0 0 0\n5 0 0\n' | "$sdfc" eval "$work/mat.sdf" --material 2>/dev/null | awk '{print $2, $3, $4, $5}' | tr '\n' ';')
+[ "$got" = "red 1 0 0;blue 0 0 1;" ] || fail "eval --material of a shape without material: got '$got'"
+printf 'scene { sphere(radius: 1) }\n' >"$work/nomat.sdf"
+got=$(printf '0 0 0\n' | "$sdfc" eval "$work/nomat.sdf" --material 2>/dev/null | awk '{print $2}')
+[ "$got" = "-" ] || fail "eval --material with no material in the file: got '$got'"
+
 # --version names the commit it was built from.
 "$sdfc" --version >"$work/version" 2>&1 || fail "--version exits $?"
 grep -Eq "^commit: ([0-9a-f]{12}(\+dirty)?|unknown \(not built from a git checkout\))$" "$work/version" ||
