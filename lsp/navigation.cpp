@@ -21,8 +21,8 @@ json definition(const Analysis& a, size_t offset) {
     for (const ast::Parameter& p : use->scope->params)
       if (p.name == use->name) return location(a, p.name_range);
   if (!a.lets.count(use->name)) {
-    auto it = a.imported.find(use->name);
-    return it != a.imported.end() ? a.location(it->second) : json(nullptr);
+    const SourceRange* at = a.importedAt(use->name);
+    return at ? a.location(*at) : json(nullptr);
   }
   return location(a, a.lets.at(use->name)->name_range);
 }

@@ -221,9 +221,13 @@ class Checker {
 
   // The binding `name` (qualified by prefix_) as seen from file_, or null.
   Binding* findBinding(const std::string& name) {
-    auto it = bindings_.find(prefix_ + name);
-    if (it != bindings_.end() && sees(file_, it->second.statement->name_range.file)) return &it->second;
-    it = bindings_.find(hiddenKey(file_, prefix_ + name));
+    auto visible = [&](const std::string& key) {
+      auto it = bindings_.find(key);
+      return it != bindings_.end() && sees(file_, it->second.statement->name_range.file);
+    };
+    const std::string key = resolveImportedKey(imports_.aliases, prefix_ + name, prefix_.size(), visible);
+    if (!key.empty()) return &bindings_[key];
+    auto it = bindings_.find(hiddenKey(file_, prefix_ + name));
     return it != bindings_.end() ? &it->second : nullptr;
   }
   // Where a definition that lost a clash is bound: its own file still sees it.
@@ -321,8 +325,12 @@ class Checker {
         v.number = ir::constant(define->second);
       }
     }
-    // A named shape becomes a named function in the emitted shader.
-    if (v.type == Value::Type::Shape && v.shape->definition.empty()) v.shape->definition = name;
+    // A named shape becomes a named function in the emitted shader: a GLSL
+    // name, so "l.ball" (first used as an imported name) is "l_ball".
+    if (v.type == Value::Type::Shape && v.shape->definition.empty()) {
+      v.shape->definition = name;
+      std::replace(v.shape->definition.begin(), v.shape->definition.end(), '.', '_');
+    }
     if (v.type == Value::Type::Material && scene_.materials[v.material].name.empty())
       scene_.materials[v.material].name = name;
     b.value = v;
