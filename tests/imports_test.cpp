@@ -197,7 +197,7 @@ TEST_F(Imports, Diagnostics) {
   expectDiagnostics("uses_broken.sdf", "DIR/broken.sdf:2:1: error: expected ')' after the arguments, found end of file\n"
                 "\n"
                 "^\n"
-                "DIR/uses_broken.sdf:2:9: error: unknown definition 'b.y' (an imported one is 'alias.name', for import \"file.sdf\" as alias)\n"
+                "DIR/uses_broken.sdf:2:9: error: unknown definition 'b.y'; did you mean 'b.x'?\n"
                 "scene { b.y(1) }\n"
                 "        ^~~\n");
 }
@@ -223,6 +223,41 @@ TEST_F(Imports, DiamondsAreLinear) {
   ASSERT_TRUE(c.ok);
   EXPECT_EQ(c.scene.imported_sources.size(), size_t(n));
   EXPECT_EQ(Evaluator(c.scene).distance(glm::dvec3(2, 0, 0)), -0.5);
+}
+
+// -D on a number of an imported file was accepted and ignored.
+TEST_F(Imports, DefineOverridesAnImportedNumber) {
+  write("lib.sdf", "let q = 1\nlet ball = sphere(radius: q)\nlet rook = sphere(radius: 2)\n");
+  write("main.sdf", "import \"lib.sdf\" as l\nimport \"lib.sdf\" as m\nscene { l.ball translate([9, 0, 0]) { m.rook } }\n");
+  for (const char* name : {"l.q", "m.q"}) {
+    Diagnostics diags;
+    CompileOptions options;
+    options.produce_spirv = false;
+    options.check.defines[name] = 3;
+    const CompiledScene c = compileFile((dir_ / "main.sdf").string(), options, diags);
+    ASSERT_TRUE(c.ok) << diags.format();
+    EXPECT_EQ(Evaluator(c.scene).distance(glm::dvec3(0)), -3.0) << name;
+  }
+  Diagnostics diags;
+  CompileOptions options;
+  options.produce_spirv = false;
+  options.check.defines["l.rook"] = 3;
+  options.check.defines["l.nosuch"] = 3;
+  const CompiledScene c = compileFile((dir_ / "main.sdf").string(), options, diags);  // the diagnostics point into it
+  EXPECT_NE(diags.format().find("-D l.nosuch: the scene defines no 'let l.nosuch'"), std::string::npos) << diags.format();
+  EXPECT_NE(diags.format().find("-D l.rook gives a number, but 'l.rook' is a shape"), std::string::npos) << diags.format();
+}
+
+// A misspelt imported name gets the same "did you mean" as a local one.
+TEST_F(Imports, MisspeltImportedNameGetsASuggestion) {
+  write("pieces.sdf", "let rook = sphere(radius: 1)\nlet pawn(h) = sphere(radius: h)\n");
+  write("main.sdf", "import \"pieces.sdf\" as p\nscene { p.rok p.pwn(1) }\n");
+  expectDiagnostics("main.sdf", "DIR/main.sdf:2:9: error: unknown name 'p.rok'; did you mean 'p.rook'?\n"
+                                "scene { p.rok p.pwn(1) }\n"
+                                "        ^~~~~\n"
+                                "DIR/main.sdf:2:15: error: unknown definition 'p.pwn'; did you mean 'p.pawn'?\n"
+                                "scene { p.rok p.pwn(1) }\n"
+                                "              ^~~~~\n");
 }
 
 }  // namespace

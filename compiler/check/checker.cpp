@@ -77,6 +77,10 @@ struct Binding {
   bool imported = false;
   std::string prefix;
   std::string via;
+  // -D NAME=value given for it (NAME as spelt on the command line: "l.q"
+  // for a number of a file imported `as l`).
+  std::optional<double> define;
+  std::string define_name;
 };
 
 // What a parameter's use accepts.
@@ -122,12 +126,20 @@ class Checker {
       if (s.has_params) checkParameters(s, it->second);
     }
     for (const ImportedDefinition& d : imports_.definitions) bindImported(d);
+    // -D finds its definition as the scene's names do, imported ones too
+    // (`-D l.q=3` was accepted and ignored for `import "lib.sdf" as l`).
     for (const auto& [name, value] : options_.defines) {
-      auto it = bindings_.find(name);
-      if (it == bindings_.end())
+      Binding* b = findBinding(name);
+      if (!b) {
         diags_->error({}, "-D " + name + ": the scene defines no 'let " + name + "'");
-      else if (it->second.parametric())
+      } else if (b->parametric()) {
         diags_->error({}, "-D " + name + ": '" + name + "' is a parametric definition, not a number");
+      } else if (b->define) {
+        diags_->error({}, "-D " + name + ": '" + b->define_name + "' names the same definition");
+      } else {
+        b->define = value;
+        b->define_name = name;
+      }
     }
     // Pass 2: the settings and the scene, in file order.
     bool have_scene = false;
@@ -230,6 +242,24 @@ class Checker {
     auto it = bindings_.find(hiddenKey(file_, prefix_ + name));
     return it != bindings_.end() ? &it->second : nullptr;
   }
+  // The nearest spelling of the qualified `name` ("p.rok": "p.rook") among
+  // the definitions under its namespace, as this body sees them; "" if none.
+  std::string nearestQualified(const std::string& name) {
+    const size_t dot = name.rfind('.');
+    const std::string space = prefix_ + name.substr(0, dot + 1);
+    std::vector<std::string> spaces = {space};
+    if (auto a = imports_.aliases.find(space); a != imports_.aliases.end())
+      spaces.insert(spaces.end(), a->second.begin(), a->second.end());
+    std::vector<std::string> candidates;
+    for (const std::string& s : spaces)
+      for (const std::string& key : order_)
+        if (key.compare(0, s.size(), s) == 0 && key.find('.', s.size()) == std::string::npos &&
+            findBinding(name.substr(0, dot + 1) + key.substr(s.size())))
+          candidates.push_back(key.substr(s.size()));
+    const std::string near = nearestName(name.substr(dot + 1), candidates);
+    return near.empty() ? "" : name.substr(0, dot + 1) + near;
+  }
+
   // Where a definition that lost a clash is bound: its own file still sees it.
   static std::string hiddenKey(const SourceFile* file, const std::string& key) {
     return "#" + (file ? file->path : std::string()) + "#" + key;
@@ -303,7 +333,6 @@ class Checker {
     } guard(resolve_depth_);
     b.state = Binding::State::Resolving;
     const ast::Statement& s = *b.statement;
-    auto define = options_.defines.find(name);
     // A definition sees the file's names, never the parameters of a body
     // that happens to use it first.
     const auto* outer_params = params_;
@@ -316,13 +345,13 @@ class Checker {
     prefix_ = outer_prefix;
     file_ = outer_file;
     params_ = outer_params;
-    if (define != options_.defines.end()) {
+    if (b.define) {
       if (v.type != Value::Type::Number && v.type != Value::Type::Error) {
-        diags_->error(s.name_range, "-D " + name + " gives a number, but '" + name + "' is " +
+        diags_->error(s.name_range, "-D " + b.define_name + " gives a number, but '" + b.define_name + "' is " +
                                        reported(v));
       } else {
         v.type = Value::Type::Number;
-        v.number = ir::constant(define->second);
+        v.number = ir::constant(*b.define);
       }
     }
     // A named shape becomes a named function in the emitted shader: a GLSL
@@ -445,8 +474,16 @@ class Checker {
       case ast::ExprKind::Binary: return evalBinary(e);
       case ast::ExprKind::Member: {
         // `parts.stone`: a definition imported `as parts`.
-        if (const ast::Expr& o = *e.operands[0]; o.kind == ast::ExprKind::Name && !(params_ && params_->count(o.name)) &&
-                                                 !findBinding(o.name) && findBinding(o.name + "." + e.name)) {
+        const ast::Expr& o = *e.operands[0];
+        const bool alias = o.kind == ast::ExprKind::Name && !(params_ && params_->count(o.name)) && !findBinding(o.name);
+        // `parts.rok`: a misspelt imported name, said as one.
+        if (alias && !findBinding(o.name + "." + e.name)) {
+          if (const std::string near = nearestQualified(o.name + "." + e.name); !near.empty()) {
+            diags_->error(e.range, "unknown name '" + o.name + "." + e.name + "'; did you mean '" + near + "'?");
+            return {};
+          }
+        }
+        if (alias && findBinding(o.name + "." + e.name)) {
           ast::Expr qualified;
           qualified.kind = ast::ExprKind::Name;
           qualified.name = o.name + "." + e.name;
@@ -565,8 +602,10 @@ class Checker {
       return {};
     }
     if (e.name.find('.') != std::string::npos) {
-      diags_->error(e.name_range, "unknown definition '" + e.name + "' (an imported one is 'alias.name', for "
-                                  "import \"file.sdf\" as alias)");
+      const std::string near = nearestQualified(e.name);
+      diags_->error(e.name_range, "unknown definition '" + e.name + "'" +
+                                      (near.empty() ? " (an imported one is 'alias.name', for import \"file.sdf\" as alias)"
+                                                    : "; did you mean '" + near + "'?"));
       return {};
     }
     std::string message = "unknown function '" + e.name + "'";
