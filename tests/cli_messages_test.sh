@@ -64,6 +64,20 @@ lines = [d["line"] for d in json.load(open(sys.argv[1]))]
 sys.exit(0 if len(lines) >= 2 and lines == sorted(lines) else 1)
 PY
 
+# JSON diagnostics keep their notes (an import cycle's chain was dropped).
+printf 'import "cb.sdf"\nlet a = sphere(radius: 1)\n' >"$work/ca.sdf"
+printf 'import "ca.sdf"\nlet b = sphere(radius: 1)\n' >"$work/cb.sdf"
+printf 'import "ca.sdf"\nscene { a }\n' >"$work/cycle.sdf"
+"$sdfc" check "$work/cycle.sdf" --diagnostics-format json 2>"$work/json"
+python3 - "$work/json" <<'PY' || fail "JSON diagnostics without their notes: $(cat "$work/json")"
+import json, sys
+d = json.load(open(sys.argv[1]))
+cycle = [x for x in d if x["message"].startswith("import cycle")]
+notes = cycle[0].get("notes", []) if cycle else []
+sys.exit(0 if len(notes) == 2 and all(n["line"] == 1 and n["message"].endswith("is imported here") and
+                                      n["severity"] == "note" for n in notes) else 1)
+PY
+
 # A CSV that cannot be read: why, and the path that was tried.
 printf 'scene { instances(positions: file("nope.csv")) { sphere(radius: 0.1) } }\n' >"$work/csv.sdf"
 expect 1 "error: cannot read 'nope.csv': No such file or directory \(looked for '$work/nope.csv'\)" -- "$sdfc" check "$work/csv.sdf"
