@@ -171,6 +171,22 @@ r = c.request("textDocument/definition", {"textDocument": {"uri": duri}, "positi
 check("definition through the second alias", r and r["uri"].endswith("/f0.sdf") and
       r["range"]["start"] == {"line": 3, "character": 4}, r)
 
+# A warning inside an imported file: on the import that names the file (the
+# second here), as "file:line:col: message" relative to the document (it was
+# the first import, with the absolute path, and the message said twice).
+with open(os.path.join(ddir, "warm.sdf"), "w") as f:
+    f.write("let blob = union(smooth: 0.2) { sphere(radius: 1) box(size: 1) }\n")
+wtext = 'import "f0.sdf" as x\nimport "warm.sdf" as w\nscene { x.ball w.blob }\n'
+wuri = "file://" + urllib.parse.quote(os.path.join(ddir, "warned.sdf"))
+c.notify("textDocument/didOpen", {"textDocument": {"uri": wuri, "languageId": "sdf", "version": 1, "text": wtext}})
+_, d = c.wait_notification("textDocument/publishDiagnostics", lambda m: m["params"]["uri"] == wuri)
+warns = [x for x in d["params"]["diagnostics"] if x.get("code") == "bound"]
+check("an imported file's warning, once, on its import", len(warns) == 1 and
+      warns[0]["range"]["start"] == pos(wtext, '"warm.sdf"') and
+      warns[0]["message"].startswith("warm.sdf:1:12: smooth 'union' gives a distance bound") and
+      [r["message"] for r in warns[0]["relatedInformation"]] == ["here"] and
+      warns[0]["relatedInformation"][0]["location"]["range"]["start"] == {"line": 0, "character": 11}, warns)
+
 # Profiles and deformations: hover from the catalogue and the analysis, completion.
 xuri = "file:///tmp/lsp_test/profiles.sdf"
 xdoc = {"textDocument": {"uri": xuri}}
