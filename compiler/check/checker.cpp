@@ -171,8 +171,15 @@ class Checker {
     if (!have_scene && !diags_->hasErrors())
       diags_->error({&source_, source_.text.size(), source_.text.size()},
                    "the file has no 'scene { ... }'");
-    // Definitions nobody used are still checked, then reported.
+    // Definitions nobody used are still checked, all of them first (one
+    // checked later may use an earlier one), then reported. Not after the
+    // depth limit stopped a chain: what lies beyond it was never reached, not
+    // unused (a chain 5,000 deep gave 4,799 false warnings).
     for (const std::string& name : order_) {
+      Binding& b = bindings_[name];
+      if (!b.parametric() && !(b.imported && !b.used) && b.state == Binding::State::Unresolved) resolve(name, b);
+    }
+    for (const std::string& name : depth_exceeded_ ? std::vector<std::string>() : order_) {
       Binding& b = bindings_[name];
       if (b.parametric()) {
         // Its body is checked at each call, with the call's arguments.
@@ -316,10 +323,12 @@ class Checker {
   // first); a chain deeper than this is reported, not recursed into.
   static constexpr int kMaxDefinitionDepth = 200;
   int resolve_depth_ = 0;
+  bool depth_exceeded_ = false;  // reported: the "never used" warnings would be false
 
   const Value& resolve(const std::string& name, Binding& b) {
     if (b.state == Binding::State::Done) return b.value;
     if (resolve_depth_ >= kMaxDefinitionDepth) {
+      depth_exceeded_ = true;
       diags_->error(b.statement->name_range,
                    "definitions refer to each other more than " +
                        std::to_string(kMaxDefinitionDepth) + " levels deep");
@@ -761,6 +770,7 @@ class Checker {
       return v;
     }
     if (resolve_depth_ >= kMaxDefinitionDepth) {
+      depth_exceeded_ = true;
       diags_->error(e.range, "definitions call each other more than " + std::to_string(kMaxDefinitionDepth) +
                                  " levels deep");
       return {};
