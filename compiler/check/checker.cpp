@@ -439,8 +439,8 @@ class Checker {
       case ast::ExprKind::Error: return {};
       case ast::ExprKind::Number: return number(ir::constant(e.number), e.range);
       case ast::ExprKind::String:
-        diags_->error(e.range, "a string may only name a file, as in "
-                              "instances(positions: file(\"points.csv\"))");
+        diags_->error(e.range, "a string is no value here: strings only name files, as in mesh(file: \"part.stl\"), "
+                              "texture(file: ...), sky(map: ...), instances(positions: file(\"points.csv\")) and import");
         return {};
       case ast::ExprKind::Name: return lookupName(e);
       case ast::ExprKind::Vector: {
@@ -967,6 +967,22 @@ class Checker {
       // the error is the name, with a suggestion, not the string.
       bool unknown_name = !a.name.empty() && a.name != "material";
       for (const ArgSpec& spec : specs) unknown_name = unknown_name && a.name != spec.name;
+      // A string for a parameter that takes a value: say what it takes.
+      const ArgSpec* spec = nullptr;
+      if (a.value->kind == ast::ExprKind::String) {
+        if (a.name.empty() && !seen_named && next_positional < specs.size()) spec = &specs[next_positional];
+        for (const ArgSpec& s : specs)
+          if (!a.name.empty() && a.name == s.name) spec = &s;
+      }
+      if (spec && spec->type != ArgType::Any) {
+        diags_->error(a.value->range, "'" + std::string(spec->name) + "' of '" + e.name + "' must be " +
+                                          argTypeText(spec->type) +
+                                          ", not a string (a string names a file, as in mesh(file: \"part.stl\"))");
+        out.ok = false;
+        if (a.name.empty()) ++next_positional;
+        else seen_named = true;
+        continue;
+      }
       Value v = file_param && unknown_name && a.value->kind == ast::ExprKind::String
                     ? number(ir::constant(0), a.value->range)
                     : evalExpr(*a.value);
@@ -1031,6 +1047,17 @@ class Checker {
       out.ok = false;
     }
     return out;
+  }
+
+  static std::string argTypeText(ArgType t) {
+    switch (t) {
+      case ArgType::Number: return "a number";
+      case ArgType::Vector3: return "a 3-vector like [x, y, z]";
+      case ArgType::Vector2: return "a 2-vector like [x, y]";
+      case ArgType::Colour: return "a colour like [r, g, b] (or a colour field)";
+      case ArgType::Any: break;
+    }
+    return "a value";
   }
 
   // Converts and validates one argument against its spec.
