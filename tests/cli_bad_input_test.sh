@@ -81,8 +81,22 @@ expect 2 "the output .* is the scene being read" -- "$sdfc" compile "$work/in/s.
 expect 2 "the output .* is the scene being read" -- "$sdfc" compile "$work/in/s.sdf" --emit glsl -o "$work/in/hard.glsl"
 expect 2 "the output .* is the scene being read" -- "$sdfc" export "$work/in/s.sdf" -o "$work/in/soft.html"
 expect 2 "the output .*/in/../in/s.sdf' is the scene being read" -- "$sdfc" compile "$work/in/s.sdf" --emit ir -o "$work/in/../in/s.sdf"
-expect 2 "lib.sdf', which the scene reads" -- "$sdfc" compile "$work/in/s.sdf" --emit glsl -o "$work/in/lib.sdf"
+expect 2 "lib.sdf', which the scene imports" -- "$sdfc" compile "$work/in/s.sdf" --emit glsl -o "$work/in/lib.sdf"
 expect 2 "p.csv', which the scene reads" -- "$sdfc" compile "$work/in/s.sdf" --emit ir -o "$work/in/p.csv"
+# render: a texture is an input too (checked before any rendering), and a
+# sequence's frames by their own names.
+cp "$root/examples/textures/tiles.png" "$work/in/tiles.png"
+cp "$root/examples/textures/tiles.png" "$work/in/tiles_0003.png"
+for t in tiles tiles_0003; do
+  printf 'let wood = diffuse(albedo: texture(file: "%s.png", projection: triplanar, size: 0.5))\nscene { sphere(radius: 1, material: wood) }\n' $t >"$work/in/$t.sdf"
+done
+expect 2 "tiles.png', which the scene reads" -- "$sdfc" render "$work/in/tiles.sdf" -o "$work/in/tiles.png" --size 8x8 --spp 1
+expect 2 "tiles_0003.png', which the scene reads" -- "$sdfc" render "$work/in/tiles_0003.sdf" -o "$work/in/tiles.png" --frames 3-3 --size 8x8 --spp 1
+cmp -s "$work/in/tiles.png" "$root/examples/textures/tiles.png" || fail "the texture was overwritten"
+cmp -s "$work/in/tiles_0003.png" "$root/examples/textures/tiles.png" || fail "the frame-named texture was overwritten"
+# -o names no frame of a sequence: tiles.png is not written, tiles_0000.png is.
+expect 0 "" -- "$sdfc" render "$work/in/tiles.sdf" -o "$work/in/tiles.png" --frames 0-0 --size 8x8 --spp 1 -q
+[ -s "$work/in/tiles_0000.png" ] || fail "render --frames 0-0 wrote no tiles_0000.png"
 cmp -s "$work/in/s.sdf" "$work/in/s.orig" || fail "the scene was overwritten"
 [ "$(cat "$work/in/lib.sdf")" = "let post = sphere(radius: 1)" ] || fail "the import was overwritten"
 [ "$(head -c 5 "$work/in/p.csv")" = "0 0 0" ] || fail "the point file was overwritten"
