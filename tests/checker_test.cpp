@@ -283,7 +283,7 @@ TEST(Checker, Warnings) {
        "t.sdf:1:5: warning: 'unused' is never used [-Wunused]\n"
        "let unused = 3\n"
        "    ^~~~~~\n"},
-      {"let m = diffuse()\nscene { sphere(radius: 1) }\n",
+      {"let m = diffuse()\nlet n = diffuse()\nscene { sphere(radius: 1, material: n) }\n",
        "t.sdf:1:9: warning: material 'm' is never used by a shape [-Wunused]\n"
        "let m = diffuse()\n"
        "        ^~~~~~~~~\n"},

@@ -28,11 +28,16 @@ expect 2 "^sdfc: error: -o '.*x.jpg': unknown image extension '.jpg'" -- "$sdfc"
 expect 4 "^sdfc: error: cannot write '$work/frames/f.png': the folder '$work/frames' does not exist \(sdfc creates no folders" -- "$sdfc" render "$scene" -o "$work/frames/f.png"
 
 # eval --material names the material a shape renders with: a shape without
-# `material:` takes the file's first (it printed '-'); '-' only when the file
-# defines none.
-printf 'let red = diffuse(albedo: [1, 0, 0])\nlet blue = diffuse(albedo: [0, 0, 1])\nscene { translate([-5, 0, 0]) { sphere(radius: 1, material: red) } sphere(radius: 1) translate([5, 0, 0]) { sphere(radius: 1, material: blue) } }\n' >"$work/mat.sdf"
+# `material:` takes the file's first (it printed '-'; and the renderer took the
+# first one checked, blue here, used first); '-' only when the file defines none.
+printf 'let red = diffuse(albedo: [1, 0, 0])\nlet blue = diffuse(albedo: [0, 0, 1])\nscene { translate([-5, 0, 0]) { sphere(radius: 1, material: blue) } sphere(radius: 1) translate([5, 0, 0]) { sphere(radius: 1, material: blue) } }\n' >"$work/mat.sdf"
 got=$(printf '0 0 0\n5 0 0\n' | "$sdfc" eval "$work/mat.sdf" --material 2>/dev/null | awk '{print $2, $3, $4, $5}' | tr '\n' ';')
 [ "$got" = "red 1 0 0;blue 0 0 1;" ] || fail "eval --material of a shape without material: got '$got'"
+"$sdfc" compile "$work/mat.sdf" --emit glsl -o - | grep -A3 "^Material sdMaterial(int id)" | grep -q "^  return .*// red$" ||
+  fail "the shader's default material is not the file's first"
+# Material ids (the layers' `material`, --emit ir's) count in the file's order.
+[ "$("$sdfc" compile "$work/mat.sdf" --emit ir -o - | grep -o '^material [0-9] [a-z]*' | tr '\n' ';')" = "material 0 red;material 1 blue;" ] ||
+  fail "materials are not numbered in the file's order"
 printf 'scene { sphere(radius: 1) }\n' >"$work/nomat.sdf"
 got=$(printf '0 0 0\n' | "$sdfc" eval "$work/nomat.sdf" --material 2>/dev/null | awk '{print $2}')
 [ "$got" = "-" ] || fail "eval --material with no material in the file: got '$got'"

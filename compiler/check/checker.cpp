@@ -194,6 +194,7 @@ class Checker {
         diags_->warning(b.statement->name_range, "unused", "'" + name + "' is never used");
     }
     scene_.imported_sources = imports_.files;
+    firstMaterialFirst();
     for (size_t i = 0; i < scene_.materials.size(); ++i)
       if (!material_used_[i] && !fromImport(scene_.materials[i].range))
         diags_->warning(scene_.materials[i].range, "unused",
@@ -217,6 +218,64 @@ class Checker {
   std::string prefix_;
 
   bool fromImport(const SourceRange& r) const { return r.file && r.file != &source_; }
+
+  // A shape with no material anywhere above it renders with material 0 (the
+  // shader's sdMaterial falls through to it, eval and the layers report it),
+  // which docs/language.md calls the first material defined in the file, and
+  // the layers' material ids count in the file's order. Materials are
+  // numbered as they are checked, and a `let` is checked at its first use:
+  // they are renumbered here in the order the file writes them (imported
+  // ones after, as checked; a file's second material, used first, was the
+  // default).
+  void firstMaterialFirst() {
+    const size_t n = scene_.materials.size();
+    std::vector<size_t> order(n);
+    for (size_t i = 0; i < n; ++i) order[i] = i;
+    std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) {
+      const SourceRange &ra = scene_.materials[a].range, &rb = scene_.materials[b].range;
+      const bool ha = ra.file == &source_, hb = rb.file == &source_;
+      if (ha != hb) return ha;
+      return ha && ra.begin < rb.begin;
+    });
+    std::vector<int> renumbered_as(n);
+    bool moved = false;
+    for (size_t i = 0; i < n; ++i) {
+      renumbered_as[order[i]] = int(i);
+      moved = moved || order[i] != i;
+    }
+    auto renumber = [&](int m) { return m < 0 ? m : renumbered_as[size_t(m)]; };
+    if (moved) {
+      std::vector<ir::Material> materials;
+      std::vector<bool> used;
+      for (size_t i : order) {
+        materials.push_back(std::move(scene_.materials[i]));
+        used.push_back(material_used_[i]);
+      }
+      scene_.materials = std::move(materials);
+      material_used_ = std::move(used);
+    }
+    const int first = moved ? 1 : 0;  // (the walk renumbers only when something moved)
+    if (!scene_.root) return;
+    // One visit per (node, material passed down); renumbered once per node.
+    std::set<const ir::Node*> renumbered;
+    std::set<const ir::InstanceSet*> sets;
+    std::set<std::pair<const ir::Node*, int>> seen;
+    bool unassigned = false;
+    std::function<void(ir::Node&, int)> walk = [&](ir::Node& n, int inherited) {
+      if (renumbered.insert(&n).second && first) {
+        n.material = renumber(n.material);
+        if (n.instances && sets.insert(n.instances.get()).second)
+          for (ir::Instance& i : n.instances->instances) i.material = renumber(i.material);
+      }
+      const int m = n.material >= 0 ? n.material : inherited;
+      if (!seen.insert({&n, m}).second) return;
+      if (n.kind == ir::NodeKind::Primitive && m < 0) unassigned = true;
+      for (const ir::NodeRef& c : n.children) walk(*c, m);
+    };
+    walk(*scene_.root, -1);
+    // The default material is used by the shapes that have none.
+    if (unassigned && !material_used_.empty()) material_used_[0] = true;
+  }
 
   // The file whose names are being looked up (with prefix_): the checked
   // file, or the one holding the definition being resolved or expanded.

@@ -141,7 +141,7 @@ def test_material_of_a_shape_without_one_is_the_first(tmp_path):
     # As the renderer shades it (it was -1 here while the image used the first).
     path = tmp_path / "mat.sdf"
     path.write_text("let red = diffuse(albedo: [1, 0, 0])\nlet blue = diffuse(albedo: [0, 0, 1])\n"
-                    "scene { translate([-5, 0, 0]) { sphere(radius: 1, material: red) } sphere(radius: 1) translate([5, 0, 0]) { sphere(radius: 1, material: blue) } }\n")
+                    "scene { translate([-5, 0, 0]) { sphere(radius: 1, material: blue) } sphere(radius: 1) translate([5, 0, 0]) { sphere(radius: 1, material: blue) } }\n")
     s = sdfc.load(str(path))
     m = s.material(np.array([[0.0, 0, 0], [5, 0, 0]]))
     assert [s.materials[i] for i in m] == ["red", "blue"]
