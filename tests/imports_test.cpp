@@ -222,6 +222,24 @@ TEST_F(Imports, DiamondsAreLinear) {
   EXPECT_EQ(Evaluator(c.scene).distance(glm::dvec3(2, 0, 0)), -0.5);
 }
 
+// A file bound once and imported again without `as` brings its names in
+// there too: a clash with this file's own is still an error.
+TEST_F(Imports, AClashThroughASecondImportOfOneFile) {
+  write("w.sdf", "let wall = sphere(radius: 1)\n");
+  write("main.sdf", "import \"w.sdf\" as w\nimport \"w.sdf\"\nlet wall = box(size: 1)\nscene { wall w.wall }\n");
+  expectDiagnostics("main.sdf", "DIR/main.sdf:2:8: error: this import brings in 'wall', which is already defined\n"
+                                "import \"w.sdf\"\n"
+                                "       ^~~~~~~\n"
+                                "DIR/w.sdf:1:5: note: 'wall' from 'DIR/w.sdf', imported at DIR/main.sdf:2:8 is defined here\n"
+                                "let wall = sphere(radius: 1)\n"
+                                "    ^~~~\n"
+                                "DIR/main.sdf:3:5: note: 'wall' is defined here\n"
+                                "let wall = box(size: 1)\n"
+                                "    ^~~~\n");
+  write("ok.sdf", "import \"w.sdf\" as w\nimport \"w.sdf\"\nscene { wall w.wall }\n");
+  expectDiagnostics("ok.sdf", "");
+}
+
 // -D on a number of an imported file was accepted and ignored.
 TEST_F(Imports, DefineOverridesAnImportedNumber) {
   write("lib.sdf", "let q = 1\nlet ball = sphere(radius: q)\nlet rook = sphere(radius: 2)\n");

@@ -126,6 +126,7 @@ class Checker {
       if (s.has_params) checkParameters(s, it->second);
     }
     for (const ImportedDefinition& d : imports_.definitions) bindImported(d);
+    for (const ImportAlias& a : imports_.alias_list) checkAliasClashes(a);
     // -D finds its definition as the scene's names do, imported ones too
     // (`-D l.q=3` was accepted and ignored for `import "lib.sdf" as l`).
     for (const auto& [name, value] : options_.defines) {
@@ -357,6 +358,26 @@ class Checker {
     order_.push_back(it->first);
     if (s.has_params) checkParameters(s, b);
   }
+  // A file bound once and reached again (imports.h) brings its names in
+  // under another prefix too: a clash there is the error binding it twice
+  // under that prefix gave.
+  void checkAliasClashes(const ImportAlias& a) {
+    for (const std::string& key : order_) {
+      if (key.compare(0, a.to.size(), a.to) != 0 || key.find('.', a.to.size()) != std::string::npos) continue;
+      const Binding& b = bindings_[key];
+      const std::string name = a.from + key.substr(a.to.size());
+      auto it = bindings_.find(name);
+      if (!b.imported || it == bindings_.end() || it->second.statement == b.statement) continue;
+      const Binding& old = it->second;
+      Diagnostic& e = diags_->error(a.import->import_path_range,
+                                    "this import brings in '" + name + "', which is already defined");
+      e.notes.push_back({Severity::Note, b.statement->name_range,
+                         "'" + b.statement->name + "' from " + a.via + " is defined here", {}});
+      e.notes.push_back({Severity::Note, old.statement->name_range,
+                         "'" + name + "' " + (old.imported ? "from " + old.via + " " : "") + "is defined here", {}});
+    }
+  }
+
   // The parameters in scope while a parametric body is checked (null at the
   // top level: a body sees its parameters and the file's definitions only).
   const std::unordered_map<std::string, Value>* params_ = nullptr;

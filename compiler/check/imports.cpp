@@ -79,9 +79,13 @@ class Loader {
     // under other names, those are an alias for the first.
     const auto [first, inserted] = bound_.try_emplace(id, inner);
     if (!inserted) {
+      if (first->second == inner) return;  // the same file into the same names: once
       std::vector<std::string>& to = out_.aliases[inner];
-      if (first->second != inner && std::find(to.begin(), to.end(), first->second) == to.end())
+      if (std::find(to.begin(), to.end(), first->second) == to.end()) {
         to.push_back(first->second);
+        out_.alias_list.push_back({inner, first->second, &s,
+                                   "'" + path + "', imported at " + where(s.import_path_range)});
+      }
       return;
     }
     const std::string via = "'" + path + "', imported at " + where(s.import_path_range);

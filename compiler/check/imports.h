@@ -33,13 +33,16 @@ struct ImportedDefinition {
 // files each importing the next twice made 2^N copies.)
 struct ImportAlias {
   std::string from, to;
+  const ast::Statement* import;  // the first import statement that made it
+  std::string via;               // "'parts.sdf', imported at castle.sdf:3:1"
 };
 
 struct ImportSet {
   std::vector<std::shared_ptr<SourceFile>> files;  // every imported file, once
   std::vector<std::unique_ptr<ast::File>> trees;
   std::vector<ImportedDefinition> definitions;  // each file's once, under its first prefix
-  std::map<std::string, std::vector<std::string>> aliases;  // from -> to (ImportAlias), no pair twice
+  std::map<std::string, std::vector<std::string>> aliases;  // from -> to, no pair twice
+  std::vector<ImportAlias> alias_list;                       // the same, with where each came from
   // The files each file imports: a body in a file sees the names of the
   // file and of these, transitively (under their prefixes), nothing else.
   std::map<const SourceFile*, std::vector<const SourceFile*>> edges;
