@@ -141,13 +141,11 @@ std::string resolveImportedKey(const std::map<std::string, std::vector<std::stri
   std::set<std::pair<std::string, size_t>> tried = {{key, inside}};
   std::vector<std::pair<std::string, size_t>> stack = {{key, inside}};
   while (!stack.empty()) {
-    const auto [k, inside] = stack.back();
+    const auto [k, within] = stack.back();
     stack.pop_back();
     // Every prefix of k that ends at a '.' ("", "a.", "a.b."), within its namespace, longest first.
-    std::vector<size_t> ends;
-    if (inside == 0) ends.push_back(0);
-    for (size_t dot = k.find('.', inside); dot != std::string::npos; dot = k.find('.', dot + 1)) ends.push_back(dot + 1);
-    if (inside > 0 && (ends.empty() || ends.front() != inside)) ends.insert(ends.begin(), inside);
+    std::vector<size_t> ends = {within};
+    for (size_t dot = k.find('.', within); dot != std::string::npos; dot = k.find('.', dot + 1)) ends.push_back(dot + 1);
     for (auto end = ends.rbegin(); end != ends.rend(); ++end) {
       const auto a = aliases.find(k.substr(0, *end));
       if (a == aliases.end()) continue;
