@@ -22,6 +22,11 @@ bool evaluate(const ir::Scene& scene, const EvalBatch& b) {
     if (b.distance || b.material)
       evaluator.evaluate(p, n, b.distance ? b.distance + begin : nullptr, b.material ? b.material + begin : nullptr,
                          scratch[worker]);
+    // A shape with no material anywhere above it renders with the file's first
+    // one (the shader's sdMaterial falls through to it): report that one too.
+    if (b.material && !scene.materials.empty())
+      for (size_t i = begin; i < end; ++i)
+        if (b.material[i] < 0) b.material[i] = 0;
     if (b.gradient) evaluator.gradient(p, n, b.gradient + 3 * begin, scratch[worker]);
   });
   return !stopped;

@@ -16,7 +16,9 @@ struct EvalBatch {
   double time = 0;
   double* distance = nullptr;  // n, or null
   double* gradient = nullptr;  // n x 3 (central differences, as `eval --gradient`), or null
-  int* material = nullptr;     // n: index into scene.materials, -1 for none; or null
+  // n: index into scene.materials, the one the renderer shades with (a shape
+  // without one takes the first); -1 only when the scene defines none. Or null.
+  int* material = nullptr;
   int threads = 0;             // 0: every core
   // Checked between chunks: true stops early; evaluate() then returns false.
   const std::atomic<bool>* interrupt = nullptr;

@@ -5,7 +5,6 @@
 #include <cstring>
 #include <filesystem>
 #include <limits>
-#include <regex>
 #include <stdexcept>
 
 namespace sdfc::api {
@@ -103,9 +102,33 @@ std::unique_ptr<Scene> loadString(const std::string& text, const std::string& na
   return load(name, text, options);
 }
 
+// Scanned by hand, not with std::regex: libstdc++'s regex recurses once per
+// character, and a 30,000-digit -D value overflowed the stack.
+bool isPlainNumber(std::string_view text) {
+  size_t i = 0;
+  const size_t n = text.size();
+  auto digits = [&] {
+    const size_t start = i;
+    while (i < n && text[i] >= '0' && text[i] <= '9') ++i;
+    return i - start;
+  };
+  if (i < n && (text[i] == '+' || text[i] == '-')) ++i;
+  size_t mantissa = digits();
+  if (i < n && text[i] == '.') {
+    ++i;
+    mantissa += digits();
+  }
+  if (mantissa == 0) return false;
+  if (i < n && (text[i] == 'e' || text[i] == 'E')) {
+    ++i;
+    if (i < n && (text[i] == '+' || text[i] == '-')) ++i;
+    if (digits() == 0) return false;
+  }
+  return i == n;
+}
+
 std::optional<double> parsePlainNumber(const std::string& text) {
-  static const std::regex kNumber(R"([-+]?([0-9]+\.?[0-9]*|\.[0-9]+)([eE][-+]?[0-9]+)?)");
-  if (!std::regex_match(text, kNumber)) return std::nullopt;
+  if (!isPlainNumber(text)) return std::nullopt;
   const double value = std::strtod(text.c_str(), nullptr);
   if (!std::isfinite(value) || std::fabs(value) > std::numeric_limits<float>::max()) return std::nullopt;
   return value;

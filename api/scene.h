@@ -7,6 +7,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "driver/compile.h"
@@ -88,6 +89,8 @@ std::unique_ptr<Scene> loadString(const std::string& text, const std::string& na
 // A -D value as the command line takes it: a plain decimal number, finite in
 // float32 ("-1.5e3"; no hex, inf or nan).
 std::optional<double> parsePlainNumber(const std::string& text);
+// The spelling parsePlainNumber takes ("1.", ".5", "-2e+3"), whatever its value.
+bool isPlainNumber(std::string_view text);
 // "name=value" -> the pair; nullopt when it is not one.
 std::optional<std::pair<std::string, double>> parseDefine(const std::string& text);
 

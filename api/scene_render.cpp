@@ -2,7 +2,6 @@
 
 #include <chrono>
 #include <ctime>
-#include <regex>
 
 #include "check/checker.h"
 #include "loop_budget.h"
@@ -11,9 +10,15 @@
 namespace sdfc {
 
 std::optional<std::pair<int, int>> parseImageSize(const std::string& text) {
-  std::smatch m;
-  if (!std::regex_match(text, m, std::regex(R"((\d{1,5})x(\d{1,5}))"))) return std::nullopt;
-  const int w = std::stoi(m[1]), h = std::stoi(m[2]);
+  // WxH, each 1 to 5 digits; scanned by hand (std::regex recurses per character).
+  const size_t x = text.find('x');
+  auto whole = [](std::string_view s) {
+    return !s.empty() && s.size() <= 5 && s.find_first_not_of("0123456789") == std::string_view::npos;
+  };
+  if (x == std::string::npos || !whole(std::string_view(text).substr(0, x)) ||
+      !whole(std::string_view(text).substr(x + 1)))
+    return std::nullopt;
+  const int w = std::stoi(text.substr(0, x)), h = std::stoi(text.substr(x + 1));
   if (w < 1 || h < 1 || w > 16384 || h > 16384) return std::nullopt;
   return std::make_pair(w, h);
 }

@@ -10,11 +10,11 @@
 #include <cstring>
 #include <filesystem>
 #include <limits>
-#include <regex>
 #include <sstream>
 #include <fstream>
 #include <iostream>
 #include <stdexcept>
+#include <sys/stat.h>
 #include <unistd.h>
 
 namespace sdfc {
@@ -42,13 +42,19 @@ CompileOptions compileOptionsFrom(const CommandLine& cl) {
   return o;
 }
 
+// 'text', or a long one (30,000 digits) by its start and length.
+static std::string quotedValue(const std::string& text) {
+  if (text.size() <= 80) return "'" + text + "'";
+  return "'" + text.substr(0, 60) + "...' (" + std::to_string(text.size()) + " characters)";
+}
+
 int loadOptionsFrom(const CommandLine& cl, api::LoadOptions& load) {
   for (const std::string& d : cl.defines) {
     const auto define = api::parseDefine(d);
     if (!define) {
       std::cerr << "sdfc: error: -D expects name=number with a plain decimal number such as 2, "
-                   "-0.5 or 1e3 (finite in float32), got '"
-                << d << "'\n";
+                   "-0.5 or 1e3 (finite in float32), got "
+                << quotedValue(d) << "\n";
       return kExitUsage;
     }
     load.defines[define->first] = define->second;
@@ -76,6 +82,24 @@ int loadOptionsFrom(const CommandLine& cl, api::LoadOptions& load) {
   return kExitOk;
 }
 
+bool outputIsAnInput(const std::string& output, const std::string& scene_path, const CompiledScene& c) {
+  struct stat out;
+  if (output.empty() || output == "-" || ::stat(output.c_str(), &out) != 0) return false;  // nothing there yet
+  std::vector<std::pair<std::string, const char*>> inputs = {{scene_path, nullptr}};
+  for (const auto& file : c.scene.imported_sources) inputs.push_back({file->path, "imports"});
+  for (const std::string& path : c.scene.data_files) inputs.push_back({path, "reads"});
+  for (const auto& [input, how] : inputs) {
+    struct stat in;
+    if (::stat(input.c_str(), &in) == 0 && in.st_dev == out.st_dev && in.st_ino == out.st_ino) {
+      std::cerr << "sdfc: error: the output '" << output << "' is "
+                << (how ? "'" + input + "', which the scene " + how : std::string("the scene being read"))
+                << "; choose another -o\n";
+      return true;
+    }
+  }
+  return false;
+}
+
 LoadedScene loadScene(const CommandLine& cl, Diagnostics& diags, bool emit, bool spirv,
                       CompileOptions options, bool options_given) {
   LoadedScene out;
@@ -99,6 +123,11 @@ LoadedScene loadScene(const CommandLine& cl, Diagnostics& diags, bool emit, bool
   }
   if (!scene->ok()) out.exit_code = kExitScene;
   out.compiled = std::move(scene->compiled);
+  // Every command that writes -o: never over one of its inputs (a scene
+  // exported or compiled over itself was lost).
+  // (A sequence writes other names: render checks each frame's.)
+  if (out.exit_code == kExitOk && cl.frames.empty() && outputIsAnInput(cl.output, cl.input, out.compiled))
+    out.exit_code = kExitUsage;
   // The caller's list keeps the diagnostics, and the files they point into, alive.
   for (const Diagnostic& d : scene->diagnostics.all()) diags.add(d);
   out.keep = std::move(scene);
@@ -114,7 +143,7 @@ CLI::Validator numberIn(double lo, double hi, bool open_low) {
       [lo, hi, open_low, range = range.str()](std::string& text) {
         const std::optional<double> value = parsePlainNumber(text);
         if (value && (open_low ? *value > lo : *value >= lo) && *value <= hi) return std::string();
-        return "expects a number in " + range + ", got '" + text + "'";
+        return "expects a number in " + range + ", got " + quotedValue(text);
       },
       "NUMBER in " + range.str());
 }
@@ -124,12 +153,14 @@ CLI::Validator wholeNumberIn(long long lo, long long hi) {
   range << lo << " to " << hi;
   return CLI::Validator(
       [lo, hi, range = range.str()](std::string& text) {
-        static const std::regex kWhole(R"([-+]?[0-9]{1,18})");
-        if (std::regex_match(text, kWhole)) {
+        // [-+]?[0-9]{1,18}, scanned by hand (std::regex recurses per character).
+        const size_t sign = !text.empty() && (text[0] == '-' || text[0] == '+') ? 1 : 0;
+        const size_t digits = text.size() - sign;
+        if (digits >= 1 && digits <= 18 && text.find_first_not_of("0123456789", sign) == std::string::npos) {
           const long long value = std::stoll(text);
           if (value >= lo && value <= hi) return std::string();
         }
-        return "expects a whole number from " + range + ", got '" + text + "'";
+        return "expects a whole number from " + range + ", got " + quotedValue(text);
       },
       "WHOLE NUMBER from " + range.str());
 }

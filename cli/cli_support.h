@@ -18,6 +18,12 @@ struct LoadedScene {
   std::unique_ptr<api::Scene> keep;  // what `compiled`'s diagnostics point into
 };
 
+// True after printing `sdfc: error:` when writing `output` would overwrite a
+// file the scene was read from: the scene, its imports or its data files
+// (textures, maps, meshes, point files). Compared by file identity (st_dev,
+// st_ino), so another spelling, a hard link or a symlink is the same file.
+bool outputIsAnInput(const std::string& output, const std::string& scene_path, const CompiledScene& c);
+
 // Options for the compiler from the command line's flags.
 CompileOptions compileOptionsFrom(const CommandLine& cl);
 

@@ -4,6 +4,7 @@
 // GLSL ES 3.00 (emit/glsl_es.h) and checked by glslang before it is written.
 #include <filesystem>
 #include <cmath>
+#include <cctype>
 #include <cstdio>
 #include <iostream>
 #include <sstream>
@@ -149,6 +150,16 @@ int runExport(const CommandLine& cl) {
   const bool shadertoy = cl.export_target == "shadertoy";
   RenderOverrides o;
   if (!renderOverridesFrom(cl, o)) return kExitUsage;
+  // The extension, as render and mesh check theirs: `-o scene.sdf` or a name
+  // without one is a mistake (the scene itself was overwritten that way).
+  const std::string want = shadertoy ? ".glsl" : ".html";
+  std::string ext = std::filesystem::path(cl.output).extension().string();
+  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+  if (!isStreamPath(cl.output) && ext != want && !(ext == ".htm" && !shadertoy)) {
+    std::cerr << "sdfc: error: export " << (shadertoy ? "--target shadertoy writes GLSL" : "writes a web page")
+              << ": -o must end in " << want << ", got '" << cl.output << "'\n";
+    return kExitUsage;
+  }
   checkWritablePath(cl.output);  // before the work, not after
 
   CompileOptions options = compileOptionsFrom(cl);

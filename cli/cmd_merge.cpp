@@ -58,8 +58,8 @@ int runMerge(const CommandLine& cl) {
     set = farm::checkShards(farm::findShards(cl.inputs), first, last);
     refuseOutputOverInput(cl, set);
     const bool animation = set.frames.count(farm::kNoFrame) == 0;
-    const std::filesystem::path parent = std::filesystem::path(cl.output).parent_path();
-    if (!parent.empty()) std::filesystem::create_directories(parent);
+    // As render: sdfc creates no folders (a mistyped -o would leave them behind).
+    for (const std::string& path : outputPaths(cl, set)) checkWritablePath(path);
     const bool layers = set.reference.layers;
     if (layers && imageFormatFromPath(cl.output) != ImageFormat::Exr)
       throw farm::FarmError("the shards are of a --layers render, which merges into one multi-channel EXR: -o '" +

@@ -7,7 +7,6 @@
 #include <cstdio>
 #include <iostream>
 #include <optional>
-#include <regex>
 
 #include "adaptive.h"
 #include "debug_view.h"
@@ -33,10 +32,16 @@ constexpr double kMaxFrames = 100000;
 
 // What to write instead of the old --frames A-B:step (times in seconds).
 std::string framesHint(const std::string& text) {
-  std::smatch m;
-  const std::string number = R"([-+]?[0-9.]+(?:[eE][-+]?[0-9]+)?)";
+  // A-B:step, split by hand (std::regex recursed per character and overflowed
+  // the stack on a 100,000-character step). B may be negative ("1--2:1").
   std::optional<double> a, b, step;
-  if (std::regex_match(text, m, std::regex("(" + number + ")-(" + number + "):(" + number + ")"))) {
+  std::string m[4];
+  const size_t colon = text.rfind(':');
+  const size_t dash = colon == std::string::npos || colon < 2 ? std::string::npos : text.find('-', 1);
+  if (dash != std::string::npos && dash < colon) {
+    m[1] = text.substr(0, dash);
+    m[2] = text.substr(dash + 1, colon - dash - 1);
+    m[3] = text.substr(colon + 1);
     a = parsePlainNumber(m[1]);
     b = parsePlainNumber(m[2]);
     step = parsePlainNumber(m[3]);
@@ -47,7 +52,7 @@ std::string framesHint(const std::string& text) {
     if (whole(first) && whole(last) && first >= 0) {
       char hint[160];
       std::snprintf(hint, sizeof hint, "for times %s to %s every %s s write --frames %.0f-%.0f --fps %.9g",
-                    m[1].str().c_str(), m[2].str().c_str(), m[3].str().c_str(), first, last, fps);
+                    m[1].c_str(), m[2].c_str(), m[3].c_str(), first, last, fps);
       return hint;
     }
   }
@@ -280,6 +285,9 @@ int runRender(const CommandLine& cl) {
   timings.add("waited for the device", device_wait, "(after the compile's " +
               std::to_string(std::lround(compile_seconds * 1000)) + " ms)");
   if (loaded.exit_code != kExitOk) return loaded.exit_code;
+  // loadScene checked -o itself; a sequence's frames are other names.
+  for (int frame : frame_numbers)
+    if (outputIsAnInput(farm::framePath(cl.output, frame), cl.input, loaded.compiled)) return kExitUsage;
   VulkanContext& context = scoped_context->get();
   adaptToDevice(loaded, cl, context, o, features);
   const CompiledScene& compiled = loaded.compiled;

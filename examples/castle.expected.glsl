@@ -284,7 +284,7 @@ float sdPlanesHit(vec3 ro, vec3 rd, out int index) {
   return t;
 }
 vec3 sdAnalyticNormal(int index, vec3 p, out int material) {
-  if (index == 0) { material = 0; return vec3(0.0, 1.0, 0.0); }
+  if (index == 0) { material = 2; return vec3(0.0, 1.0, 0.0); }
   material = 0;
   return vec3(0.0, 1.0, 0.0);
 }
@@ -534,7 +534,7 @@ vec2 sdm_tower(vec3 p, float inherited) {
   }
   vec3 p7 = p + vec3(0.0, -5.9, 0.0);  // line 34 transform
   float d8 = sdCone(p7, 1.15, 2.4);  // line 34 cone
-  vec2 m9 = vec2(d8, 2.0);
+  vec2 m9 = vec2(d8, 1.0);
   d0 = vec2(min(d0.x, m9.x), m9.x < d0.x ? m9.y : d0.y);
   return d0;
 }
@@ -560,7 +560,7 @@ vec2 sdm_pointed(vec3 p, float inherited) {
   d6 = max(d6, d11);
   float d12 = sdPlane(p5, vec3(0.0, 0.330350425, -0.943858356), 0.7);  // line 46 plane
   d6 = max(d6, d12);
-  vec2 m13 = vec2(d6, 2.0);
+  vec2 m13 = vec2(d6, 1.0);
   d0 = vec2(min(d0.x, m13.x), m13.x < d0.x ? m13.y : d0.y);
   }
   return d0;
@@ -574,7 +574,7 @@ vec2 sdm_keep(vec3 p, float inherited) {
   d0 = vec2(min(d0.x, m3.x), m3.x < d0.x ? m3.y : d0.y);
   vec3 p4 = p + vec3(0.0, -6.21243542, 1.0);  // line 79 transform
   float d5 = sdTriPrism(p4, 4.2, 3.2);  // line 79 prism
-  vec2 m6 = vec2(d5, 2.0);
+  vec2 m6 = vec2(d5, 1.0);
   d0 = vec2(min(d0.x, m6.x), m6.x < d0.x ? m6.y : d0.y);
   return d0;
 }
@@ -588,22 +588,22 @@ vec2 sdSceneMaterial(vec3 p) {
   vec3 p4 = p - 2.0 * min(dot(p, vec3(1.0, 0.0, 0.0)) - 0.0, 0.0) * vec3(1.0, 0.0, 0.0);  // line 87 reflect
   vec3 p5 = p4 - 2.0 * min(dot(p4, vec3(0.0, 0.0, 1.0)) - 0.0, 0.0) * vec3(0.0, 0.0, 1.0);  // line 87 reflect
   vec3 p6 = p5 + vec3(-5.0, 0.0, -5.0);  // line 87 transform
-  vec2 m7 = sdm_tower(p6, 1.0);
+  vec2 m7 = sdm_tower(p6, 0.0);
   d2 = vec2(min(d2.x, m7.x), m7.x < d2.x ? m7.y : d2.y);
   }
   float b8 = sdBound(p, vec3(0.0, 1.75, 0.0), vec3(5.35, 1.75, 5.35));
   if (subgroupAny(b8 < d2.x)) {
-  vec2 m9 = vec2(sd_walls(p), 1.0);
+  vec2 m9 = vec2(sd_walls(p), 0.0);
   d2 = vec2(min(d2.x, m9.x), m9.x < d2.x ? m9.y : d2.y);
   }
   float b10 = sdBound(p, vec3(0.0, 3.0, 5.2), vec3(2.25, 3.0, 0.75));
   if (subgroupAny(b10 < d2.x)) {
   vec3 p11 = p - 2.0 * min(dot(p, vec3(1.0, 0.0, 0.0)) - 0.0, 0.0) * vec3(1.0, 0.0, 0.0);  // line 89 reflect
   vec3 p12 = p11 + vec3(-1.5, 0.0, -5.2);  // line 89 transform
-  vec2 m13 = sdm_pointed(p12, 1.0);
+  vec2 m13 = sdm_pointed(p12, 0.0);
   d2 = vec2(min(d2.x, m13.x), m13.x < d2.x ? m13.y : d2.y);
   }
-  vec2 m14 = sdm_keep(p, 1.0);
+  vec2 m14 = sdm_keep(p, 0.0);
   d2 = vec2(min(d2.x, m14.x), m14.x < d2.x ? m14.y : d2.y);
   d0 = vec2(min(d0.x, d2.x), d2.x < d0.x ? d2.y : d0.y);
   }
@@ -619,10 +619,10 @@ vec2 sdSceneMaterial(vec3 p) {
 int sdMaterialId(vec3 p) { return int(sdSceneMaterial(p).y); }
 
 Material sdMaterial(int id) {
-  if (id == 1) return Material(MAT_DIFFUSE, vec3(0.72, 0.68, 0.6), vec3(0.0), 1.5, 0.0);  // stone
-  if (id == 2) return Material(MAT_DIFFUSE, vec3(0.3, 0.34, 0.46), vec3(0.0), 1.5, 0.0);  // slate
+  if (id == 1) return Material(MAT_DIFFUSE, vec3(0.3, 0.34, 0.46), vec3(0.0), 1.5, 0.0);  // slate
+  if (id == 2) return Material(MAT_DIFFUSE, vec3(0.33, 0.48, 0.22), vec3(0.0), 1.5, 0.0);  // lawn
   if (id == 3) return Material(MAT_METAL, vec3(1.0, 0.78, 0.34), vec3(0.0), 1.5, 0.3);  // gold
-  return Material(MAT_DIFFUSE, vec3(0.33, 0.48, 0.22), vec3(0.0), 1.5, 0.0);  // lawn
+  return Material(MAT_DIFFUSE, vec3(0.72, 0.68, 0.6), vec3(0.0), 1.5, 0.0);  // stone
 }
 vec3 sdSky(vec3 dir) { return mix(vec3(0.85, 0.88, 0.92), vec3(0.32, 0.52, 0.92), clamp(dir.y * 0.5 + 0.5, 0.0, 1.0)); }
 // ---- kernel: sphere tracing, normals, BSDFs, lights, main() ----

@@ -253,7 +253,7 @@ float sdPlanesHit(vec3 ro, vec3 rd, out int index) {
   return t;
 }
 vec3 sdAnalyticNormal(int index, vec3 p, out int material) {
-  if (index == 0) { material = 0; return vec3(0.0, 1.0, 0.0); }
+  if (index == 0) { material = 2; return vec3(0.0, 1.0, 0.0); }
   material = 0;
   return vec3(0.0, 1.0, 0.0);
 }
@@ -378,7 +378,7 @@ vec2 sdSceneMaterial(vec3 p) {
   float d3 = sdSphere(p2, 0.8);  // line 15 sphere
   vec3 p4 = p2 * 2.5;  // line 15 displace
   float d5 = (d3 + 0.12 * (sdGradientNoise(p4) + 0.5 * sdGradientNoise(2.0 * p4) + 0.25 * sdGradientNoise(4.0 * p4)) * 0.571428571) * 0.230263158;
-  vec2 m6 = vec2(d5, 1.0);
+  vec2 m6 = vec2(d5, 0.0);
   d0 = vec2(min(d0.x, m6.x), m6.x < d0.x ? m6.y : d0.y);
   }
   float b7 = sdBound(p, vec3(0.0, 0.35, 0.0), vec3(3.74589342, 0.35, 3.74589342)) * 0.828864513;
@@ -395,7 +395,7 @@ vec2 sdSceneMaterial(vec3 p) {
   vec3 p16 = vec3(cos(a15) * p.x + sin(a15) * p.z, p.y, cos(a15) * p.z - sin(a15) * p.x);
   float r17 = sd_sector(p16);
   d9 = min(d9, r17);
-  vec2 m18 = vec2(d9, 2.0);
+  vec2 m18 = vec2(d9, 1.0);
   d0 = vec2(min(d0.x, m18.x), m18.x < d0.x ? m18.y : d0.y);
   }
   return d0;
@@ -403,9 +403,9 @@ vec2 sdSceneMaterial(vec3 p) {
 int sdMaterialId(vec3 p) { return int(sdSceneMaterial(p).y); }
 
 Material sdMaterial(int id) {
-  if (id == 1) return Material(MAT_DIFFUSE, vec3(0.55, 0.5, 0.45), vec3(0.0), 1.5, 0.0);  // stone
-  if (id == 2) return Material(MAT_DIFFUSE, vec3(0.8, 0.35, 0.25), vec3(0.0), 1.5, 0.0);  // clay
-  return Material(MAT_DIFFUSE, vec3(0.5), vec3(0.0), 1.5, 0.0);  // ground
+  if (id == 1) return Material(MAT_DIFFUSE, vec3(0.8, 0.35, 0.25), vec3(0.0), 1.5, 0.0);  // clay
+  if (id == 2) return Material(MAT_DIFFUSE, vec3(0.5), vec3(0.0), 1.5, 0.0);  // ground
+  return Material(MAT_DIFFUSE, vec3(0.55, 0.5, 0.45), vec3(0.0), 1.5, 0.0);  // stone
 }
 vec3 sdSky(vec3 dir) { return vec3(0.6, 0.75, 1.0); }
 // ---- kernel: sphere tracing, normals, BSDFs, lights, main() ----

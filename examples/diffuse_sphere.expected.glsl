@@ -262,8 +262,8 @@ float sdPlanesHit(vec3 ro, vec3 rd, out int index) {
   return t;
 }
 vec3 sdAnalyticNormal(int index, vec3 p, out int material) {
-  if (index == 0) { material = 0; return vec3(0.0, 1.0, 0.0); }
-  if (index == 1) { material = 1; return normalize(p - vec3(0.0, 0.7, 0.0)); }
+  if (index == 0) { material = 1; return vec3(0.0, 1.0, 0.0); }
+  if (index == 1) { material = 0; return normalize(p - vec3(0.0, 0.7, 0.0)); }
   material = 0;
   return vec3(0.0, 1.0, 0.0);
 }
@@ -284,8 +284,8 @@ const int kSceneMaterial = 0;
 int sdMaterialId(vec3 p) { return int(sdSceneMaterial(p).y); }
 
 Material sdMaterial(int id) {
-  if (id == 1) return Material(MAT_DIFFUSE, vec3(0.8, 0.3, 0.25), vec3(0.0), 1.5, 0.0);  // clay
-  return Material(MAT_DIFFUSE, vec3(0.7), vec3(0.0), 1.5, 0.0);  // ground
+  if (id == 1) return Material(MAT_DIFFUSE, vec3(0.7), vec3(0.0), 1.5, 0.0);  // ground
+  return Material(MAT_DIFFUSE, vec3(0.8, 0.3, 0.25), vec3(0.0), 1.5, 0.0);  // clay
 }
 vec3 sdSky(vec3 dir) { return mix(vec3(0.7, 0.7, 0.72), vec3(0.45, 0.6, 0.9), clamp(dir.y * 0.5 + 0.5, 0.0, 1.0)); }
 // ---- kernel: sphere tracing, normals, BSDFs, lights, main() ----

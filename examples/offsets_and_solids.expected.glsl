@@ -253,7 +253,7 @@ float sdPlanesHit(vec3 ro, vec3 rd, out int index) {
   return t;
 }
 vec3 sdAnalyticNormal(int index, vec3 p, out int material) {
-  if (index == 0) { material = 0; return vec3(0.0, 1.0, 0.0); }
+  if (index == 0) { material = 1; return vec3(0.0, 1.0, 0.0); }
   material = 0;
   return vec3(0.0, 1.0, 0.0);
 }
@@ -353,13 +353,13 @@ float sdScene(vec3 p) {
   }
   return d0;
 }
-vec2 sdSceneMaterial(vec3 p) { return vec2(sdScene(p), 1.0); }
-const int kSceneMaterial = 1;
+vec2 sdSceneMaterial(vec3 p) { return vec2(sdScene(p), 0.0); }
+const int kSceneMaterial = 0;
 int sdMaterialId(vec3 p) { return int(sdSceneMaterial(p).y); }
 
 Material sdMaterial(int id) {
-  if (id == 1) return Material(MAT_DIFFUSE, vec3(0.8, 0.35, 0.25), vec3(0.0), 1.5, 0.0);  // clay
-  return Material(MAT_DIFFUSE, vec3(0.5), vec3(0.0), 1.5, 0.0);  // ground
+  if (id == 1) return Material(MAT_DIFFUSE, vec3(0.5), vec3(0.0), 1.5, 0.0);  // ground
+  return Material(MAT_DIFFUSE, vec3(0.8, 0.35, 0.25), vec3(0.0), 1.5, 0.0);  // clay
 }
 vec3 sdSky(vec3 dir) { return vec3(0.6, 0.75, 1.0); }
 // ---- kernel: sphere tracing, normals, BSDFs, lights, main() ----

@@ -253,7 +253,7 @@ float sdPlanesHit(vec3 ro, vec3 rd, out int index) {
   return t;
 }
 vec3 sdAnalyticNormal(int index, vec3 p, out int material) {
-  if (index == 0) { material = 0; return vec3(0.0, 1.0, 0.0); }
+  if (index == 0) { material = 2; return vec3(0.0, 1.0, 0.0); }
   material = 0;
   return vec3(0.0, 1.0, 0.0);
 }
@@ -397,7 +397,7 @@ vec2 sdSceneMaterial(vec3 p) {
   vec3 p14 = vec3(length(p13.xz) - 0.5, p13.y, 0.0);  // line 20 revolve
   float d15 = sdHexagon(p14, 0.2);  // line 20 hexagon
   d2 = min(d2, d15);
-  vec2 m16 = vec2(d2, 1.0);
+  vec2 m16 = vec2(d2, 0.0);
   d0 = vec2(min(d0.x, m16.x), m16.x < d0.x ? m16.y : d0.y);
   }
   vec3 p17 = p + vec3(-3.0, -1.0, 0.0);  // line 22 transform
@@ -405,16 +405,16 @@ vec2 sdSceneMaterial(vec3 p) {
   float d19 = sdBox(p18, vec3(0.7, 2.0, 0.7), 0.0);  // line 22 box
   float r20 = length(p17.xz);
   float d21 = r20 <= 0.525910669 ? d19 * 0.668897908 : sdBox2(vec2(r20 - 0.494974747, abs(p17.y - 0.0) - 1.0));
-  vec2 m22 = vec2(d21, 2.0);
+  vec2 m22 = vec2(d21, 1.0);
   d0 = vec2(min(d0.x, m22.x), m22.x < d0.x ? m22.y : d0.y);
   return d0;
 }
 int sdMaterialId(vec3 p) { return int(sdSceneMaterial(p).y); }
 
 Material sdMaterial(int id) {
-  if (id == 1) return Material(MAT_DIFFUSE, vec3(0.8, 0.35, 0.25), vec3(0.0), 1.5, 0.0);  // clay
-  if (id == 2) return Material(MAT_DIFFUSE, vec3(0.3, 0.6, 0.45), vec3(0.0), 1.5, 0.0);  // jade
-  return Material(MAT_DIFFUSE, vec3(0.5), vec3(0.0), 1.5, 0.0);  // ground
+  if (id == 1) return Material(MAT_DIFFUSE, vec3(0.3, 0.6, 0.45), vec3(0.0), 1.5, 0.0);  // jade
+  if (id == 2) return Material(MAT_DIFFUSE, vec3(0.5), vec3(0.0), 1.5, 0.0);  // ground
+  return Material(MAT_DIFFUSE, vec3(0.8, 0.35, 0.25), vec3(0.0), 1.5, 0.0);  // clay
 }
 vec3 sdSky(vec3 dir) { return vec3(0.6, 0.75, 1.0); }
 // ---- kernel: sphere tracing, normals, BSDFs, lights, main() ----

@@ -253,7 +253,7 @@ float sdPlanesHit(vec3 ro, vec3 rd, out int index) {
   return t;
 }
 vec3 sdAnalyticNormal(int index, vec3 p, out int material) {
-  if (index == 0) { material = 0; return vec3(0.0, 1.0, 0.0); }
+  if (index == 0) { material = 1; return vec3(0.0, 1.0, 0.0); }
   material = 0;
   return vec3(0.0, 1.0, 0.0);
 }
@@ -309,13 +309,13 @@ float sdScene(vec3 p) {
   }
   return d0;
 }
-vec2 sdSceneMaterial(vec3 p) { return vec2(sdScene(p), 1.0); }
-const int kSceneMaterial = 1;
+vec2 sdSceneMaterial(vec3 p) { return vec2(sdScene(p), 0.0); }
+const int kSceneMaterial = 0;
 int sdMaterialId(vec3 p) { return int(sdSceneMaterial(p).y); }
 
 Material sdMaterial(int id) {
-  if (id == 1) return Material(MAT_DIFFUSE, vec3(0.85, 0.75, 0.6), vec3(0.0), 1.5, 0.0);  // wax
-  return Material(MAT_DIFFUSE, vec3(0.5, 0.55, 0.6), vec3(0.0), 1.5, 0.0);  // 
+  if (id == 1) return Material(MAT_DIFFUSE, vec3(0.5, 0.55, 0.6), vec3(0.0), 1.5, 0.0);  // 
+  return Material(MAT_DIFFUSE, vec3(0.85, 0.75, 0.6), vec3(0.0), 1.5, 0.0);  // wax
 }
 vec3 sdSky(vec3 dir) { return mix(vec3(0.7, 0.7, 0.72), vec3(0.45, 0.6, 0.9), clamp(dir.y * 0.5 + 0.5, 0.0, 1.0)); }
 // ---- kernel: sphere tracing, normals, BSDFs, lights, main() ----

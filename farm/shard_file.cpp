@@ -11,7 +11,11 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <cerrno>
+#include <fcntl.h>
 #include <filesystem>
+#include <sys/stat.h>
+#include <unistd.h>
 #include <map>
 #include <memory>
 
@@ -259,24 +263,76 @@ void writeShard(const std::string& path, const ShardImage& shard) {
   if (error) throw FarmError("cannot write shard " + path + ": " + error.message());
 }
 
+namespace {
+ShardHeader::Stamp stampOf(const struct stat& st) {
+  return {uint64_t(st.st_dev), uint64_t(st.st_ino), uint64_t(st.st_size),
+          int64_t(st.st_mtim.tv_sec) * 1000000000 + st.st_mtim.tv_nsec};
+}
+
+// The whole file, read once from one descriptor, and that descriptor's stamp.
+std::vector<unsigned char> readWhole(const std::string& path, ShardHeader::Stamp& stamp) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) throw FarmError(path + ": " + std::strerror(errno));
+  struct Closer {
+    int fd;
+    ~Closer() { ::close(fd); }
+  } closer{fd};
+  struct stat st;
+  if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) throw FarmError(path + ": not a regular file");
+  stamp = stampOf(st);
+  std::vector<unsigned char> bytes(size_t(st.st_size));
+  size_t done = 0;
+  while (done < bytes.size()) {
+    const ssize_t n = ::read(fd, bytes.data() + done, bytes.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) throw FarmError(path + ": cut short while it was read (" + (n < 0 ? std::strerror(errno) : "end of file") + ")");
+    done += size_t(n);
+  }
+  return bytes;
+}
+}  // namespace
+
 ShardHeader readShardHeader(const std::string& path) {
+  // The stamp first: a file replaced after it shows as a changed stamp at merge.
+  struct stat st;
+  const bool stamped = ::stat(path.c_str(), &st) == 0;
   HeaderGuard g;
   parseHeader(path, g);
-  return headerFrom(g.header, path);
+  ShardHeader h = headerFrom(g.header, path);
+  if (stamped) h.stamp = stampOf(st);
+  return h;
 }
 
 namespace {
 // Loads `path`'s pixels and hands every sum word to fn(sum index, word number,
 // value) and, with `features`, returns its float channels other than R, G, B there.
 template <typename Fn>
-ShardHeader forEachSumWord(const std::string& path, Fn&& fn, std::vector<ExrChannel>* features = nullptr) {
+ShardHeader forEachSumWord(const std::string& path, Fn&& fn, std::vector<ExrChannel>* features = nullptr,
+                           const ShardHeader* checked = nullptr) {
+  ShardHeader::Stamp stamp;
+  const std::vector<unsigned char> bytes = readWhole(path, stamp);
   HeaderGuard g;
-  parseHeader(path, g);
-  const ShardHeader h = headerFrom(g.header, path);
+  EXRVersion version;
+  if (ParseEXRVersionFromMemory(&version, bytes.data(), bytes.size()) != TINYEXR_SUCCESS)
+    throw FarmError(path + ": not an EXR file");
+  const char* err = nullptr;
+  if (ParseEXRHeaderFromMemory(&g.header, &version, bytes.data(), bytes.size(), &err) != TINYEXR_SUCCESS) {
+    const std::string message = err ? err : "unreadable header";
+    FreeEXRErrorMessage(err);
+    throw FarmError(path + ": " + message);
+  }
+  g.parsed = true;
+  ShardHeader h = headerFrom(g.header, path);
+  h.stamp = stamp;
+  if (checked && (h.stamp != checked->stamp || !headerMismatch(h, *checked).empty() ||
+                  h.samples.begin != checked->samples.begin || h.samples.end != checked->samples.end ||
+                  h.frame != checked->frame || h.time != checked->time || h.slice != checked->slice ||
+                  h.slices != checked->slices || h.layers != checked->layers))
+    throw FarmError(path + " changed after its header was checked (replaced or rewritten during the merge); "
+                           "nothing of it was merged: merge again once the shards are complete");
   EXRImage image;
   InitEXRImage(&image);
-  const char* err = nullptr;
-  if (LoadEXRImageFromFile(&image, &g.header, path.c_str(), &err) != TINYEXR_SUCCESS) {
+  if (LoadEXRImageFromMemory(&image, &g.header, bytes.data(), bytes.size(), &err) != TINYEXR_SUCCESS) {
     const std::string message = err ? err : "no detail";
     FreeEXRErrorMessage(err);
     throw FarmError(path + ": the pixel data is damaged or cut short (tinyexr: " + message + ")");
@@ -328,11 +384,11 @@ ShardImage readShard(const std::string& path) {
 }
 
 ShardHeader addShard(const std::string& path, std::vector<unsigned __int128>& total,
-                     std::vector<ExrChannel>* features) {
+                     std::vector<ExrChannel>* features, const ShardHeader* checked) {
   return forEachSumWord(path, [&](size_t i, int word, uint32_t value) {
     if (i >= total.size()) throw FarmError(path + ": image larger than the other shards");
     total[i] += static_cast<unsigned __int128>(value) << (32 * word);  // modulo 2^128, exact
-  }, features);
+  }, features, checked);
 }
 
 }  // namespace sdfc::farm

@@ -42,6 +42,15 @@ struct ShardHeader {
   SampleRange samples;
   bool layers = false;            // a `render --layers` shard (sdfc.layers)
 
+  // Not in the file: the file this was read from (st_dev, st_ino, size,
+  // mtime), so that merge knows the pixels it adds are from the same file
+  // whose header it checked (a resubmitted job may replace a shard between).
+  struct Stamp {
+    uint64_t device = 0, inode = 0, size = 0;
+    int64_t mtime_ns = 0;
+    bool operator==(const Stamp&) const = default;
+  } stamp;
+
   // Sums per pixel: r, g, b, and with layers the squared luminance.
   uint32_t sumsPerPixel() const { return layers ? 4 : 3; }
 };
@@ -66,8 +75,11 @@ ShardImage readShard(const std::string& path);
 // Adds the shard's sums to `total` (two's complement, modulo 2^128: exact while the
 // true sum fits a SampleSum) without keeping a copy; returns its header. With
 // `features`, also returns its float channels other than R, G, B there.
+// With `checked` (the header checkShards read), the file must still be the one
+// read then, with the same header: FarmError otherwise, before anything is added.
+// The header and the pixels come from one read of the file.
 ShardHeader addShard(const std::string& path, std::vector<unsigned __int128>& total,
-                     std::vector<ExrChannel>* features = nullptr);
+                     std::vector<ExrChannel>* features = nullptr, const ShardHeader* checked = nullptr);
 
 // 16 hex digits of FNV-1a 64 (a fingerprint, not a security measure).
 std::string fingerprint(const void* data, size_t size);

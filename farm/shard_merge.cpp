@@ -107,7 +107,7 @@ MergeStats mergeShards(const ShardSet& set,
       // The centre ray's layers do not depend on the samples; a single render
       // reads them in its last pass, the shard holding sample 0 in its own.
       const bool first = h.layers && header.samples.begin == 0;
-      addShard(path, total, first ? &features : nullptr);
+      addShard(path, total, first ? &features : nullptr, &header);
       if (first && features.empty())
         throw FarmError(path + ": a --layers shard holding sample 0 without the albedo, N, Z, material "
                         "and object channels (damaged, or not written by sdfc)");

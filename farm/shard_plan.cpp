@@ -1,7 +1,6 @@
 #include "shard_plan.h"
 
 #include <cstdio>
-#include <regex>
 
 namespace sdfc::farm {
 
@@ -50,10 +49,16 @@ std::string framePath(const std::string& path, int frame) {
 }
 
 std::pair<int, int> parseFrameRange(const std::string& text) {
-  std::smatch m;
-  if (!std::regex_match(text, m, std::regex(R"((\d{1,6})-(\d{1,6}))")) || std::stoi(m[1]) > std::stoi(m[2]))
+  // (\d{1,6})-(\d{1,6}), scanned by hand (std::regex recurses per character).
+  const size_t dash = text.find('-');
+  auto whole = [](const std::string& s) {
+    return !s.empty() && s.size() <= 6 && s.find_first_not_of("0123456789") == std::string::npos;
+  };
+  const std::string a = dash == std::string::npos ? "" : text.substr(0, dash);
+  const std::string b = dash == std::string::npos ? "" : text.substr(dash + 1);
+  if (!whole(a) || !whole(b) || std::stoi(a) > std::stoi(b))
     throw FarmError("--frames expects A-B, frame numbers with A <= B, e.g. 0-239");
-  return {std::stoi(m[1]), std::stoi(m[2])};
+  return {std::stoi(a), std::stoi(b)};
 }
 
 }  // namespace sdfc::farm

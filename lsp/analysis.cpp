@@ -27,12 +27,12 @@ const ast::Parameter* parameterOf(const ast::Statement* s, const std::string& na
 void indexExpr(Analysis& a, const ast::Expr& e, const ast::Statement* scope) {
   if (e.kind == ast::ExprKind::Name && parameterOf(scope, e.name))
     a.uses.push_back({e.name, e.range, false, scope});
-  else if (e.kind == ast::ExprKind::Call && !a.lets.count(e.name) && a.imported.count(e.name))
+  else if (e.kind == ast::ExprKind::Call && !a.lets.count(e.name) && a.importedAt(e.name))
     a.uses.push_back({e.name, e.name_range, false});
   else if (e.kind == ast::ExprKind::Member && e.operands[0]->kind == ast::ExprKind::Name &&
-           a.imported.count(e.operands[0]->name + "." + e.name))
+           a.importedAt(e.operands[0]->name + "." + e.name))
     a.uses.push_back({e.operands[0]->name + "." + e.name, e.range, false});
-  else if (e.kind == ast::ExprKind::Name && !a.lets.count(e.name) && a.imported.count(e.name))
+  else if (e.kind == ast::ExprKind::Name && !a.lets.count(e.name) && a.importedAt(e.name))
     a.uses.push_back({e.name, e.range, false});
   else if ((e.kind == ast::ExprKind::Name || e.kind == ast::ExprKind::Call) && a.lets.count(e.name))
     a.uses.push_back({e.name, e.kind == ast::ExprKind::Call ? e.name_range : e.range, false});
@@ -74,6 +74,13 @@ void indexNodes(Analysis& a, const ir::Node& n, std::set<const ir::Node*>& seen)
 
 }  // namespace
 
+const SourceRange* Analysis::importedAt(const std::string& name) const {
+  auto it = imported.find(name);
+  if (it == imported.end() && !import_aliases.empty())
+    it = imported.find(resolveImportedKey(import_aliases, name, 0, [&](const std::string& k) { return imported.count(k) > 0; }));
+  return it != imported.end() ? &it->second : nullptr;
+}
+
 std::shared_ptr<const Analysis> analyzeDocument(const Document& doc, bool utf8) {
   auto a = std::make_shared<Analysis>();
   a->uri = doc.uri;
@@ -94,6 +101,7 @@ std::shared_ptr<const Analysis> analyzeDocument(const Document& doc, bool utf8) 
     Diagnostics quiet;
     const ast::File main = parse(*a->compiled.source, quiet);
     const ImportSet imports = loadImports(main, *a->compiled.source, quiet);
+    a->import_aliases = imports.aliases;
     for (const ImportedDefinition& d : imports.definitions) {
       // The checker's files are the ones the ranges must point into.
       for (const auto& f : a->compiled.scene.imported_sources)

@@ -40,7 +40,10 @@ struct Analysis {
   std::map<std::string, CalleeDoc> definitions;        // parametric `let`s, documented as callees
   // Definitions brought in by `import`, by the name this file uses for them
   // ("tower", "parts.tower"): where each is defined in its own file.
+  // Each imported file's definitions are listed once, under the prefix it was
+  // first reached by; another name for it goes through these (check/imports.h).
   std::map<std::string, SourceRange> imported;
+  std::map<std::string, std::vector<std::string>> import_aliases;
   bool utf8 = false;
 
   const std::string& text() const { return compiled.source->text; }
@@ -53,6 +56,8 @@ struct Analysis {
   const ast::Statement* enclosingDefinition(size_t offset) const;
   // An LSP location for a range in this document or in an imported file.
   json location(const SourceRange& r) const;
+  // Where the imported definition this file calls `name` is defined, or null.
+  const SourceRange* importedAt(const std::string& name) const;
   // The IR node a `let` shape compiles to, if any.
   const ir::Node* definitionNode(const std::string& name) const;
 };

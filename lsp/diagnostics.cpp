@@ -1,5 +1,8 @@
 // Diagnostics as the editor shows them: the checker's own messages and
 // ranges (the same as `sdfc check`), notes as related information.
+#include <filesystem>
+
+#include "check/point_file.h"
 #include "lsp/features.h"
 
 namespace sdfc::lsp {
@@ -32,12 +35,31 @@ Diagnostic atItsNote(const Analysis& a, const Diagnostic& d) {
   return shown;
 }
 
-// Any other problem inside an imported file is shown on this file's first
-// import, named after that file, with its own place as related information.
-SourceRange firstImport(const Analysis& a) {
-  for (const ast::Statement& s : a.tree.statements)
-    if (s.is_import) return s.import_path_range;
-  return {};
+// Any other problem inside an imported file is shown on the import that
+// names that file (else, reached through other files, on the first import),
+// with its file and line in front, and its own place as related information.
+SourceRange importOf(const Analysis& a, const SourceFile& file) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::path target = fs::weakly_canonical(file.path, ec);
+  SourceRange first;
+  for (const ast::Statement& s : a.tree.statements) {
+    if (!s.is_import) continue;
+    if (!first.file) first = s.import_path_range;
+    if (fs::weakly_canonical(resolveBesides(a.source().path, s.import_path), ec) == target) return s.import_path_range;
+  }
+  return first;
+}
+
+// "parts.sdf:3:5": the file as the document's folder names it (the absolute
+// path repeated the editor's own knowledge), its line and column.
+std::string placeIn(const Analysis& a, const SourceRange& r) {
+  namespace fs = std::filesystem;
+  const fs::path folder = fs::path(a.source().path).parent_path();
+  std::string name = fs::path(r.file->path).lexically_relative(folder).string();
+  if (name.empty() || name.rfind("..", 0) == 0) name = r.file->path;
+  auto [line, col] = r.file->lineColumn(r.begin);
+  return name + ":" + std::to_string(line) + ":" + std::to_string(col);
 }
 
 }  // namespace
@@ -49,14 +71,14 @@ json publishDiagnostics(const Analysis& a) {
     const bool tied_here = other_file && hasNoteHere(a, original);
     const Diagnostic d = tied_here ? atItsNote(a, original) : original;
     const bool elsewhere = other_file && !tied_here;
-    json item = {{"range", rangeOf(a, elsewhere ? firstImport(a) : d.range)},
+    json item = {{"range", rangeOf(a, elsewhere ? importOf(a, *d.range.file) : d.range)},
                  {"severity", d.severity == Severity::Error ? 1 : d.severity == Severity::Warning ? 2 : 3},
                  {"source", "sdfc"},
-                 {"message", elsewhere ? "in '" + d.range.file->path + "': " + d.message : d.message}};
+                 {"message", elsewhere ? placeIn(a, d.range) + ": " + d.message : d.message}};
     if (!d.name.empty()) item["code"] = d.name;  // the warning's name, as in [-Wname]
     if (!d.notes.empty() || elsewhere) {
       json related = json::array();
-      if (elsewhere) related.push_back({{"location", a.location(d.range)}, {"message", d.message}});
+      if (elsewhere) related.push_back({{"location", a.location(d.range)}, {"message", "here"}});
       for (const Diagnostic& n : d.notes) related.push_back({{"location", a.location(n.range)}, {"message", n.message}});
       item["relatedInformation"] = related;
     }

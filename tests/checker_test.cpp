@@ -283,7 +283,7 @@ TEST(Checker, Warnings) {
        "t.sdf:1:5: warning: 'unused' is never used [-Wunused]\n"
        "let unused = 3\n"
        "    ^~~~~~\n"},
-      {"let m = diffuse()\nscene { sphere(radius: 1) }\n",
+      {"let m = diffuse()\nlet n = diffuse()\nscene { sphere(radius: 1, material: n) }\n",
        "t.sdf:1:9: warning: material 'm' is never used by a shape [-Wunused]\n"
        "let m = diffuse()\n"
        "        ^~~~~~~~~\n"},
@@ -353,6 +353,44 @@ TEST(Checker, LongDefinitionChainGivesAnErrorNotACrash) {
   const CompiledScene compiled = checkSource("t.sdf", chain, {}, diags);
   EXPECT_NE(diags.format().find("definitions refer to each other more than 200 levels deep"),
             std::string::npos);
+  // One error and nothing else: the definitions the chain never reached are
+  // not "never used" (a chain 5,000 deep gave 4,799 such warnings).
+  EXPECT_EQ(diags.errorCount(), 1);
+  EXPECT_EQ(diags.format(false, 0).find("never used"), std::string::npos);
+}
+
+// Definitions are all checked before any is called unused: one checked later
+// uses an earlier one ('a' was "never used" although 'b' uses it).
+TEST(Checker, AnUnusedDefinitionsUsesAreUses) {
+  expectPinned({{"let a = 1\nlet b = a\nscene { sphere(radius: 1) }\n",
+                 "t.sdf:2:5: warning: 'b' is never used [-Wunused]\n"
+                 "let b = a\n"
+                 "    ^\n"}});
+}
+
+// Definitions that double (fK uses fK-1 twice) checked in 0.02 s with their
+// values shared, then render took 4.6 GB at 17 levels and crashed at 19, and
+// compile and eval took exponential time. The checker bounds the scene as
+// written out, with its own error at the call, so a scene that checks renders.
+std::string doubling(int levels, bool parametric) {
+  std::string text = parametric ? "let f0(x) = sphere(radius: x)\n" : "let f0 = sphere(radius: 1)\n";
+  for (int k = 1; k <= levels; ++k) {
+    const std::string prev = "f" + std::to_string(k - 1) + (parametric ? "(x)" : "");
+    text += "let f" + std::to_string(k) + (parametric ? "(x)" : "") + " = union { " + prev + " " + prev + " }\n";
+  }
+  return text + "scene { sphere(radius: 1) f" + std::to_string(levels) + (parametric ? "(1)" : "") + " }\n";
+}
+
+TEST(Checker, DefinitionsThatDoubleAreBoundedWrittenOut) {
+  for (bool parametric : {true, false}) {
+    // 2^14 - 1 nodes and the other sphere: kMaxExpandedNodes (16384) exactly.
+    EXPECT_EQ(diagnosticsFor(doubling(13, parametric)), "") << parametric;
+    const std::string over = diagnosticsFor(doubling(14, parametric));
+    EXPECT_NE(over.find("t.sdf:16:27: error: the scene grows to more than 16384 shapes and operations here"),
+              std::string::npos) << quoted(over);
+    const std::string far = diagnosticsFor(doubling(60, parametric));  // the count saturates, no overflow
+    EXPECT_NE(far.find("error: the scene grows to more than 16384"), std::string::npos) << quoted(far);
+  }
 }
 
 }  // namespace

@@ -29,6 +29,21 @@ for v in 0x10 inf 1e999 nan 1,5; do
   expect 2 "-D expects name=number with a plain decimal number" -- "$sdfc" check "$work/r.sdf" -D "r=$v"
 done
 expect 0 "" -- "$sdfc" check "$work/r.sdf" -D r=+1.5e0
+# Long numbers are refused cleanly (std::regex recursed once per character
+# and overflowed the stack: exit 139).
+digits=$(head -c 30000 /dev/zero | tr '\0' 7)
+ones=$(head -c 100000 /dev/zero | tr '\0' 1)
+for cmd in check eval render; do
+  out=()
+  [ "$cmd" = render ] && out=(-o "$work/x.png")
+  expect 2 "-D expects name=number" -- "$sdfc" "$cmd" "$work/r.sdf" -D "r=$digits" "${out[@]}"
+done
+expect 0 "" -- "$sdfc" check "$work/r.sdf" -D "r=0.$ones"
+echo "0 0 0" >"$work/origin.txt"
+expect 0 "" -- "$sdfc" eval "$work/r.sdf" -D "r=0.$ones" --points "$work/origin.txt"
+expect 2 "--frames takes frame numbers A-B at --fps" -- "$sdfc" render "$scene" --frames "1-2:0.$ones" -o "$work/x.png"
+expect 2 "--spp" -- "$sdfc" render "$scene" --spp "$digits" -o "$work/x.png"
+expect 2 "--size" -- "$sdfc" render "$scene" --size "${digits}x1" -o "$work/x.png"
 # A directory as the scene: unreadable input.
 expect 4 "it is a directory, not a scene file" -- "$sdfc" check "$work"
 # The output directory is checked before compiling or rendering.
@@ -51,6 +66,45 @@ expect 0 "" -- "$sdfc" compile "$scene" -o "$work/out.glsl"
 # Checked scenes that once failed in glslang are scene errors now.
 expect 1 "at most 16 'light's" -- "$sdfc" compile "$root/fuzz/regressions/issue18_seventeen_lights.sdf" -o "$work/l.glsl"
 expect 1 "beyond the range of the shader's float32 numbers" -- "$sdfc" compile "$root/fuzz/regressions/issue18_sun_direction_overflow.sdf" -o "$work/s.glsl"
+
+# No command writes over one of its inputs (the scene, an import, a data
+# file), by file identity: export and compile once overwrote the scene.
+mkdir "$work/in"
+printf 'let post = sphere(radius: 1)\n' >"$work/in/lib.sdf"
+printf '0 0 0\n2 0 0\n' >"$work/in/p.csv"
+printf 'import "lib.sdf" as l\nscene { l.post instances(positions: file("p.csv")) { sphere(radius: 0.1) } }\n' >"$work/in/s.sdf"
+cp "$work/in/s.sdf" "$work/in/s.orig"
+ln "$work/in/s.sdf" "$work/in/hard.glsl"
+ln -s s.sdf "$work/in/soft.html"
+expect 2 "-o must end in .html, got '$work/in/s.sdf'" -- "$sdfc" export "$work/in/s.sdf" -o "$work/in/s.sdf"
+expect 2 "the output .* is the scene being read" -- "$sdfc" compile "$work/in/s.sdf" --emit glsl -o "$work/in/s.sdf"
+expect 2 "the output .* is the scene being read" -- "$sdfc" compile "$work/in/s.sdf" --emit glsl -o "$work/in/hard.glsl"
+expect 2 "the output .* is the scene being read" -- "$sdfc" export "$work/in/s.sdf" -o "$work/in/soft.html"
+expect 2 "the output .*/in/../in/s.sdf' is the scene being read" -- "$sdfc" compile "$work/in/s.sdf" --emit ir -o "$work/in/../in/s.sdf"
+expect 2 "lib.sdf', which the scene imports" -- "$sdfc" compile "$work/in/s.sdf" --emit glsl -o "$work/in/lib.sdf"
+expect 2 "p.csv', which the scene reads" -- "$sdfc" compile "$work/in/s.sdf" --emit ir -o "$work/in/p.csv"
+# render: a texture is an input too (checked before any rendering), and a
+# sequence's frames by their own names.
+cp "$root/examples/textures/tiles.png" "$work/in/tiles.png"
+cp "$root/examples/textures/tiles.png" "$work/in/tiles_0003.png"
+for t in tiles tiles_0003; do
+  printf 'let wood = diffuse(albedo: texture(file: "%s.png", projection: triplanar, size: 0.5))\nscene { sphere(radius: 1, material: wood) }\n' $t >"$work/in/$t.sdf"
+done
+expect 2 "tiles.png', which the scene reads" -- "$sdfc" render "$work/in/tiles.sdf" -o "$work/in/tiles.png" --size 8x8 --spp 1
+expect 2 "tiles_0003.png', which the scene reads" -- "$sdfc" render "$work/in/tiles_0003.sdf" -o "$work/in/tiles.png" --frames 3-3 --size 8x8 --spp 1
+cmp -s "$work/in/tiles.png" "$root/examples/textures/tiles.png" || fail "the texture was overwritten"
+cmp -s "$work/in/tiles_0003.png" "$root/examples/textures/tiles.png" || fail "the frame-named texture was overwritten"
+# -o names no frame of a sequence: tiles.png is not written, tiles_0000.png is.
+expect 0 "" -- "$sdfc" render "$work/in/tiles.sdf" -o "$work/in/tiles.png" --frames 0-0 --size 8x8 --spp 1 -q
+[ -s "$work/in/tiles_0000.png" ] || fail "render --frames 0-0 wrote no tiles_0000.png"
+cmp -s "$work/in/s.sdf" "$work/in/s.orig" || fail "the scene was overwritten"
+[ "$(cat "$work/in/lib.sdf")" = "let post = sphere(radius: 1)" ] || fail "the import was overwritten"
+[ "$(head -c 5 "$work/in/p.csv")" = "0 0 0" ] || fail "the point file was overwritten"
+# export's -o ends in .html (.glsl for Shadertoy), as render's and mesh's have their extensions.
+expect 2 "-o must end in .html, got '$work/in/noext'" -- "$sdfc" export "$work/in/s.sdf" -o "$work/in/noext"
+expect 2 "-o must end in .glsl" -- "$sdfc" export "$work/in/s.sdf" -o "$work/in/x.html" --target shadertoy
+[ ! -e "$work/in/noext" ] || fail "export -o noext wrote a file"
+expect 0 "" -- "$sdfc" compile "$work/in/s.sdf" --emit glsl -o "$work/in/out.glsl"
 
 # A full disk (a 64 KiB tmpfs, when this machine lets us mount one): the
 # image write fails with exit 4 and the previous file stays whole.

@@ -77,6 +77,9 @@ expect 2 "is one of the shards being merged" -- "$sdfc" merge "$shards/shard_000
 cmp -s "$shards/shard_00000.exr" "$work/keep.exr" || fail "merge overwrote one of its inputs"
 cp "$work/keep.exr" "$shards/shard_00000.exr"  # the cases below stand alone even when that failed
 expect 0 "" -- "$sdfc" merge "$shards" -o "$work/merged.exr" -q
+# As render: merge creates no folders (it made nope/deeper).
+expect 4 "the folder '$work/nope/deeper' does not exist" -- "$sdfc" merge "$shards" -o "$work/nope/deeper/x.exr"
+[ ! -e "$work/nope" ] || fail "merge created the folders of -o"
 
 # Damaged shards: one exit code (2), the file named, no raw library text alone.
 # edit_attribute FILE NAME VALUE: a copy of FILE with header attribute NAME set to VALUE.

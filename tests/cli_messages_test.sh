@@ -27,6 +27,21 @@ expect 2 "^sdfc: error: --spp: expects a whole number from 1 to 1048576, got '0'
 expect 2 "^sdfc: error: -o '.*x.jpg': unknown image extension '.jpg'" -- "$sdfc" render "$scene" -o "$work/x.jpg"
 expect 4 "^sdfc: error: cannot write '$work/frames/f.png': the folder '$work/frames' does not exist \(sdfc creates no folders" -- "$sdfc" render "$scene" -o "$work/frames/f.png"
 
+# eval --material names the material a shape renders with: a shape without
+# `material:` takes the file's first (it printed '-'; and the renderer took the
+# first one checked, blue here, used first); '-' only when the file defines none.
+printf 'let red = diffuse(albedo: [1, 0, 0])\nlet blue = diffuse(albedo: [0, 0, 1])\nscene { translate([-5, 0, 0]) { sphere(radius: 1, material: blue) } sphere(radius: 1) translate([5, 0, 0]) { sphere(radius: 1, material: blue) } }\n' >"$work/mat.sdf"
+got=$(printf '0 0 0\n5 0 0\n' | "$sdfc" eval "$work/mat.sdf" --material 2>/dev/null | awk '{print $2, $3, $4, $5}' | tr '\n' ';')
+[ "$got" = "red 1 0 0;blue 0 0 1;" ] || fail "eval --material of a shape without material: got '$got'"
+"$sdfc" compile "$work/mat.sdf" --emit glsl -o - | grep -A3 "^Material sdMaterial(int id)" | grep -q "^  return .*// red$" ||
+  fail "the shader's default material is not the file's first"
+# Material ids (the layers' `material`, --emit ir's) count in the file's order.
+[ "$("$sdfc" compile "$work/mat.sdf" --emit ir -o - | grep -o '^material [0-9] [a-z]*' | tr '\n' ';')" = "material 0 red;material 1 blue;" ] ||
+  fail "materials are not numbered in the file's order"
+printf 'scene { sphere(radius: 1) }\n' >"$work/nomat.sdf"
+got=$(printf '0 0 0\n' | "$sdfc" eval "$work/nomat.sdf" --material 2>/dev/null | awk '{print $2}')
+[ "$got" = "-" ] || fail "eval --material with no material in the file: got '$got'"
+
 # --version names the commit it was built from.
 "$sdfc" --version >"$work/version" 2>&1 || fail "--version exits $?"
 grep -Eq "^commit: ([0-9a-f]{12}(\+dirty)?|unknown \(not built from a git checkout\))$" "$work/version" ||
@@ -52,6 +67,20 @@ python3 - "$work/json" <<'PY' || fail "JSON diagnostics out of source order: $(c
 import json, sys
 lines = [d["line"] for d in json.load(open(sys.argv[1]))]
 sys.exit(0 if len(lines) >= 2 and lines == sorted(lines) else 1)
+PY
+
+# JSON diagnostics keep their notes (an import cycle's chain was dropped).
+printf 'import "cb.sdf"\nlet a = sphere(radius: 1)\n' >"$work/ca.sdf"
+printf 'import "ca.sdf"\nlet b = sphere(radius: 1)\n' >"$work/cb.sdf"
+printf 'import "ca.sdf"\nscene { a }\n' >"$work/cycle.sdf"
+"$sdfc" check "$work/cycle.sdf" --diagnostics-format json 2>"$work/json"
+python3 - "$work/json" <<'PY' || fail "JSON diagnostics without their notes: $(cat "$work/json")"
+import json, sys
+d = json.load(open(sys.argv[1]))
+cycle = [x for x in d if x["message"].startswith("import cycle")]
+notes = cycle[0].get("notes", []) if cycle else []
+sys.exit(0 if len(notes) == 2 and all(n["line"] == 1 and n["message"].endswith("is imported here") and
+                                      n["severity"] == "note" for n in notes) else 1)
 PY
 
 # A CSV that cannot be read: why, and the path that was tried.

@@ -118,6 +118,53 @@ TEST(FarmShardFile, SumsAndHeaderSurviveTheRoundTrip) {
   }
 }
 
+// A shard replaced between the header check and the pixels (a resubmitted job
+// writing it again) was merged silently into a wrong image: the pixels must
+// come from the file whose header was checked.
+TEST(FarmShardFile, AShardReplacedAfterTheCheckIsRefused) {
+  const fs::path dir = scratch("replaced");
+  auto shardFor = [](uint32_t begin, uint32_t seed, uint64_t value) {
+    farm::ShardImage shard;
+    farm::ShardHeader& h = shard.header;
+    h.scene_hash = "0123456789abcdef";
+    h.kernel_hash = "fedcba9876543210";
+    h.version = "0.1.0";
+    h.device = "llvmpipe";
+    h.driver = "vendor 10005";
+    h.settings = "2x2 spp=6";
+    h.width = 2;
+    h.height = 2;
+    h.seed = seed;
+    h.spp = 6;
+    h.samples_per_pass = 3;
+    h.slices = 2;
+    h.slice = begin / 3;
+    h.samples = {begin, begin + 3};
+    shard.sums.assign(12, SampleSum(value));
+    return shard;
+  };
+  const std::string a = (dir / "shard_00000.exr").string(), b = (dir / "shard_00001.exr").string();
+  farm::writeShard(a, shardFor(0, 1, 100));
+  farm::writeShard(b, shardFor(3, 1, 200));
+  const farm::ShardSet set = farm::checkShards(farm::findShards({dir.string()}));
+  int merged = 0;
+  farm::mergeShards(set, [&](int, const FloatImage&, const std::vector<ExrChannel>&) { ++merged; });
+  EXPECT_EQ(merged, 1);  // unchanged: merges
+  for (int replacement = 0; replacement < 2; ++replacement) {
+    // 0: the same header, other sums (a new file renamed over it); 1: another seed.
+    farm::writeShard(b, shardFor(3, replacement == 0 ? 1 : 2, 999));
+    try {
+      farm::mergeShards(set, [&](int, const FloatImage&, const std::vector<ExrChannel>&) {
+        ADD_FAILURE() << "a replaced shard was merged";
+      });
+      ADD_FAILURE() << "no error for replacement " << replacement;
+    } catch (const farm::FarmError& e) {
+      EXPECT_NE(std::string(e.what()).find("shard_00001.exr changed after its header was checked"),
+                std::string::npos) << e.what();
+    }
+  }
+}
+
 // A --layers shard: four sums a pixel (r, g, b, squared luminance) and the
 // centre ray's float channels come back as written; a plain header refuses them.
 TEST(FarmShardFile, LayeredShardSurvivesTheRoundTrip) {

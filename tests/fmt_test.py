@@ -124,6 +124,26 @@ with tempfile.TemporaryDirectory() as tmp:
     expect(f"fmt -w keeps mode 0600 ({oct(os.stat(real).st_mode)})", os.stat(real).st_mode & 0o7777 == 0o600)
     expect("fmt -w leaves no temporary", sorted(os.listdir(os.path.dirname(real))) == ["scene.sdf"])
 
+# Imports (fmt crashed with exit 139 on any file with one): stdin, --check, -w.
+messy_import = b'import   "parts.sdf"  as p\nimport "lib.sdf"\nscene{p.rook}\n'
+tidy_import = b'import "parts.sdf" as p\nimport "lib.sdf"\nscene { p.rook }\n'
+rc, out, err = run(["fmt"], messy_import)
+expect(f"fmt with an import on stdin ({rc}, {err!r})", rc == 0 and out == tidy_import)
+with tempfile.TemporaryDirectory() as tmp:
+    path = os.path.join(tmp, "scene.sdf")
+    with open(path, "wb") as f:
+        f.write(tidy_import)
+    rc, out, err = run(["fmt", "--check", path])
+    expect(f"fmt --check on a formatted file with imports exits 0 ({rc}, {err!r})", rc == 0)
+    with open(path, "wb") as f:
+        f.write(messy_import)
+    rc, out, err = run(["fmt", "--check", path])
+    expect(f"fmt --check on an unformatted file with imports exits 1 ({rc}, {err!r})", rc == 1)
+    rc, out, err = run(["fmt", "-w", path])
+    expect(f"fmt -w with imports ({rc}, {err!r})", rc == 0 and open(path, "rb").read() == tidy_import)
+    rc, out, err = run(["fmt", path])
+    expect(f"fmt FILE with imports ({rc}, {err!r})", rc == 0 and out == tidy_import)
+
 for f in failures:
     print("FAIL", f)
 print(f"fmt_meaning: {checked} files formatted and compared, {skipped} with syntax errors skipped")

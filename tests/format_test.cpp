@@ -173,6 +173,18 @@ TEST(FormatContract, KeepsEveryNumberSpelling) {
             "3.40282e38]\nlet b = -1. * .5 / 1e+3 - (7)\n");
 }
 
+TEST(FormatContract, ImportsAndParametricDefinitions) {
+  // fmt crashed on any file with an import (its statement has no value).
+  EXPECT_EQ(fmt("import   \"parts.sdf\"  as p\nimport \"lib.sdf\"\nscene{p.rook}"),
+            "import \"parts.sdf\" as p\nimport \"lib.sdf\"\nscene { p.rook }\n");
+  EXPECT_TRUE(keepsTokens("// a\nimport /* b */ \"p.sdf\" // c\n as /* d */ q\nscene { q.x }", "import with comments"));
+  EXPECT_TRUE(keepsTokens("let f(a, b: 2 * 3,) = sphere(radius: a + b)\nscene { f(1) }", "parametric let"));
+  SourceFile a("t.sdf", "let f(a: 1 + 2 * 3) = a\n"), b("t.sdf", "let f(a: (1 + 2) * 3) = a\n"), c("t.sdf", "import \"x.sdf\" as y\n"),
+      d("t.sdf", "import \"x.sdf\" as z\n");
+  EXPECT_NE(syntaxShape(a), syntaxShape(b));  // a parameter's default's grouping is part of the shape
+  EXPECT_NE(syntaxShape(c), syntaxShape(d));
+}
+
 TEST(FormatContract, KeepsCommentsAtTheEndOfTheFile) {
   EXPECT_EQ(fmt("scene { sphere(radius: 1) } // end"), "scene { sphere(radius: 1) }  // end\n");
   EXPECT_TRUE(keepsTokens("scene { sphere(radius: 1) }\n/* end */", "block comment at the end"));
@@ -245,12 +257,36 @@ class SceneGenerator {
     out_.clear();
     trivia();
     const int n = 1 + pick(4);
+    // Every statement kind: let, parametric let (with and without defaults),
+    // import (with and without an alias) and a call.
     for (int i = 0; i < n; ++i) {
-      if (pick(2)) {
+      const int kind = pick(5);
+      if (kind == 0 || kind == 1) {
         tok("let");
         tok(name());
+        if (kind == 1) {
+          tok("(");
+          const int params = pick(3);
+          for (int p = 0; p < params; ++p) {
+            if (p) tok(",");
+            tok(std::string(1, "uvw"[p]));
+            if (pick(2)) {
+              tok(":");
+              expr(1);
+            }
+          }
+          if (params && pick(3) == 0) tok(",");
+          tok(")");
+        }
         tok("=");
         expr(3);
+      } else if (kind == 2) {
+        tok("import");
+        tok(pick(2) ? "\"parts.sdf\"" : "\"dir/a b.sdf\"");
+        if (pick(2)) {
+          tok("as");
+          tok(name());
+        }
       } else {
         call(3, true);
       }

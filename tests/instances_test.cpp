@@ -499,7 +499,9 @@ TEST(Instances, BadPositionsAreErrorsWithLocations) {
   e = errorsOf("t.sdf", "scene {\n  translate(file(\"x.csv\")) { sphere(radius: 1) } }");
   EXPECT_NE(e.find("t.sdf:2:13: error: 'file' may only give"), std::string::npos) << e;
   e = errorsOf("t.sdf", "scene { sphere(radius: \"1\") }");
-  EXPECT_NE(e.find("a string may only name a file"), std::string::npos) << e;
+  EXPECT_NE(e.find("t.sdf:1:24: error: 'radius' of 'sphere' must be a number, not a string"), std::string::npos) << e;
+  e = errorsOf("t.sdf", "let a = \"1\"\nscene { sphere(radius: a) }");
+  EXPECT_NE(e.find("a string is no value here: strings only name files"), std::string::npos) << e;
   e = errorsOf("t.sdf", "scene { sphere(radius: \"1) }");
   EXPECT_NE(e.find("unterminated string"), std::string::npos) << e;
 }

@@ -63,6 +63,7 @@ same "$dir/single.exr" "$dir/merged mixed.exr" "2- and 3-slice shards mixed merg
 "$sdfc" render "$scene" --layers -q --size 32x18 --frames 0-1 --fps 4 -o "$dir/anim.exr" ||
   fail "render --layers --frames failed"
 for i in 0 1 2 3; do shard "$dir/anim shards" 2 $i --size 32x18 --frames 0-1 --fps 4; done
+mkdir "$dir/merged"  # merge creates no folders, as render
 expect 0 "merged 4 shards into 2 frames" -- "$sdfc" merge "$dir/anim shards" --frames 0-1 --png \
   -o "$dir/merged/anim.exr"
 for f in 0000 0001; do

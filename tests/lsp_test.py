@@ -108,6 +108,12 @@ edits = r["changes"][uri]
 check("rename edits", len(edits) == len(refs) and all(e["newText"] == "granite" for e in edits), r)
 r = c.request("textDocument/rename", {**doc, "position": use, "newName": "sphere"})
 check("rename to a built-in refused", r.get("error", {}).get("code") == -32803, r)
+# A 30,000-character name (std::regex overflowed the stack on it): renamed, no crash.
+r = c.request("textDocument/rename", {**doc, "position": use, "newName": "g" * 30000})
+check("rename to a very long name", "result" in r and r["result"]["changes"][uri][0]["newText"] == "g" * 30000,
+      str(r)[:200])
+r = c.request("textDocument/rename", {**doc, "position": use, "newName": "1" * 30000})
+check("rename to a very long bad name refused", r.get("error", {}).get("code") == -32803, str(r)[:200])
 
 # Parametric definitions and imports, in a real directory with a space in its name.
 tmpdir = tempfile.mkdtemp(prefix="lsp params ")
@@ -145,6 +151,42 @@ r = c.request("textDocument/definition", {**pdoc, "position": pos(ptext, "parts.
 check("definition across files", r and r["uri"].endswith("/parts.sdf") and "%20" in r["uri"] and
       r["range"]["start"] == {"line": 0, "character": 4}, r)
 
+# An import diamond (each file importing the next twice, `as x` and `as y`):
+# the server answered nothing (3.5 GB) at 30 files; each file is bound once now,
+# and a name through the second alias still goes to its definition.
+ddir = tempfile.mkdtemp(prefix="lsp diamond ")
+for i in range(30):
+    with open(os.path.join(ddir, "f%d.sdf" % i), "w") as f:
+        if i < 29:
+            f.write('import "f%d.sdf" as x\nimport "f%d.sdf" as y\nlet r = x.r + 0 * y.r\n'
+                    'let ball = sphere(radius: y.r)\n' % (i + 1, i + 1))
+        else:
+            f.write("let r = 0.5\nlet ball = sphere(radius: r)\n")
+dtext = 'import "f0.sdf" as x\nimport "f0.sdf" as y\nscene { x.ball y.ball }\n'
+duri = "file://" + urllib.parse.quote(os.path.join(ddir, "main.sdf"))
+c.notify("textDocument/didOpen", {"textDocument": {"uri": duri, "languageId": "sdf", "version": 1, "text": dtext}})
+_, d = c.wait_notification("textDocument/publishDiagnostics", lambda m: m["params"]["uri"] == duri)
+check("import diamond has no errors", not [x for x in d["params"]["diagnostics"] if x["severity"] == 1], d)
+r = c.request("textDocument/definition", {"textDocument": {"uri": duri}, "position": pos(dtext, "y.ball", delta=3)})["result"]
+check("definition through the second alias", r and r["uri"].endswith("/f0.sdf") and
+      r["range"]["start"] == {"line": 3, "character": 4}, r)
+
+# A warning inside an imported file: on the import that names the file (the
+# second here), as "file:line:col: message" relative to the document (it was
+# the first import, with the absolute path, and the message said twice).
+with open(os.path.join(ddir, "warm.sdf"), "w") as f:
+    f.write("let blob = union(smooth: 0.2) { sphere(radius: 1) box(size: 1) }\n")
+wtext = 'import "f0.sdf" as x\nimport "warm.sdf" as w\nscene { x.ball w.blob }\n'
+wuri = "file://" + urllib.parse.quote(os.path.join(ddir, "warned.sdf"))
+c.notify("textDocument/didOpen", {"textDocument": {"uri": wuri, "languageId": "sdf", "version": 1, "text": wtext}})
+_, d = c.wait_notification("textDocument/publishDiagnostics", lambda m: m["params"]["uri"] == wuri)
+warns = [x for x in d["params"]["diagnostics"] if x.get("code") == "bound"]
+check("an imported file's warning, once, on its import", len(warns) == 1 and
+      warns[0]["range"]["start"] == pos(wtext, '"warm.sdf"') and
+      warns[0]["message"].startswith("warm.sdf:1:12: smooth 'union' gives a distance bound") and
+      [r["message"] for r in warns[0]["relatedInformation"]] == ["here"] and
+      warns[0]["relatedInformation"][0]["location"]["range"]["start"] == {"line": 0, "character": 11}, warns)
+
 # Profiles and deformations: hover from the catalogue and the analysis, completion.
 xuri = "file:///tmp/lsp_test/profiles.sdf"
 xdoc = {"textDocument": {"uri": xuri}}
@@ -177,6 +219,13 @@ messy = 'scene{instances(positions:file("my points.csv")){sphere(radius:0.1)}}\n
 c.notify("textDocument/didChange", {"textDocument": {"uri": uri, "version": 5}, "contentChanges": [{"text": messy}]})
 r = c.request("textDocument/formatting", {**doc, "options": {"tabSize": 2, "insertSpaces": True}})["result"]
 check("formatting keeps strings", r and 'file("my points.csv")' in r[0]["newText"], r)
+# A document with an import formats (the server died on Format Document: the
+# formatter took the value of the import statement, which has none).
+messy = 'import   "parts.sdf"  as parts\nscene{parts.post(2)}\n'
+c.notify("textDocument/didChange", {"textDocument": {"uri": puri, "version": 2}, "contentChanges": [{"text": messy}]})
+r = c.request("textDocument/formatting", {**pdoc, "options": {"tabSize": 2, "insertSpaces": True}})["result"]
+check("formatting a document with an import", r and r[0]["newText"] ==
+      'import "parts.sdf" as parts\nscene { parts.post(2) }\n', r)
 
 # Malformed and out-of-order messages: protocol errors, never a crash.
 c.send_raw(b"{not json")

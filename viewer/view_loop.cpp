@@ -13,7 +13,6 @@
 #include <memory>
 #include <set>
 #include <optional>
-#include <regex>
 #include <thread>
 
 #include "atomic_file.h"
@@ -257,10 +256,13 @@ void Viewer::open() {
     width_ = uint32_t(checked.scene.render.width);
     height_ = uint32_t(checked.scene.render.height);
   }
-  std::smatch m;
-  if (!cl_.size.empty() && std::regex_match(cl_.size, m, std::regex(R"((\d{1,5})x(\d{1,5}))"))) {
-    width_ = uint32_t(std::stoi(m[1]));
-    height_ = uint32_t(std::stoi(m[2]));
+  const size_t x = cl_.size.find('x');  // WxH, 1 to 5 digits each (no std::regex: it recurses per character)
+  auto whole = [](const std::string& s) {
+    return !s.empty() && s.size() <= 5 && s.find_first_not_of("0123456789") == std::string::npos;
+  };
+  if (x != std::string::npos && whole(cl_.size.substr(0, x)) && whole(cl_.size.substr(x + 1))) {
+    width_ = uint32_t(std::stoi(cl_.size.substr(0, x)));
+    height_ = uint32_t(std::stoi(cl_.size.substr(x + 1)));
   }
   width_ = std::clamp<uint32_t>(width_, 16, 4096);
   height_ = std::clamp<uint32_t>(height_, 16, 4096);

@@ -77,6 +77,10 @@ struct Binding {
   bool imported = false;
   std::string prefix;
   std::string via;
+  // -D NAME=value given for it (NAME as spelt on the command line: "l.q"
+  // for a number of a file imported `as l`).
+  std::optional<double> define;
+  std::string define_name;
 };
 
 // What a parameter's use accepts.
@@ -122,12 +126,21 @@ class Checker {
       if (s.has_params) checkParameters(s, it->second);
     }
     for (const ImportedDefinition& d : imports_.definitions) bindImported(d);
+    for (const ImportAlias& a : imports_.alias_list) checkAliasClashes(a);
+    // -D finds its definition as the scene's names do, imported ones too
+    // (`-D l.q=3` was accepted and ignored for `import "lib.sdf" as l`).
     for (const auto& [name, value] : options_.defines) {
-      auto it = bindings_.find(name);
-      if (it == bindings_.end())
+      Binding* b = findBinding(name);
+      if (!b) {
         diags_->error({}, "-D " + name + ": the scene defines no 'let " + name + "'");
-      else if (it->second.parametric())
+      } else if (b->parametric()) {
         diags_->error({}, "-D " + name + ": '" + name + "' is a parametric definition, not a number");
+      } else if (b->define) {
+        diags_->error({}, "-D " + name + ": '" + b->define_name + "' names the same definition");
+      } else {
+        b->define = value;
+        b->define_name = name;
+      }
     }
     // Pass 2: the settings and the scene, in file order.
     bool have_scene = false;
@@ -159,8 +172,15 @@ class Checker {
     if (!have_scene && !diags_->hasErrors())
       diags_->error({&source_, source_.text.size(), source_.text.size()},
                    "the file has no 'scene { ... }'");
-    // Definitions nobody used are still checked, then reported.
+    // Definitions nobody used are still checked, all of them first (one
+    // checked later may use an earlier one), then reported. Not after the
+    // depth limit stopped a chain: what lies beyond it was never reached, not
+    // unused (a chain 5,000 deep gave 4,799 false warnings).
     for (const std::string& name : order_) {
+      Binding& b = bindings_[name];
+      if (!b.parametric() && !(b.imported && !b.used) && b.state == Binding::State::Unresolved) resolve(name, b);
+    }
+    for (const std::string& name : depth_exceeded_ ? std::vector<std::string>() : order_) {
       Binding& b = bindings_[name];
       if (b.parametric()) {
         // Its body is checked at each call, with the call's arguments.
@@ -175,6 +195,7 @@ class Checker {
         diags_->warning(b.statement->name_range, "unused", "'" + name + "' is never used");
     }
     scene_.imported_sources = imports_.files;
+    firstMaterialFirst();
     for (size_t i = 0; i < scene_.materials.size(); ++i)
       if (!material_used_[i] && !fromImport(scene_.materials[i].range))
         diags_->warning(scene_.materials[i].range, "unused",
@@ -199,6 +220,64 @@ class Checker {
 
   bool fromImport(const SourceRange& r) const { return r.file && r.file != &source_; }
 
+  // A shape with no material anywhere above it renders with material 0 (the
+  // shader's sdMaterial falls through to it, eval and the layers report it),
+  // which docs/language.md calls the first material defined in the file, and
+  // the layers' material ids count in the file's order. Materials are
+  // numbered as they are checked, and a `let` is checked at its first use:
+  // they are renumbered here in the order the file writes them (imported
+  // ones after, as checked; a file's second material, used first, was the
+  // default).
+  void firstMaterialFirst() {
+    const size_t n = scene_.materials.size();
+    std::vector<size_t> order(n);
+    for (size_t i = 0; i < n; ++i) order[i] = i;
+    std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) {
+      const SourceRange &ra = scene_.materials[a].range, &rb = scene_.materials[b].range;
+      const bool ha = ra.file == &source_, hb = rb.file == &source_;
+      if (ha != hb) return ha;
+      return ha && ra.begin < rb.begin;
+    });
+    std::vector<int> renumbered_as(n);
+    bool moved = false;
+    for (size_t i = 0; i < n; ++i) {
+      renumbered_as[order[i]] = int(i);
+      moved = moved || order[i] != i;
+    }
+    auto renumber = [&](int m) { return m < 0 ? m : renumbered_as[size_t(m)]; };
+    if (moved) {
+      std::vector<ir::Material> materials;
+      std::vector<bool> used;
+      for (size_t i : order) {
+        materials.push_back(std::move(scene_.materials[i]));
+        used.push_back(material_used_[i]);
+      }
+      scene_.materials = std::move(materials);
+      material_used_ = std::move(used);
+    }
+    const int first = moved ? 1 : 0;  // (the walk renumbers only when something moved)
+    if (!scene_.root) return;
+    // One visit per (node, material passed down); renumbered once per node.
+    std::set<const ir::Node*> renumbered;
+    std::set<const ir::InstanceSet*> sets;
+    std::set<std::pair<const ir::Node*, int>> seen;
+    bool unassigned = false;
+    std::function<void(ir::Node&, int)> walk = [&](ir::Node& n, int inherited) {
+      if (renumbered.insert(&n).second && first) {
+        n.material = renumber(n.material);
+        if (n.instances && sets.insert(n.instances.get()).second)
+          for (ir::Instance& i : n.instances->instances) i.material = renumber(i.material);
+      }
+      const int m = n.material >= 0 ? n.material : inherited;
+      if (!seen.insert({&n, m}).second) return;
+      if (n.kind == ir::NodeKind::Primitive && m < 0) unassigned = true;
+      for (const ir::NodeRef& c : n.children) walk(*c, m);
+    };
+    walk(*scene_.root, -1);
+    // The default material is used by the shapes that have none.
+    if (unassigned && !material_used_.empty()) material_used_[0] = true;
+  }
+
   // The file whose names are being looked up (with prefix_): the checked
   // file, or the one holding the definition being resolved or expanded.
   const SourceFile* file_ = &source_;
@@ -221,11 +300,33 @@ class Checker {
 
   // The binding `name` (qualified by prefix_) as seen from file_, or null.
   Binding* findBinding(const std::string& name) {
-    auto it = bindings_.find(prefix_ + name);
-    if (it != bindings_.end() && sees(file_, it->second.statement->name_range.file)) return &it->second;
-    it = bindings_.find(hiddenKey(file_, prefix_ + name));
+    auto visible = [&](const std::string& key) {
+      auto it = bindings_.find(key);
+      return it != bindings_.end() && sees(file_, it->second.statement->name_range.file);
+    };
+    const std::string key = resolveImportedKey(imports_.aliases, prefix_ + name, prefix_.size(), visible);
+    if (!key.empty()) return &bindings_[key];
+    auto it = bindings_.find(hiddenKey(file_, prefix_ + name));
     return it != bindings_.end() ? &it->second : nullptr;
   }
+  // The nearest spelling of the qualified `name` ("p.rok": "p.rook") among
+  // the definitions under its namespace, as this body sees them; "" if none.
+  std::string nearestQualified(const std::string& name) {
+    const size_t dot = name.rfind('.');
+    const std::string space = prefix_ + name.substr(0, dot + 1);
+    std::vector<std::string> spaces = {space};
+    if (auto a = imports_.aliases.find(space); a != imports_.aliases.end())
+      spaces.insert(spaces.end(), a->second.begin(), a->second.end());
+    std::vector<std::string> candidates;
+    for (const std::string& s : spaces)
+      for (const std::string& key : order_)
+        if (key.compare(0, s.size(), s) == 0 && key.find('.', s.size()) == std::string::npos &&
+            findBinding(name.substr(0, dot + 1) + key.substr(s.size())))
+          candidates.push_back(key.substr(s.size()));
+    const std::string near = nearestName(name.substr(dot + 1), candidates);
+    return near.empty() ? "" : name.substr(0, dot + 1) + near;
+  }
+
   // Where a definition that lost a clash is bound: its own file still sees it.
   static std::string hiddenKey(const SourceFile* file, const std::string& key) {
     return "#" + (file ? file->path : std::string()) + "#" + key;
@@ -257,6 +358,26 @@ class Checker {
     order_.push_back(it->first);
     if (s.has_params) checkParameters(s, b);
   }
+  // A file bound once and reached again (imports.h) brings its names in
+  // under another prefix too: a clash there is the error binding it twice
+  // under that prefix gave.
+  void checkAliasClashes(const ImportAlias& a) {
+    for (const std::string& key : order_) {
+      if (key.compare(0, a.to.size(), a.to) != 0 || key.find('.', a.to.size()) != std::string::npos) continue;
+      const Binding& b = bindings_[key];
+      const std::string name = a.from + key.substr(a.to.size());
+      auto it = bindings_.find(name);
+      if (!b.imported || it == bindings_.end() || it->second.statement == b.statement) continue;
+      const Binding& old = it->second;
+      Diagnostic& e = diags_->error(a.import->import_path_range,
+                                    "this import brings in '" + name + "', which is already defined");
+      e.notes.push_back({Severity::Note, b.statement->name_range,
+                         "'" + b.statement->name + "' from " + a.via + " is defined here", {}});
+      e.notes.push_back({Severity::Note, old.statement->name_range,
+                         "'" + name + "' " + (old.imported ? "from " + old.via + " " : "") + "is defined here", {}});
+    }
+  }
+
   // The parameters in scope while a parametric body is checked (null at the
   // top level: a body sees its parameters and the file's definitions only).
   const std::unordered_map<std::string, Value>* params_ = nullptr;
@@ -282,10 +403,12 @@ class Checker {
   // first); a chain deeper than this is reported, not recursed into.
   static constexpr int kMaxDefinitionDepth = 200;
   int resolve_depth_ = 0;
+  bool depth_exceeded_ = false;  // reported: the "never used" warnings would be false
 
   const Value& resolve(const std::string& name, Binding& b) {
     if (b.state == Binding::State::Done) return b.value;
     if (resolve_depth_ >= kMaxDefinitionDepth) {
+      depth_exceeded_ = true;
       diags_->error(b.statement->name_range,
                    "definitions refer to each other more than " +
                        std::to_string(kMaxDefinitionDepth) + " levels deep");
@@ -299,7 +422,6 @@ class Checker {
     } guard(resolve_depth_);
     b.state = Binding::State::Resolving;
     const ast::Statement& s = *b.statement;
-    auto define = options_.defines.find(name);
     // A definition sees the file's names, never the parameters of a body
     // that happens to use it first.
     const auto* outer_params = params_;
@@ -312,17 +434,21 @@ class Checker {
     prefix_ = outer_prefix;
     file_ = outer_file;
     params_ = outer_params;
-    if (define != options_.defines.end()) {
+    if (b.define) {
       if (v.type != Value::Type::Number && v.type != Value::Type::Error) {
-        diags_->error(s.name_range, "-D " + name + " gives a number, but '" + name + "' is " +
+        diags_->error(s.name_range, "-D " + b.define_name + " gives a number, but '" + b.define_name + "' is " +
                                        reported(v));
       } else {
         v.type = Value::Type::Number;
-        v.number = ir::constant(define->second);
+        v.number = ir::constant(*b.define);
       }
     }
-    // A named shape becomes a named function in the emitted shader.
-    if (v.type == Value::Type::Shape && v.shape->definition.empty()) v.shape->definition = name;
+    // A named shape becomes a named function in the emitted shader: a GLSL
+    // name, so "l.ball" (first used as an imported name) is "l_ball".
+    if (v.type == Value::Type::Shape && v.shape->definition.empty()) {
+      v.shape->definition = name;
+      std::replace(v.shape->definition.begin(), v.shape->definition.end(), '.', '_');
+    }
     if (v.type == Value::Type::Material && scene_.materials[v.material].name.empty())
       scene_.materials[v.material].name = name;
     b.value = v;
@@ -393,8 +519,8 @@ class Checker {
       case ast::ExprKind::Error: return {};
       case ast::ExprKind::Number: return number(ir::constant(e.number), e.range);
       case ast::ExprKind::String:
-        diags_->error(e.range, "a string may only name a file, as in "
-                              "instances(positions: file(\"points.csv\"))");
+        diags_->error(e.range, "a string is no value here: strings only name files, as in mesh(file: \"part.stl\"), "
+                              "texture(file: ...), sky(map: ...), instances(positions: file(\"points.csv\")) and import");
         return {};
       case ast::ExprKind::Name: return lookupName(e);
       case ast::ExprKind::Vector: {
@@ -437,8 +563,16 @@ class Checker {
       case ast::ExprKind::Binary: return evalBinary(e);
       case ast::ExprKind::Member: {
         // `parts.stone`: a definition imported `as parts`.
-        if (const ast::Expr& o = *e.operands[0]; o.kind == ast::ExprKind::Name && !(params_ && params_->count(o.name)) &&
-                                                 !findBinding(o.name) && findBinding(o.name + "." + e.name)) {
+        const ast::Expr& o = *e.operands[0];
+        const bool alias = o.kind == ast::ExprKind::Name && !(params_ && params_->count(o.name)) && !findBinding(o.name);
+        // `parts.rok`: a misspelt imported name, said as one.
+        if (alias && !findBinding(o.name + "." + e.name)) {
+          if (const std::string near = nearestQualified(o.name + "." + e.name); !near.empty()) {
+            diags_->error(e.range, "unknown name '" + o.name + "." + e.name + "'; did you mean '" + near + "'?");
+            return {};
+          }
+        }
+        if (alias && findBinding(o.name + "." + e.name)) {
           ast::Expr qualified;
           qualified.kind = ast::ExprKind::Name;
           qualified.name = o.name + "." + e.name;
@@ -557,8 +691,10 @@ class Checker {
       return {};
     }
     if (e.name.find('.') != std::string::npos) {
-      diags_->error(e.name_range, "unknown definition '" + e.name + "' (an imported one is 'alias.name', for "
-                                  "import \"file.sdf\" as alias)");
+      const std::string near = nearestQualified(e.name);
+      diags_->error(e.name_range, "unknown definition '" + e.name + "'" +
+                                      (near.empty() ? " (an imported one is 'alias.name', for import \"file.sdf\" as alias)"
+                                                    : "; did you mean '" + near + "'?"));
       return {};
     }
     std::string message = "unknown function '" + e.name + "'";
@@ -714,6 +850,7 @@ class Checker {
       return v;
     }
     if (resolve_depth_ >= kMaxDefinitionDepth) {
+      depth_exceeded_ = true;
       diags_->error(e.range, "definitions call each other more than " + std::to_string(kMaxDefinitionDepth) +
                                  " levels deep");
       return {};
@@ -910,6 +1047,22 @@ class Checker {
       // the error is the name, with a suggestion, not the string.
       bool unknown_name = !a.name.empty() && a.name != "material";
       for (const ArgSpec& spec : specs) unknown_name = unknown_name && a.name != spec.name;
+      // A string for a parameter that takes a value: say what it takes.
+      const ArgSpec* spec = nullptr;
+      if (a.value->kind == ast::ExprKind::String) {
+        if (a.name.empty() && !seen_named && next_positional < specs.size()) spec = &specs[next_positional];
+        for (const ArgSpec& s : specs)
+          if (!a.name.empty() && a.name == s.name) spec = &s;
+      }
+      if (spec && spec->type != ArgType::Any) {
+        diags_->error(a.value->range, "'" + std::string(spec->name) + "' of '" + e.name + "' must be " +
+                                          argTypeText(spec->type) +
+                                          ", not a string (a string names a file, as in mesh(file: \"part.stl\"))");
+        out.ok = false;
+        if (a.name.empty()) ++next_positional;
+        else seen_named = true;
+        continue;
+      }
       Value v = file_param && unknown_name && a.value->kind == ast::ExprKind::String
                     ? number(ir::constant(0), a.value->range)
                     : evalExpr(*a.value);
@@ -974,6 +1127,17 @@ class Checker {
       out.ok = false;
     }
     return out;
+  }
+
+  static std::string argTypeText(ArgType t) {
+    switch (t) {
+      case ArgType::Number: return "a number";
+      case ArgType::Vector3: return "a 3-vector like [x, y, z]";
+      case ArgType::Vector2: return "a 2-vector like [x, y]";
+      case ArgType::Colour: return "a colour like [r, g, b] (or a colour field)";
+      case ArgType::Any: break;
+    }
+    return "a value";
   }
 
   // Converts and validates one argument against its spec.
@@ -2095,6 +2259,16 @@ class Checker {
 
   // ---- statements --------------------------------------------------------
 
+  // Nodes under `n` with shared ones counted at each use, capped just past
+  // kMaxExpandedNodes (the count of a doubling chain overflows otherwise).
+  static size_t expandedSize(const ir::Node& n, std::unordered_map<const ir::Node*, size_t>& sizes) {
+    if (auto it = sizes.find(&n); it != sizes.end()) return it->second;
+    size_t total = 1;
+    for (const ir::NodeRef& c : n.children) total = std::min(total + expandedSize(*c, sizes), kMaxExpandedNodes + 1);
+    sizes[&n] = total;
+    return total;
+  }
+
   void checkScene(const ast::Expr& e) {
     if (!e.arguments.empty()) diags_->error(e.arguments[0].name_range, "'scene' takes no arguments");
     if (!e.has_block) {
@@ -2102,12 +2276,24 @@ class Checker {
       return;
     }
     std::vector<ir::NodeRef> children;
+    size_t expanded = 0;
+    std::unordered_map<const ir::Node*, size_t> sizes;
     for (const ast::ExprPtr& c : e.children) {
       Value v = evalExpr(*c);
       if (v.type == Value::Type::Error) continue;
       if (v.type != Value::Type::Shape) {
         diags_->error(v.range, std::string("the scene holds shapes, not ") + reported(v));
         continue;
+      }
+      // Checked with the definitions' values shared; written out, each use
+      // is a copy. Bounded here, so that a scene that checks renders.
+      expanded += expandedSize(*v.shape, sizes);
+      if (expanded > kMaxExpandedNodes) {
+        diags_->error(v.range, "the scene grows to more than " + std::to_string(kMaxExpandedNodes) +
+                                   " shapes and operations here, with every use of a definition written out "
+                                   "(each use is evaluated at every point); use fewer nested copies, or "
+                                   "'instances' or 'repeat' for many copies");
+        return;
       }
       children.push_back(v.shape);
     }

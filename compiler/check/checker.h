@@ -34,6 +34,10 @@ constexpr double kMaxMorphStretch = 8;
 constexpr int kMaxTimeExpressionSize = 10000;
 // Shape nodes (primitives and operations, shared ones once) in a scene.
 constexpr int kMaxSceneNodes = 4096;
+// Shape nodes with every use of a definition written out: each use is
+// evaluated at every point, and the driver inlines the shader's functions, so
+// a definition that uses the previous one twice, 20 times over, must not check.
+constexpr size_t kMaxExpandedNodes = 16384;
 
 ir::Scene check(const ast::File& file, const SourceFile& source, Diagnostics& diags,
                 const CheckOptions& options = {});

@@ -1,5 +1,6 @@
 #include "check/imports.h"
 
+#include <algorithm>
 #include <filesystem>
 #include <map>
 #include <set>
@@ -45,7 +46,7 @@ class Loader {
   std::vector<Frame> stack_;  // the chain of files being imported, outermost first
   std::map<std::string, std::shared_ptr<SourceFile>> sources_;
   std::map<std::string, const ast::File*> trees_;
-  std::set<std::pair<std::string, std::string>> bound_;  // (file, prefix) already brought in
+  std::map<std::string, std::string> bound_;  // file -> the prefix its definitions are bound under
 
   std::string chain(const std::string& last) const {
     std::string c;
@@ -74,7 +75,19 @@ class Loader {
     if (!tree) return;
     const SourceFile& file = *sources_[id];
     out_.edges[&source].push_back(&file);
-    if (!bound_.insert({id, inner}).second) return;  // the same file into the same names: once
+    // Each file is bound (and its imports followed) once; reached again
+    // under other names, those are an alias for the first.
+    const auto [first, inserted] = bound_.try_emplace(id, inner);
+    if (!inserted) {
+      if (first->second == inner) return;  // the same file into the same names: once
+      std::vector<std::string>& to = out_.aliases[inner];
+      if (std::find(to.begin(), to.end(), first->second) == to.end()) {
+        to.push_back(first->second);
+        out_.alias_list.push_back({inner, first->second, &s,
+                                   "'" + path + "', imported at " + where(s.import_path_range)});
+      }
+      return;
+    }
     const std::string via = "'" + path + "', imported at " + where(s.import_path_range);
     for (const ast::Statement& d : tree->statements)
       if (d.is_let) out_.definitions.push_back({&d, inner, via, &s});
@@ -117,6 +130,35 @@ class Loader {
 };
 
 }  // namespace
+
+std::string resolveImportedKey(const std::map<std::string, std::vector<std::string>>& aliases,
+                               const std::string& key, size_t inside,
+                               const std::function<bool(const std::string&)>& bound) {
+  if (bound(key)) return key;
+  // (key, length of the namespace it is in): after a rewrite to "x.", only
+  // aliases inside "x." apply (an alias of "" is main's, and re-applying it
+  // to "x.foo" would wander through every string of prefixes).
+  std::set<std::pair<std::string, size_t>> tried = {{key, inside}};
+  std::vector<std::pair<std::string, size_t>> stack = {{key, inside}};
+  while (!stack.empty()) {
+    const auto [k, within] = stack.back();
+    stack.pop_back();
+    // Every prefix of k that ends at a '.' ("", "a.", "a.b."), within its namespace, longest first.
+    std::vector<size_t> ends = {within};
+    for (size_t dot = k.find('.', within); dot != std::string::npos; dot = k.find('.', dot + 1)) ends.push_back(dot + 1);
+    for (auto end = ends.rbegin(); end != ends.rend(); ++end) {
+      const auto a = aliases.find(k.substr(0, *end));
+      if (a == aliases.end()) continue;
+      for (const std::string& to : a->second) {
+        std::pair<std::string, size_t> next{to + k.substr(*end), to.size()};
+        if (!tried.insert(next).second) continue;
+        if (bound(next.first)) return next.first;
+        stack.push_back(std::move(next));
+      }
+    }
+  }
+  return "";
+}
 
 ImportSet loadImports(const ast::File& file, const SourceFile& source, Diagnostics& diags) {
   ImportSet out;

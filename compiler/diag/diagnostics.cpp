@@ -235,10 +235,8 @@ std::string Diagnostics::formatJson(int error_limit) const {
   std::ostringstream out;
   out << "[";
   bool first = true;
-  for (const Diagnostic* diagnostic : list) {
-    const Diagnostic& d = *diagnostic;
-    if (!first) out << ",";
-    first = false;
+  // "file", "line", "column", "end_column", "severity" of `d` (or of a note).
+  auto where = [&](const Diagnostic& d) {
     int line = 0, col = 0, end_col = 0;
     std::string path;
     if (d.range.file) {
@@ -251,8 +249,26 @@ std::string Diagnostics::formatJson(int error_limit) const {
     }
     out << "{\"file\":\"" << jsonEscape(path) << "\",\"line\":" << line << ",\"column\":" << col
         << ",\"end_column\":" << end_col << ",\"severity\":\"" << severityName(d.severity) << "\"";
+  };
+  for (const Diagnostic* diagnostic : list) {
+    const Diagnostic& d = *diagnostic;
+    if (!first) out << ",";
+    first = false;
+    where(d);
     if (!d.name.empty()) out << ",\"name\":\"" << jsonEscape(d.name) << "\"";
-    out << ",\"message\":\"" << jsonEscape(d.message) << "\"}";
+    out << ",\"message\":\"" << jsonEscape(d.message) << "\"";
+    // The notes the text form prints under it (an import cycle's chain, where
+    // a definition's mistake arose): they were left out.
+    if (!d.notes.empty()) {
+      out << ",\"notes\":[";
+      for (size_t i = 0; i < d.notes.size(); ++i) {
+        if (i) out << ",";
+        where(d.notes[i]);
+        out << ",\"message\":\"" << jsonEscape(d.notes[i].message) << "\"}";
+      }
+      out << "]";
+    }
+    out << "}";
   }
   out << "]\n";
   return out.str();

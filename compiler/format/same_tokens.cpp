@@ -76,8 +76,25 @@ std::string syntaxShape(const SourceFile& file) {
   if (diags.hasErrors()) return "";
   std::string out;
   for (const ast::Statement& s : tree.statements) {
-    out += s.is_let ? "let " + s.name + "=" : "";
-    shapeOf(*s.value, out);
+    // An import has no value: its path and alias are its whole shape.
+    if (s.is_import) {
+      out += "import " + s.import_path + " as " + s.alias + "\n";
+      continue;
+    }
+    if (s.is_let) {
+      out += "let " + s.name;
+      if (s.has_params) {
+        out += "(";
+        for (const ast::Parameter& p : s.params) {
+          out += p.name + ":";
+          if (p.default_value) shapeOf(*p.default_value, out);
+          out += ",";
+        }
+        out += ")";
+      }
+      out += "=";
+    }
+    if (s.value) shapeOf(*s.value, out);
     out += "\n";
   }
   return out;

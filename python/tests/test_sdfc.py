@@ -137,6 +137,19 @@ def test_eval_bit_equal_to_cli(scene, scene_file, points):
         assert row[4] == (names[m[i]] if m[i] >= 0 else "-")
 
 
+def test_material_of_a_shape_without_one_is_the_first(tmp_path):
+    # As the renderer shades it (it was -1 here while the image used the first).
+    path = tmp_path / "mat.sdf"
+    path.write_text("let red = diffuse(albedo: [1, 0, 0])\nlet blue = diffuse(albedo: [0, 0, 1])\n"
+                    "scene { translate([-5, 0, 0]) { sphere(radius: 1, material: blue) } sphere(radius: 1) translate([5, 0, 0]) { sphere(radius: 1, material: blue) } }\n")
+    s = sdfc.load(str(path))
+    m = s.material(np.array([[0.0, 0, 0], [5, 0, 0]]))
+    assert [s.materials[i] for i in m] == ["red", "blue"]
+    bare = tmp_path / "bare.sdf"
+    bare.write_text("scene { sphere(radius: 1) }\n")
+    assert list(sdfc.load(str(bare)).material(np.zeros((1, 3)))) == [-1]
+
+
 def test_eval_threads_agree(scene, points):
     many = np.repeat(points, 100, axis=0)
     assert np.array_equal(scene.eval(many, threads=1), scene.eval(many, threads=2))
