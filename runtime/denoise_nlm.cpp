@@ -76,7 +76,7 @@ struct Padded {
 };
 
 constexpr int kMaxRadius = 16;  // search windows up to 33 x 33
-constexpr int kBlockRows = 8, kBlockCols = 32;
+constexpr int kBlockRows = 16, kBlockCols = 64;
 
 // What one pass reads and writes (the kernel's input).
 struct PassData {
