@@ -174,6 +174,7 @@ bool crossFilter(const Plane& ua, const Plane& ub, const Plane& ga, const Plane&
                  float k, const NlmParams& params, bool regress, Plane& out_a, Plane& out_b,
                  const std::function<void(double)>& progress) {
   const int w = f.width, h = f.height;
+  if (params.interrupt && params.interrupt->load()) return false;
   const Padded layout = layoutFor(f, params);
   Plane planes[6][3];
   const Plane* sources[6] = {&ga, &gb, &var_a, &var_b, &ua, &ub};
@@ -254,7 +255,9 @@ FloatImage nlmDenoise(const SampleHalves& halves, const FloatImage& normal_depth
   const double n_a = halves.samples_a, n_b = halves.samples_b;
   if (!(n_a > 0 && n_b > 0)) throw std::invalid_argument("nlm: needs samples in both halves");
   const int w = int(halves.a.width), h = int(halves.a.height);
+  auto stopped = [&] { return params.interrupt && params.interrupt->load(); };
   const Features f(normal_depth, albedo_steps);
+  if (stopped()) return {};
   SampleHalves clamped;
   if (params.clamp_fireflies) {
     clamped = halves;
@@ -262,6 +265,7 @@ FloatImage nlmDenoise(const SampleHalves& halves, const FloatImage& normal_depth
   }
   const SampleHalves& input = params.clamp_fireflies ? clamped : halves;
   const Plane a = rgbOf(input.a), b = rgbOf(input.b);
+  if (stopped()) return {};
 
   const FeaturePlanes fp(f, layoutFor(f, params));
   // The share of the work each pass is (a regression pass costs kRegressCost
