@@ -90,8 +90,9 @@ struct PassData {
   const float* albedo[3];
   const float* normal[3];
   const float* depth;
+  const float* depth_dx;
+  const float* depth_dy;
   const float* hit;  // 1 a surface, 0 the sky, -1 outside the image
-  const Features* features;
   float k2, patch_norm, ridge;
   float sigma_normal, sigma_depth, sigma_albedo;
   int radius, patch_radius;
@@ -108,9 +109,10 @@ struct Scratch {
 // Vector arguments of inlined functions only: no ABI to keep.
 #pragma GCC diagnostic ignored "-Wpsabi"
 namespace baseline {
-constexpr int kLanes = 8;
+constexpr int kLanes = 4;  // SSE2's (NEON's) 128 bits
 #include "denoise_nlm_kernel.inc"
 }  // namespace baseline
+#if defined(__x86_64__)
 #pragma GCC push_options
 #pragma GCC target("avx2,fma")
 namespace avx2 {
@@ -125,15 +127,20 @@ constexpr int kLanes = 16;
 #include "denoise_nlm_kernel.inc"
 }  // namespace avx512
 #pragma GCC pop_options
+#endif
 constexpr int kMostLanes = 16;
 
 // Which kernel runs: 2 AVX-512, 1 AVX2 with FMA, 0 the baseline; the CPU's
 // best, or less where SDFC_SIMD (baseline, avx2) asks (the tests run each).
 int simdLevel() {
+#if defined(__x86_64__)
   const bool avx2 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
   const bool avx512 = avx2 && __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") &&
                       __builtin_cpu_supports("avx512dq");
   int level = avx512 ? 2 : avx2 ? 1 : 0;
+#else
+  int level = 0;
+#endif
   if (const char* asked = std::getenv("SDFC_SIMD")) {
     const std::string a = asked;
     if (a == "baseline") level = 0;
@@ -144,13 +151,15 @@ int simdLevel() {
 
 // The pass's features, padded: the same for every pass of a denoise.
 struct FeaturePlanes {
-  Plane albedo[3], normal[3], depth, hit;
+  Plane albedo[3], normal[3], depth, depth_dx, depth_dy, hit;
   FeaturePlanes(const Features& f, const Padded& layout) {
     for (int c = 0; c < 3; ++c) {
       albedo[c] = layout.plane(f.albedo.data(), 3, c);
       normal[c] = layout.plane(f.normal.data(), 3, c);
     }
     depth = layout.plane(f.depth.data(), 1, 0);
+    depth_dx = layout.plane(f.depth_dx.data(), 1, 0);
+    depth_dy = layout.plane(f.depth_dy.data(), 1, 0);
     hit.assign(layout.size(), -1.0f);
     for (int y = 0; y < f.height; ++y)
       for (int x = 0; x < f.width; ++x) hit[layout.at(x, y)] = f.hit[size_t(y) * f.width + x] ? 1.0f : 0.0f;
@@ -194,8 +203,9 @@ bool crossFilter(const Plane& ua, const Plane& ub, const Plane& ga, const Plane&
     d.normal[c] = fp.normal[c].data();
   }
   d.depth = fp.depth.data();
+  d.depth_dx = fp.depth_dx.data();
+  d.depth_dy = fp.depth_dy.data();
   d.hit = fp.hit.data();
-  d.features = &f;
   d.k2 = k * k;
   d.radius = params.radius;
   d.patch_radius = std::max(params.patch_radius, 0);
@@ -224,11 +234,13 @@ bool crossFilter(const Plane& ua, const Plane& ub, const Plane& ga, const Plane&
     const int x0 = (b % blocks_x) * kBlockCols, y0 = (b / blocks_x) * kBlockRows;
     const int rows = std::min(kBlockRows, h - y0);
     const int cols = std::min(kBlockCols, w - x0);
+#if defined(__x86_64__)
     if (simd >= 2)
       avx512::filterBlock(d, x0, y0, rows, cols, scratch);
     else if (simd == 1)
       avx2::filterBlock(d, x0, y0, rows, cols, scratch);
     else
+#endif
       baseline::filterBlock(d, x0, y0, rows, cols, scratch);
     const int finished = ++done;
     if (progress && finished % std::max(1, blocks / 32) == 0) {

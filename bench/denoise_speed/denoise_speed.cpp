@@ -1,11 +1,12 @@
 // sdfc_denoise_speed: the denoisers' own time on one fixed input, the runtime's
 // nlr against nlr as it was at ab4eac1 (legacy_nlm.cpp), in the same process.
 //
-//   sdfc_denoise_speed SCENE.sdf [--size WxH] [--spp N] [--seed S] [--reps N] [--out DIR]
+//   sdfc_denoise_speed SCENE.sdf [--size WxH] [--spp N] [--seed S] [--reps N] [--out DIR] [--nlm]
 //
+// --nlm: nlm (NlmParams' defaults: feature weights, no fit) in place of nlr, old and new.
 // Renders the scene's two halves as `sdfc render` does for nlr (jittered and
 // specular features), then times, interleaved rep by rep: legacy nlr, nlr,
-// svgf. Wall and process CPU milliseconds. Writes DIR/raw.pfm (the samples'
+// svgf (JSON keys legacy, nlr, svgf: with --nlm, nlm's in the first two). Wall and process CPU milliseconds. Writes DIR/raw.pfm (the samples'
 // mean), DIR/legacy.pfm, DIR/nlr.pfm, DIR/svgf.pfm and prints one JSON object
 // with the timings and the largest difference between the two nlr images
 // (bench/denoise_speed.py reads it and measures the images' error).
@@ -62,6 +63,7 @@ int usage() {
 int main(int argc, char** argv) {
   using namespace sdfc;
   std::string scene_path, out_dir = ".";
+  bool nlm = false;
   int reps = 5, spp = 16, seed = 7;
   std::pair<int, int> size = {640, 360};
   for (int i = 1; i < argc; ++i) {
@@ -75,6 +77,7 @@ int main(int argc, char** argv) {
     else if (a == "--seed" && has_value) seed = std::atoi(argv[++i]);
     else if (a == "--reps" && has_value) reps = std::max(1, std::atoi(argv[++i]));
     else if (a == "--out" && has_value) out_dir = argv[++i];
+    else if (a == "--nlm") nlm = true;
     else if (a[0] != '-' && scene_path.empty()) scene_path = a;
     else return usage();
   }
@@ -116,9 +119,10 @@ int main(int argc, char** argv) {
       wall.push_back(std::chrono::duration<double, std::milli>(Clock::now() - start).count());
       cpu.push_back(cpuMs() - cpu_start);
     };
-    time([&] { return legacy::nlmDenoise(halves, out.normal_depth, out.albedo_steps, nlrParams()); },
+    const NlmParams params = nlm ? NlmParams() : nlrParams();
+    time([&] { return legacy::nlmDenoise(halves, out.normal_depth, out.albedo_steps, params); },
          legacy_ms, legacy_cpu, legacy_image);
-    time([&] { return nlmDenoise(halves, out.normal_depth, out.albedo_steps, nlrParams()); }, nlr_ms,
+    time([&] { return nlmDenoise(halves, out.normal_depth, out.albedo_steps, params); }, nlr_ms,
          nlr_cpu, nlr_image);
     time([&] { return denoise(Denoiser::Svgf, out.color, out.normal_depth, out.albedo_steps, &halves); },
          svgf_ms, svgf_cpu, svgf_image);
@@ -136,13 +140,13 @@ int main(int argc, char** argv) {
   writeImage(out_dir + "/legacy.pfm", legacy_image);
   writeImage(out_dir + "/nlr.pfm", nlr_image);
   writeImage(out_dir + "/svgf.pfm", svgf_image);
-  std::printf("{\"scene\": \"%s\", \"size\": \"%dx%d\", \"spp\": %u, \"threads\": %u, "
+  std::printf("{\"filter\": \"%s\", \"scene\": \"%s\", \"size\": \"%dx%d\", \"spp\": %u, \"threads\": %u, "
               "\"legacy_ms\": %s, \"nlr_ms\": %s, \"svgf_ms\": %s, "
               "\"legacy_cpu_ms\": %s, \"nlr_cpu_ms\": %s, \"svgf_cpu_ms\": %s, "
               "\"median_legacy_ms\": %.1f, \"median_nlr_ms\": %.1f, \"median_svgf_ms\": %.1f, "
               "\"median_legacy_cpu_ms\": %.1f, \"median_nlr_cpu_ms\": %.1f, \"median_svgf_cpu_ms\": %.1f, "
               "\"max_abs_diff\": %.3g, \"max_rel_diff\": %.3g, \"mean_abs_diff\": %.3g}\n",
-              scene_path.c_str(), size.first, size.second, out.samples_done,
+              nlm ? "nlm" : "nlr", scene_path.c_str(), size.first, size.second, out.samples_done,
               std::thread::hardware_concurrency(), list(legacy_ms).c_str(), list(nlr_ms).c_str(),
               list(svgf_ms).c_str(), list(legacy_cpu).c_str(), list(nlr_cpu).c_str(), list(svgf_cpu).c_str(),
               median(legacy_ms), median(nlr_ms), median(svgf_ms), median(legacy_cpu), median(nlr_cpu),
