@@ -69,9 +69,18 @@ struct Padded {
   // Channel c of an interleaved image of `channels` values a pixel; `fill` outside.
   Plane plane(const float* in, int channels, int c, float fill = 0.0f) const {
     Plane out(size(), fill);
-    for (int y = 0; y < h; ++y)
+    forEachRow(h, [&](int y) {
       for (int x = 0; x < w; ++x) out[at(x, y)] = in[(size_t(y) * w + x) * channels + c];
+    });
     return out;
+  }
+  // The three channels of an rgb image (0 outside), in one pass over it.
+  void planes(const float* rgb, Plane* out) const {
+    for (int c = 0; c < 3; ++c) out[c].assign(size(), 0.0f);
+    forEachRow(h, [&](int y) {
+      for (int x = 0; x < w; ++x)
+        for (int c = 0; c < 3; ++c) out[c][at(x, y)] = rgb[(size_t(y) * w + x) * 3 + c];
+    });
   }
 };
 
@@ -153,16 +162,15 @@ int simdLevel() {
 struct FeaturePlanes {
   Plane albedo[3], normal[3], depth, depth_dx, depth_dy, hit;
   FeaturePlanes(const Features& f, const Padded& layout) {
-    for (int c = 0; c < 3; ++c) {
-      albedo[c] = layout.plane(f.albedo.data(), 3, c);
-      normal[c] = layout.plane(f.normal.data(), 3, c);
-    }
+    layout.planes(f.albedo.data(), albedo);
+    layout.planes(f.normal.data(), normal);
     depth = layout.plane(f.depth.data(), 1, 0);
     depth_dx = layout.plane(f.depth_dx.data(), 1, 0);
     depth_dy = layout.plane(f.depth_dy.data(), 1, 0);
     hit.assign(layout.size(), -1.0f);
-    for (int y = 0; y < f.height; ++y)
+    forEachRow(f.height, [&](int y) {
       for (int x = 0; x < f.width; ++x) hit[layout.at(x, y)] = f.hit[size_t(y) * f.width + x] ? 1.0f : 0.0f;
+    });
   }
 };
 
@@ -187,8 +195,7 @@ bool crossFilter(const Plane& ua, const Plane& ub, const Plane& ga, const Plane&
   const Padded layout = layoutFor(f, params);
   Plane planes[6][3];
   const Plane* sources[6] = {&ga, &gb, &var_a, &var_b, &ua, &ub};
-  for (int s = 0; s < 6; ++s)
-    for (int c = 0; c < 3; ++c) planes[s][c] = layout.plane(sources[s]->data(), 3, c);
+  for (int s = 0; s < 6; ++s) layout.planes(sources[s]->data(), planes[s]);
   out_a.assign(ua.size(), 0.0f);
   out_b.assign(ub.size(), 0.0f);
   PassData d{layout};
