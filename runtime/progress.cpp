@@ -138,8 +138,12 @@ void JobProgress::startStage(const char* stage) {
 void JobProgress::stageProgress(double share) {
   if (sampling_seconds_ < 0) return;
   const double spent = secondsSince(start_) - stage_start_;
-  // The prediction until the stage's own rate is worth more (a sixth done).
-  const double whole = share > 1.0 / 6 ? spent / share : std::max(predicted_, spent);
+  // The prediction, then more and more the stage's own rate (alone from a sixth done).
+  double whole = std::max(predicted_, spent);
+  if (share > 0.0) {
+    const double trust = std::min(1.0, 6.0 * share);
+    whole = std::max(spent, (1.0 - trust) * whole + trust * spent / share);
+  }
   ProgressInfo info;
   info.samples_done = done_;
   info.passes_done = passes_;
