@@ -177,7 +177,12 @@ FloatImage denoise(Denoiser denoiser, const FloatImage& color, const FloatImage&
     throw std::invalid_argument(std::string("denoise: ") + denoiserName(denoiser) +
                                 " needs two half-sample renders");
   switch (denoiser) {
-    case Denoiser::Svgf: return svgfDenoise(*halves, normal_depth, albedo_steps);
+    case Denoiser::Svgf: {
+      SvgfParams params;
+      params.interrupt = control.interrupt;
+      params.progress = control.progress;
+      return svgfDenoise(*halves, normal_depth, albedo_steps, params);
+    }
     case Denoiser::Nlm:
     case Denoiser::Nlr: {
       NlmParams params = denoiser == Denoiser::Nlr ? nlrParams() : NlmParams();

@@ -67,7 +67,8 @@ bool wantsJitteredAovs(Denoiser denoiser);
 bool wantsSpecularAovs(Denoiser denoiser);
 
 // What a caller may do to a running denoise: stop it (nlm, nlr: between blocks
-// of pixels; then denoise returns an empty image) and hear how far it is.
+// of pixels, svgf between rows; then denoise returns an empty image) and hear
+// how far it is (nlm, nlr, svgf).
 struct DenoiseControl {
   const std::atomic<bool>* interrupt = nullptr;
   std::function<void(double)> progress;  // NlmParams::progress
