@@ -104,24 +104,46 @@ RenderedImage renderImage(Renderer& renderer, const CompiledScene& compiled, Ren
     throw RuntimeError("internal error: a denoised image from a kernel emitted without features");
   const CameraDesc camera = cameraFor(compiled.scene);
   RenderOutput& out = result.out;
+  // Without two halves (1 spp, or interrupted early) svgf and nlm leave the image as it is.
+  auto denoises = [&] {
+    return beauty && denoiser && *denoiser != Denoiser::None && (!with_halves || halves.samples_b > 0);
+  };
+  // One bar over the samples and the denoise (docs/denoise.md has its cost).
+  const bool may_denoise = beauty && denoiser && *denoiser != Denoiser::None &&
+                           (!needsVariance(*denoiser) || settings.spp >= 2);
+  JobProgress job(progress, beauty ? std::max<uint32_t>(settings.spp, 1) : 1,
+                  may_denoise ? predictedDenoiseSeconds(*denoiser, size_t(settings.width) * settings.height,
+                                                        options.denoise_select.size())
+                              : 0.0);
+  const ProgressCallback samples = progress ? job.samples() : ProgressCallback{};
   if (custom) {
-    out = options.draw(renderer, camera, settings, &halves);
+    out = options.draw(renderer, camera, settings, &halves, samples);
   } else {
-    out = with_halves ? renderHalves(renderer, camera, settings, &halves, progress, interrupt)
-                      : renderer.render(camera, settings, progress, interrupt);
+    out = with_halves ? renderHalves(renderer, camera, settings, &halves, samples, interrupt)
+                      : renderer.render(camera, settings, samples, interrupt);
   }
   if (settings.jittered_aovs) resolveJitteredAovs(out, &halves);
-  // Without two halves (1 spp, or interrupted early) svgf and nlm leave the image as it is.
-  if (beauty && denoiser && *denoiser != Denoiser::None && (!with_halves || halves.samples_b > 0)) {
+  // An interrupted render is written as it is, at once (the raw mean of its samples).
+  if (denoises() && !out.interrupted) {
     const auto start = std::chrono::steady_clock::now();
     // Process CPU time: the device is idle meanwhile, so this is the filter's own.
     const std::clock_t cpu_start = std::clock();
-    result.denoised =
-        denoise(*denoiser, out.color, out.normal_depth, out.albedo_steps, &halves, options.denoise_select);
-    result.denoiser = *denoiser;
+    job.startStage("denoising");
+    DenoiseControl control;
+    control.interrupt = interrupt;
+    if (progress) control.progress = [&job](double share) { job.stageProgress(share); };
+    result.denoised = denoise(*denoiser, out.color, out.normal_depth, out.albedo_steps, &halves,
+                              options.denoise_select, control);
+    if (result.denoised.empty()) {  // stopped by the interrupt
+      out.interrupted = true;
+      result.denoise_interrupted = true;
+    } else {
+      result.denoiser = *denoiser;
+    }
     result.denoise_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     result.denoise_cpu_seconds = double(std::clock() - cpu_start) / CLOCKS_PER_SEC;
   }
+  job.finish(out.samples_done, out.passes, out.interrupted);
   result.settings = settings;
   return result;
 }

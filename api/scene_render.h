@@ -48,8 +48,10 @@ struct ImageOptions {
   std::string denoise_aovs = "auto";  // auto | jittered | specular | centre
   std::vector<float> denoise_select;  // nlm/nlr per-pixel strengths; empty: off
   // Draws the samples instead of renderHalves (adaptive sampling, cli/); called
-  // with halves that it fills.
-  std::function<RenderOutput(Renderer&, const CameraDesc&, const RenderSettings&, SampleHalves*)> draw;
+  // with halves that it fills, and the progress callback to report the samples to.
+  std::function<RenderOutput(Renderer&, const CameraDesc&, const RenderSettings&, SampleHalves*,
+                             const ProgressCallback&)>
+      draw;
   // --layers: the caller writes the primary ray's normal, depth and albedo.
   bool layers = false;
 };
@@ -67,6 +69,7 @@ struct RenderedImage {
   FloatImage denoised;     // empty when not denoised
   RenderSettings settings;
   Denoiser denoiser = Denoiser::None;  // what was applied
+  bool denoise_interrupted = false;    // the interrupt stopped the denoiser (out.interrupted too)
   double denoise_seconds = 0, denoise_cpu_seconds = 0;
   const FloatImage& image() const { return denoised.empty() ? out.color : denoised; }
 };
@@ -74,7 +77,9 @@ struct RenderedImage {
 // One still, exactly as `sdfc render` makes it: two halves when the denoiser
 // needs a noise estimate, jittered features where it wants them, denoised.
 // `settings` from renderSettingsFor. Throws RuntimeError on device errors;
-// an interrupt stops after the current pass (out.interrupted).
+// an interrupt stops after the current pass (out.interrupted; no denoise then)
+// or stops the denoiser (denoise_interrupted). `progress` gets one bar over the
+// samples and the denoise (JobProgress) and one finished call.
 RenderedImage renderImage(Renderer& renderer, const CompiledScene& compiled, RenderSettings settings,
                           const ImageOptions& options, const ProgressCallback& progress = {},
                           const std::atomic<bool>* interrupt = nullptr);

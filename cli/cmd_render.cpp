@@ -270,6 +270,10 @@ int runRender(const CommandLine& cl) {
   feature_probe.layers = cl.layers;
   const bool features = cl.adaptive || imageReadsFeatures(o.view, o.spp ? uint32_t(*o.spp) : UINT32_MAX,
                                                           feature_probe);
+  // Ctrl-C: until a frame has samples, the process ends at once (exit 130,
+  // nothing written); then the render stops after its pass, the denoiser
+  // between blocks of pixels, and what was sampled is written.
+  const std::atomic<bool>* interrupt = installInterruptHandler(true);
   std::future<void> device = std::async(std::launch::async, [&] {
     const auto start = std::chrono::steady_clock::now();
     scoped_context.emplace(context_options);
@@ -312,7 +316,6 @@ int runRender(const CommandLine& cl) {
   timings.add("pipeline creation", secondsSince(renderer_start),
               "(vkCreateGraphicsPipelines " + std::to_string(std::lround(renderer.pipelineSeconds() * 1000)) +
                   " ms; the vertex shader, scene buffer)");
-  const std::atomic<bool>* interrupt = installInterruptHandler();
   ToneMap tone;
   tone.exposure_stops = static_cast<float>(cl.exposure);
   tone.curve = cl.aces ? ToneCurve::AcesFit : *toneCurveFromName(cl.tonemap);
@@ -337,7 +340,12 @@ int runRender(const CommandLine& cl) {
   for (size_t f = 0; f < times.size(); ++f) {
     o.time = times[f];
     RenderSettings settings = renderSettingsFor(compiled, o);
-    const ProgressCallback progress = quiet ? ProgressCallback{} : makeTerminalProgress("render");
+    noteNothingToSave();  // this frame's image has no samples yet
+    const ProgressCallback terminal = quiet ? ProgressCallback{} : makeTerminalProgress("render");
+    const ProgressCallback progress = [terminal](const ProgressInfo& info) {
+      if (info.samples_done > 0) noteSamplesTaken();  // worth writing from now on
+      if (terminal) terminal(info);
+    };
     const bool adaptive = cl.adaptive && o.view == gpu::kViewBeauty;
     ImageOptions image_options;
     image_options.denoiser = denoiser;
@@ -367,13 +375,17 @@ int runRender(const CommandLine& cl) {
         cost_seconds = secondsSince(cost_start);
       }
       image_options.draw = [&](Renderer& r, const CameraDesc& camera, const RenderSettings& s,
-                               SampleHalves* halves) {
-        return renderAdaptive(r, camera, s, params, halves, &adaptive_stats, progress, interrupt);
+                               SampleHalves* halves, const ProgressCallback& samples) {
+        return renderAdaptive(r, camera, s, params, halves, &adaptive_stats, samples, interrupt);
       };
     }
     RenderedImage rendered = renderImage(renderer, compiled, settings, image_options, progress, interrupt);
     settings = rendered.settings;
     RenderOutput& out = rendered.out;
+    if (out.interrupted && out.samples_done == 0) {  // an image of no samples replaces no file
+      std::cerr << "sdfc: interrupted before any sample; nothing written\n";
+      return kExitInterrupted;
+    }
     const FloatImage& denoised = rendered.denoised;
     if (adaptive) {
       // bench/adaptive_study.py reads this line.
@@ -467,7 +479,9 @@ int runRender(const CommandLine& cl) {
                 << (out.seconds > 0 ? out.samples_done / out.seconds : 0) << " spp/s)" << treated << "\n";
     }
     if (out.interrupted) {
-      std::cerr << "sdfc: interrupted; wrote the " << out.samples_done << " samples accumulated so far\n";
+      std::cerr << "sdfc: interrupted; wrote the " << out.samples_done << " samples accumulated so far"
+                << (rendered.denoise_interrupted ? " (in the denoise: their raw mean, undenoised)" : "")
+                << "\n";
       return kExitInterrupted;
     }
   }

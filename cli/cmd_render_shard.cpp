@@ -73,12 +73,15 @@ int runRenderShard(const CommandLine& cl, const RenderOverrides& o) {
     };
   farm::ShardImage shard;
   shard.header = header;
-  const RenderOutput out = renderShard(renderer, compiled, job, shard, progress, installInterruptHandler());
+  // An interrupted shard is never written: a Ctrl-C ends the process at once,
+  // also inside the driver's kernel compile, until the write starts.
+  const RenderOutput out = renderShard(renderer, compiled, job, shard, progress, installInterruptHandler(true));
   if (fault) std::raise(SIGKILL);  // a one-pass shard: killed before its file is written
   if (out.interrupted) {
     std::cerr << "sdfc: interrupted; shard " << cl.shard_index << " not written\n";
     return kExitInterrupted;
   }
+  noteSamplesTaken();  // the write is not cut short: a signal now only sets the flag
   const auto write_start = std::chrono::steady_clock::now();
   farm::writeShard(path, shard);
   const double write_seconds =

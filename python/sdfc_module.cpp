@@ -204,11 +204,12 @@ class PyScene {
       bool finished = false;
     } relay;
     std::atomic<bool> interrupt{false};
-    uint32_t reported = 0, total = 0;  // worker only
+    uint32_t total = 0;  // worker only
     const ProgressCallback report = [&](const ProgressInfo& info) {
-      // Samples over the whole image: the denoiser's two halves report one by one.
-      const uint32_t done = reported + info.samples_done;
-      if (info.finished) reported = done;
+      // Samples over the whole image (renderImage counts the halves together):
+      // after each pass and at the end, not during the denoise.
+      if (info.stage && !info.finished) return;
+      const uint32_t done = info.samples_done;
       std::lock_guard<std::mutex> lock(relay.m);
       relay.passes.emplace_back(std::min(done, total), total);
       relay.changed.notify_one();

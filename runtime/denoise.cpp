@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <thread>
 
 namespace sdfc {
 namespace {
@@ -144,6 +145,24 @@ FloatImage atrousFilter(const FloatImage& color, const FloatImage& normal_depth,
   return current;
 }
 
+double predictedDenoiseSeconds(Denoiser denoiser, size_t pixels, size_t select_strengths) {
+  // CPU seconds per million pixels (docs/denoise.md, 640x360 on this project's
+  // 2-core machine; the passes' share for --denoise-select).
+  double per_megapixel = 0;
+  switch (denoiser) {
+    case Denoiser::None: return 0;
+    case Denoiser::Bilateral: per_megapixel = 0.4; break;
+    case Denoiser::ATrous: per_megapixel = 1.0; break;
+    case Denoiser::Svgf: per_megapixel = 2.8; break;
+    case Denoiser::Nlm: per_megapixel = 1.2; break;
+    case Denoiser::Nlr: per_megapixel = 1.7; break;
+  }
+  if (select_strengths > 1 && (denoiser == Denoiser::Nlm || denoiser == Denoiser::Nlr))
+    per_megapixel *= (1.0 + 2.5 * double(select_strengths)) / 3.5;
+  const int threads = std::clamp<int>(int(std::thread::hardware_concurrency()), 1, 8);
+  return per_megapixel * double(pixels) * 1e-6 / threads;
+}
+
 bool needsVariance(Denoiser denoiser) {
   return denoiser == Denoiser::Svgf || denoiser == Denoiser::Nlm || denoiser == Denoiser::Nlr;
 }
@@ -153,16 +172,23 @@ bool wantsSpecularAovs(Denoiser denoiser) { return denoiser == Denoiser::Nlr; }
 
 FloatImage denoise(Denoiser denoiser, const FloatImage& color, const FloatImage& normal_depth,
                    const FloatImage& albedo_steps, const SampleHalves* halves,
-                   const std::vector<float>& select_strengths) {
+                   const std::vector<float>& select_strengths, const DenoiseControl& control) {
   if (needsVariance(denoiser) && (!halves || halves->samples_a == 0 || halves->samples_b == 0))
     throw std::invalid_argument(std::string("denoise: ") + denoiserName(denoiser) +
                                 " needs two half-sample renders");
   switch (denoiser) {
-    case Denoiser::Svgf: return svgfDenoise(*halves, normal_depth, albedo_steps);
+    case Denoiser::Svgf: {
+      SvgfParams params;
+      params.interrupt = control.interrupt;
+      params.progress = control.progress;
+      return svgfDenoise(*halves, normal_depth, albedo_steps, params);
+    }
     case Denoiser::Nlm:
     case Denoiser::Nlr: {
       NlmParams params = denoiser == Denoiser::Nlr ? nlrParams() : NlmParams();
       params.select_k = select_strengths;
+      params.interrupt = control.interrupt;
+      params.progress = control.progress;
       return nlmDenoise(*halves, normal_depth, albedo_steps, params);
     }
     case Denoiser::Bilateral: return bilateralFilter(color);

@@ -14,6 +14,8 @@
 //    the jittered samples (nlrParams in denoise_nlm.h). The best of these at equal
 //    samples (docs/denoise.md).
 #pragma once
+#include <atomic>
+#include <functional>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -64,12 +66,27 @@ bool wantsJitteredAovs(Denoiser denoiser);
 // (RenderSettings::specular_aovs; docs/denoise.md: nlr, glass Menger -7 to -27%).
 bool wantsSpecularAovs(Denoiser denoiser);
 
+// What a caller may do to a running denoise: stop it (nlm, nlr: between blocks
+// of pixels, svgf between rows; then denoise returns an empty image) and hear
+// how far it is (nlm, nlr, svgf).
+struct DenoiseControl {
+  const std::atomic<bool>* interrupt = nullptr;
+  std::function<void(double)> progress;  // NlmParams::progress
+};
+
+// The wall seconds `denoiser` is expected to take on `pixels` on this machine's
+// cores (hardware_concurrency, at most 8), from the CPU cost measured in
+// docs/denoise.md; `select_strengths` candidates (--denoise-select) for nlm/nlr.
+// For the progress bar's ETA before the filter reports its own progress.
+double predictedDenoiseSeconds(Denoiser denoiser, size_t pixels, size_t select_strengths = 0);
+
 // Dispatch with default parameters; None returns `color` unchanged. Svgf, Nlm and Nlr
 // need `halves` (with samples in both) and throw std::invalid_argument without them.
 // `select_strengths` (nlm, nlr; `--denoise-select`): the last pass's colour
 // strengths chosen among per pixel (NlmParams::select_k); empty: off.
 FloatImage denoise(Denoiser denoiser, const FloatImage& color, const FloatImage& normal_depth,
                    const FloatImage& albedo_steps, const SampleHalves* halves = nullptr,
-                   const std::vector<float>& select_strengths = {});
+                   const std::vector<float>& select_strengths = {},
+                   const DenoiseControl& control = {});
 
 }  // namespace sdfc

@@ -19,6 +19,8 @@
 // is the identity.
 #pragma once
 #include "denoise_svgf.h"  // SampleHalves
+#include <atomic>
+#include <functional>
 #include <vector>
 
 #include "denoise_fireflies.h"
@@ -50,6 +52,12 @@ struct NlmParams {
   // caustic's fireflies become window-sized squares.
   bool clamp_fireflies = true;
   FireflyParams fireflies;
+  // Set (Ctrl-C): the filter stops between blocks of pixels, within
+  // milliseconds, and nlmDenoise returns an empty image.
+  const std::atomic<bool>* interrupt = nullptr;
+  // Called now and then with the share of the filter done (0..1], from the
+  // filter's threads, one call at a time.
+  std::function<void(double)> progress;
 };
 
 // `--denoise nlr`: NL-means-weighted first-order regression on features averaged
@@ -68,7 +76,8 @@ inline NlmParams nlrParams() {
 // The denoised sample-weighted mean of the halves. `normal_depth`, `albedo_steps`:
 // the renderer's attachments 1 and 2. Throws std::invalid_argument on size mismatch.
 // `filtered` (if not null) gets each half filtered on its own (adaptive sampling's
-// cross-half error estimate, adaptive.h).
+// cross-half error estimate, adaptive.h). Empty (and `filtered` untouched) when
+// params.interrupt was set before the end.
 FloatImage nlmDenoise(const SampleHalves& halves, const FloatImage& normal_depth,
                       const FloatImage& albedo_steps, const NlmParams& params = {},
                       SampleHalves* filtered = nullptr);

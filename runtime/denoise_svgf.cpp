@@ -77,11 +77,13 @@ FloatImage svgfFilter(const FloatImage& color, const FloatImage& variance,
     return kLuminance[0] * c[0] + kLuminance[1] * c[1] + kLuminance[2] * c[2];
   };
 
+  auto stopped = [&] { return params.interrupt && params.interrupt->load(std::memory_order_relaxed); };
   // Two halves give one degree of freedom per pixel: average the variance over
   // a window of the same surface (no luminance term) before it steers anything.
   {
     const int r = std::max(params.variance_radius, 0);
     forEachRow(h, [&](int y) {
+      if (stopped()) return;
       for (int x = 0; x < w; ++x) {
         const size_t p = size_t(y) * w + x;
         if (!f.hit[p]) continue;
@@ -99,6 +101,7 @@ FloatImage svgfFilter(const FloatImage& color, const FloatImage& variance,
         var_next[p] = float(sum / weight_sum);
       }
     });
+    if (stopped()) return {};
     for (size_t p = 0; p < n; ++p)
       if (f.hit[p]) var[p] = var_next[p];
   }
@@ -106,6 +109,7 @@ FloatImage svgfFilter(const FloatImage& color, const FloatImage& variance,
   for (int iteration = 0; iteration < params.iterations; ++iteration) {
     const int step = 1 << iteration;
     forEachRow(h, [&](int y) {
+      if (stopped()) return;
       for (int x = 0; x < w; ++x) {
         const size_t p = size_t(y) * w + x;
         const float* cp = &current[p * 3];
@@ -151,8 +155,10 @@ FloatImage svgfFilter(const FloatImage& color, const FloatImage& variance,
         var_next[p] = float(var_sum / (weight_sum * weight_sum));  // centre tap always counts
       }
     });
+    if (stopped()) return {};
     std::swap(current, next);
     std::swap(var, var_next);
+    if (params.progress) params.progress(double(iteration + 1) / params.iterations);
   }
 
   FloatImage out = color;

@@ -10,7 +10,9 @@
 // estimate shrinks with the sample count, so the filter's strength does too: at
 // convergence only pixels of equal value are mixed, and the filter has no bias.
 #pragma once
+#include <atomic>
 #include <cstdint>
+#include <functional>
 
 #include "float_image.h"
 
@@ -23,6 +25,9 @@ struct SvgfParams {
   float sigma_depth = 1.0f;       // on |z_p - z_q| / |grad z . offset|
   float sigma_albedo = 0.05f;     // on (a_p - a_q) / (a_p + a_q) per channel
   int variance_radius = 3;        // feature-weighted prefilter of the two-half variance
+  // Set (Ctrl-C): the filter stops between rows, and svgfFilter returns an empty image.
+  const std::atomic<bool>* interrupt = nullptr;
+  std::function<void(double)> progress;  // the share done, after each iteration
 };
 
 // Per-channel variance of the sample-weighted mean of two independent renders
@@ -35,7 +40,7 @@ FloatImage varianceFromHalves(const FloatImage& half_a, uint32_t samples_a,
 // halves; `normal_depth`, `albedo_steps`: the renderer's attachments 1 and 2.
 FloatImage svgfFilter(const FloatImage& color, const FloatImage& variance,
                       const FloatImage& normal_depth, const FloatImage& albedo_steps,
-                      const SvgfParams& params = {});
+                      const SvgfParams& params = {});  // empty when params.interrupt was set
 
 // Two independent renders of one pixel set: the input `--denoise svgf` needs.
 struct SampleHalves {

@@ -5,7 +5,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <atomic>
 #include <cstdio>
+#include <cstdlib>
 #include <random>
 
 #include "denoise.h"
@@ -182,6 +184,62 @@ TEST(RuntimeDenoiseNlm, KeepsFeatureEdgesAndSky) {
   EXPECT_NEAR(left / (4 * (kSize - 4)), 0.2, 0.01);
   EXPECT_NEAR(right / (4 * (kSize - 4)), 0.3, 0.01);
   for (uint32_t x = 0; x < kSize; ++x) EXPECT_FLOAT_EQ(out.at(x, 0)[1], 1.0f);
+}
+
+// The kernel's instruction sets (denoise_nlm_kernel.inc: the baseline, AVX2,
+// AVX-512 where the CPU has them; SDFC_SIMD picks a lower one) give the same
+// image up to float rounding (fused multiply-adds), on a noisy image with sky,
+// a normal edge and an albedo ramp, nlm and nlr.
+TEST(RuntimeDenoiseNlr, InstructionSetsAgree) {
+  FloatImage normal_depth, albedo;
+  planeGuides(normal_depth, albedo, true, 5);
+  for (uint32_t y = 0; y < kSize; ++y)
+    for (uint32_t x = 0; x < kSize; ++x)
+      for (int c = 0; c < 3; ++c) albedo.at(x, y)[c] = rampTruth(x) * (c == 1 ? 0.5f : 1.0f);
+  const SampleHalves h = noisyHalves(0.3f, 4, rampTruth, 28);
+  for (const NlmParams& params : {NlmParams(), nlrParams()}) {
+    std::vector<FloatImage> images;
+    for (const char* level : {"baseline", "avx2", "best"}) {
+      setenv("SDFC_SIMD", level, 1);
+      images.push_back(nlmDenoise(h, normal_depth, albedo, params));
+    }
+    unsetenv("SDFC_SIMD");
+    for (size_t k = 1; k < images.size(); ++k) {
+      double worst = 0;
+      for (size_t i = 0; i < images[0].rgba.size(); ++i)
+        worst = std::max<double>(worst, std::fabs(images[k].rgba[i] - images[0].rgba[i]) /
+                                            std::max(1e-3f, std::fabs(images[0].rgba[i])));
+      std::printf("%s: instruction set %zu against the baseline: largest relative difference %.3g\n",
+                  params.regression ? "nlr" : "nlm", k, worst);
+      EXPECT_LT(worst, 1e-4);
+    }
+  }
+}
+
+// Ctrl-C: a set interrupt stops the filter between blocks; the result is empty
+// and `filtered` untouched.
+TEST(RuntimeDenoiseNlr, InterruptStops) {
+  FloatImage normal_depth, albedo;
+  planeGuides(normal_depth, albedo, false);
+  const SampleHalves h = noisyHalves(0.2f, 8, flatTruth, 29);
+  std::atomic<bool> interrupt{true};
+  NlmParams params = nlrParams();
+  params.interrupt = &interrupt;
+  SampleHalves filtered;
+  EXPECT_TRUE(nlmDenoise(h, normal_depth, albedo, params, &filtered).empty());
+  EXPECT_TRUE(filtered.a.empty());
+  // Unset: a whole image, and progress reported up to 1.
+  interrupt = false;
+  double last = 0;
+  int calls = 0;
+  params.progress = [&](double share) {
+    EXPECT_GE(share, last);
+    last = share;
+    ++calls;
+  };
+  EXPECT_FALSE(nlmDenoise(h, normal_depth, albedo, params).empty());
+  EXPECT_GT(calls, 0);
+  EXPECT_NEAR(last, 1.0, 1e-9);
 }
 
 TEST(RuntimeDenoiseNlm, DispatchNeedsHalves) {
