@@ -2259,16 +2259,6 @@ class Checker {
 
   // ---- statements --------------------------------------------------------
 
-  // Nodes under `n` with shared ones counted at each use, capped just past
-  // kMaxExpandedNodes (the count of a doubling chain overflows otherwise).
-  static size_t expandedSize(const ir::Node& n, std::unordered_map<const ir::Node*, size_t>& sizes) {
-    if (auto it = sizes.find(&n); it != sizes.end()) return it->second;
-    size_t total = 1;
-    for (const ir::NodeRef& c : n.children) total = std::min(total + expandedSize(*c, sizes), kMaxExpandedNodes + 1);
-    sizes[&n] = total;
-    return total;
-  }
-
   void checkScene(const ast::Expr& e) {
     if (!e.arguments.empty()) diags_->error(e.arguments[0].name_range, "'scene' takes no arguments");
     if (!e.has_block) {
@@ -2276,24 +2266,12 @@ class Checker {
       return;
     }
     std::vector<ir::NodeRef> children;
-    size_t expanded = 0;
-    std::unordered_map<const ir::Node*, size_t> sizes;
     for (const ast::ExprPtr& c : e.children) {
       Value v = evalExpr(*c);
       if (v.type == Value::Type::Error) continue;
       if (v.type != Value::Type::Shape) {
         diags_->error(v.range, std::string("the scene holds shapes, not ") + reported(v));
         continue;
-      }
-      // Checked with the definitions' values shared; written out, each use
-      // is a copy. Bounded here, so that a scene that checks renders.
-      expanded += expandedSize(*v.shape, sizes);
-      if (expanded > kMaxExpandedNodes) {
-        diags_->error(v.range, "the scene grows to more than " + std::to_string(kMaxExpandedNodes) +
-                                   " shapes and operations here, with every use of a definition written out "
-                                   "(each use is evaluated at every point); use fewer nested copies, or "
-                                   "'instances' or 'repeat' for many copies");
-        return;
       }
       children.push_back(v.shape);
     }

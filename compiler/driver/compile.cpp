@@ -1,6 +1,7 @@
 #include "driver/compile.h"
 
 #include <chrono>
+#include <unordered_map>
 #include <unordered_set>
 #include <vector>
 
@@ -31,6 +32,18 @@ size_t codeNodeCount(const ir::Scene& scene) {
     for (const ir::NodeRef& c : n->children) stack.push_back(c.get());
   }
   return seen.size();
+}
+
+// Shader code nodes under `n` with every use of a shared node (a definition)
+// counted, an instance set's templates once (its copies are data): what the
+// driver inlines. Capped just past kMaxExpandedNodes (a doubling chain's
+// count overflows otherwise); shared nodes are counted once each (memo).
+size_t expandedCodeNodes(const ir::Node& n, std::unordered_map<const ir::Node*, size_t>& sizes) {
+  if (auto it = sizes.find(&n); it != sizes.end()) return it->second;
+  size_t total = 1;
+  for (const ir::NodeRef& c : n.children) total = std::min(total + expandedCodeNodes(*c, sizes), kMaxExpandedNodes + 1);
+  sizes[&n] = total;
+  return total;
 }
 
 const ir::Node* firstInstances(const ir::Scene& scene) {
@@ -92,6 +105,21 @@ CompiledScene frontEnd(const std::string& path, std::string text, const CompileO
                       std::to_string(kMaxSceneNodes) +
                       ", as compile time grows faster than that; use 'instances' or 'repeat' for many "
                       "copies");
+    // Written out, each use of a definition is a copy of its code (the driver
+    // inlines every call): a definition that uses the previous one twice, 20
+    // times over, must not check. Copies that became data count once.
+    std::unordered_map<const ir::Node*, size_t> sizes;
+    size_t expanded = 0;
+    for (const ir::NodeRef& c : out.scene.root->children) {
+      expanded += expandedCodeNodes(*c, sizes);
+      if (expanded > kMaxExpandedNodes) {
+        diags.error(c->range, "the scene grows to more than " + std::to_string(kMaxExpandedNodes) +
+                                  " shapes and operations here, with every use of a definition written out "
+                                  "(each use is evaluated at every point); use fewer nested copies, or "
+                                  "'instances' or 'repeat' for many copies");
+        break;
+      }
+    }
   }
   out.times.passes = secondsSince(t0);
   return out;
