@@ -153,12 +153,18 @@ def main():
     ap.add_argument("--mesh-counts", default="")
     ap.add_argument("--no-check", action="store_true", help="skip the float64 pixel check")
     ap.add_argument("--out", default=os.path.join(HERE, "results", "many_parts.md"))
+    ap.add_argument("--resume", action="store_true", help="keep the rows of --out's .json and measure the rest")
     args = ap.parse_args()
     binaries = [("after", args.sdfc)] + ([("before", args.before)] if args.before else [])
     families = args.families.split(",")
     counts = [int(c) for c in args.counts.split(",")]
     rows = []
     lines = []
+    json_path = os.path.splitext(args.out)[0] + ".json"
+    if args.resume and os.path.exists(json_path):
+        with open(json_path) as f:
+            rows = json.load(f)
+    done = {(r["family"], r["parts"], r["binary"]) for r in rows}
 
     def emit(line=""):
         print(line, flush=True)
@@ -182,13 +188,26 @@ def main():
                 with open(scene, "w") as f:
                     f.write(mps.scene(fam, n, smooth))
                 per = {name: {"spp": [], "cpu": []} for name, _ in binaries}
+                refused = {}
+                todo = [(name, exe) for name, exe in binaries if (fam, n, name) not in done]
                 for _ in range(args.repeats):
-                    for name, exe in binaries:
-                        spp_s, cpu = sampling(exe, scene, os.path.join(dir_, "b.pfm"), args.size, args.spp)
+                    for name, exe in todo:
+                        if name in refused:
+                            continue
+                        try:
+                            spp_s, cpu = sampling(exe, scene, os.path.join(dir_, "b.pfm"), args.size, args.spp)
+                        except RuntimeError as e:  # e.g. an older binary's limit
+                            refused[name] = str(e).splitlines()[1][:160] if len(str(e).splitlines()) > 1 else str(e)
+                            continue
                         per[name]["spp"].append(spp_s)
                         per[name]["cpu"].append(1000 * cpu / args.spp)
-                for name, exe in binaries:
+                for name, exe in todo:
                     row = dict(family=fam, parts=n, binary=name, smooth=smooth)
+                    if name in refused:
+                        row["refused"] = refused[name]
+                        rows.append(row)
+                        emit(f"| {fam} | {n} | {name} | refused: {refused[name]} |")
+                        continue
                     row["compile_s"] = compile_s(exe, scene)
                     row["first_image_s"], row["peak_mib"], row["pipeline_ms"] = first_image(
                         exe, scene, os.path.join(dir_, "f.png"))
@@ -215,13 +234,32 @@ def main():
                     wall, rss = mesh_s(exe, scene, dir_)
                     rows.append(dict(family="molecule-mesh", parts=n, binary=name, mesh_s=wall, peak_mib=rss))
                     emit(f"| {n} | {name} | {wall:.2f} | {rss:.0f} |")
+    # The page holds every row, resumed ones too, in family order.
+    head_at = lines.index(head)
+    body = []
+    for r in sorted((r for r in rows if "mesh_s" not in r),
+                    key=lambda r: (families.index(r["family"]) if r["family"] in families else 99, r["parts"], r["binary"] != "after")):
+        if "refused" in r:
+            body.append(f"| {r['family']} | {r['parts']} | {r['binary']} | refused: {r['refused']} |")
+            continue
+        body.append(f"| {r['family']} | {r['parts']} | {r['binary']} | {r['compile_s']:.2f} | {r['first_image_s']:.2f} | "
+                    f"{r['pipeline_ms']:.0f} | {r['peak_mib']:.0f} | {r['spp_per_s']:.2f} | "
+                    f"{r['cpu_ms_per_sample']:.0f} | {r['primary_steps']:.1f} | {r.get('hits', '-')} | "
+                    f"{r.get('off', '-')} | {r.get('early', '-')} | {r.get('missed', '-')} |")
+    end = head_at + 2
+    while end < len(lines) and lines[end].startswith("| ") and "mesh" not in lines[end]:
+        end += 1
+    lines[head_at + 2:end] = body
     # Cost growth per family: spp/s of the smallest count over each count's.
+    emit()
+    emit("All rows (this run's and earlier resumed ones) are in the .json beside this page.")
     emit()
     emit("Cost per sample relative to the family's smallest count (CPU ms per sample):")
     emit()
     for name, _ in binaries:
         for fam in families:
-            base = [r for r in rows if r["family"] == fam and r["binary"] == name and "cpu_ms_per_sample" in r]
+            base = sorted((r for r in rows if r["family"] == fam and r["binary"] == name and "cpu_ms_per_sample" in r),
+                          key=lambda r: r["parts"])
             if not base:
                 continue
             parts = [f"{r['parts']}: {r['cpu_ms_per_sample'] / base[0]['cpu_ms_per_sample']:.2f}x" for r in base]
