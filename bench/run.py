@@ -13,6 +13,7 @@ instead (bench/converge.py; writes bench/results/CONVERGE_<size>.md).
 import argparse
 import csv
 import glob
+import json
 import os
 import shutil
 import statistics
@@ -250,6 +251,26 @@ def fmt(x, spec=".3g"):
     return format(x, spec)
 
 
+def many_parts_headline():
+    """The headline of bench/many_parts.py's last run (results/many_parts.json),
+    which has its own page: cost growth with the part count, and pixels off
+    the float64 surface, per family."""
+    path = os.path.join(HERE, "results", "many_parts.json")
+    if not os.path.exists(path):
+        return []
+    with open(path) as f:
+        rows = [r for r in json.load(f) if r.get("binary") == "after" and "cpu_ms_per_sample" in r]
+    lines = ["## Many distinct parts (headline of results/many_parts.md)", "",
+             "CPU ms per sample at 320x180 relative to the family's smallest count, and hit pixels "
+             "off the float64 surface (all counts); run `bench/many_parts.py` to refresh.", "",
+             "| family | parts: cost relative to the first | pixels off |", "|---|---|---|"]
+    for fam in dict.fromkeys(r["family"] for r in rows):
+        fr = sorted((r for r in rows if r["family"] == fam), key=lambda r: r["parts"])
+        growth = ", ".join(f"{r['parts']}: {r['cpu_ms_per_sample'] / fr[0]['cpu_ms_per_sample']:.1f}x" for r in fr)
+        lines.append(f"| {fam} | {growth} | {sum(int(r.get('off', 0)) for r in fr)} |")
+    return lines + [""]
+
+
 def write_report(args, info, conv_rows, speedups, geo_rows, plots, elapsed, mitsuba=None):
     rel = lambda p: os.path.relpath(p, os.path.dirname(args.report))
     lines = ["# sdfc benchmark results", "",
@@ -311,6 +332,7 @@ def write_report(args, info, conv_rows, speedups, geo_rows, plots, elapsed, mits
         for p in plots:
             lines.append(f"![{os.path.basename(p)}]({rel(p)})")
         lines.append("")
+    lines += many_parts_headline()
     if geo_rows:
         lines += ["## Primary-ray geometry (hit distance against float64 roots)", "",
                   "Depth AOV (1 spp, unjittered pixel-centre ray) against the first sign change "
