@@ -91,7 +91,8 @@ std::unique_ptr<Scene> loadFile(const std::string& path, const LoadOptions& opti
   if (!file) {
     auto scene = std::make_unique<Scene>();
     scene->options = options;
-    scene->io_error = "cannot read '" + path + "': " + std::strerror(errno);
+    const std::string why = sourceFileProblem(path);
+    scene->io_error = "cannot read '" + path + "': " + (why.empty() ? std::strerror(errno) : why);
     return scene;
   }
   return load(path, std::move(file->text), options);

@@ -202,9 +202,8 @@ bool checkImageExtension(const std::string& path) {
 }
 
 std::unique_ptr<SourceFile> readSceneFile(const std::string& path) {
-  std::error_code error;
-  if (std::filesystem::is_directory(path, error)) {
-    std::cerr << "sdfc: error: cannot read '" << path << "': it is a directory, not a scene file\n";
+  if (const std::string why = sourceFileProblem(path); !why.empty()) {
+    std::cerr << "sdfc: error: cannot read '" << path << "': " << why << "\n";
     return nullptr;
   }
   std::unique_ptr<SourceFile> file = readSourceFile(path);

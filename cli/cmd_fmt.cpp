@@ -26,7 +26,8 @@ int runFmt(const CommandLine& cl) {
     } else {
       source = readSourceFile(path);
       if (!source) {
-        std::cerr << "sdfc: error: cannot read '" << path << "'\n";
+        const std::string why = sourceFileProblem(path);
+        std::cerr << "sdfc: error: cannot read '" << path << "'" << (why.empty() ? "" : ": " + why) << "\n";
         exit_code = std::max(exit_code, kExitIo);
         continue;
       }

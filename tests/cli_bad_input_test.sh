@@ -46,6 +46,18 @@ expect 2 "--spp" -- "$sdfc" render "$scene" --spp "$digits" -o "$work/x.png"
 expect 2 "--size" -- "$sdfc" render "$scene" --size "${digits}x1" -o "$work/x.png"
 # A directory as the scene: unreadable input.
 expect 4 "it is a directory, not a scene file" -- "$sdfc" check "$work"
+# A FIFO or a device as the scene: refused at once, not a hang or 4 GB read
+# (issue 47 item 18); every command that reads a scene goes through one check.
+mkfifo "$work/pipe.sdf"
+expect 4 "it is not a regular file" -- timeout 10 "$sdfc" check "$work/pipe.sdf"
+expect 4 "it is not a regular file" -- timeout 10 "$sdfc" render "$work/pipe.sdf" -o "$work/x.png"
+expect 4 "it is not a regular file" -- timeout 10 "$sdfc" eval "$work/pipe.sdf" --points "$work/origin.txt"
+expect 4 "it is not a regular file" -- timeout 10 "$sdfc" fmt "$work/pipe.sdf"
+expect 4 "it is not a regular file" -- timeout 10 "$sdfc" export "$work/pipe.sdf" -o "$work/x.html"
+expect 4 "it is not a regular file" -- timeout 10 "$sdfc" check /dev/zero
+# A UTF-8 byte order mark before the first statement is not an error.
+printf '\xef\xbb\xbfscene { sphere(radius: 1) }\n' > "$work/bom.sdf"
+expect 0 "" -- "$sdfc" check "$work/bom.sdf"
 # The output directory is checked before compiling or rendering.
 expect 4 "cannot write '$work/missing/x.png': the folder '$work/missing' does not exist" -- "$sdfc" render "$scene" -o "$work/missing/x.png"
 expect 4 "it is a directory" -- "$sdfc" compile "$scene" -o "$work"

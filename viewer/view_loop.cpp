@@ -250,7 +250,10 @@ void Viewer::open() {
   {
     Diagnostics quiet;
     std::unique_ptr<SourceFile> file = readSourceFile(cl_.input);
-    if (!file) throw std::runtime_error("cannot read '" + cl_.input + "'");
+    if (!file) {
+      const std::string why = sourceFileProblem(cl_.input);
+      throw std::runtime_error("cannot read '" + cl_.input + "'" + (why.empty() ? "" : ": " + why));
+    }
     CompileOptions options;
     CompiledScene checked = checkSource(cl_.input, file->text, options, quiet);
     width_ = uint32_t(checked.scene.render.width);

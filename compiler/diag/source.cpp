@@ -46,11 +46,24 @@ std::string_view SourceFile::lineText(int line) const {
   return std::string_view(text).substr(begin, end - begin);
 }
 
-std::unique_ptr<SourceFile> readSourceFile(const std::string& path) {
-  // A directory opens as a stream on Linux and reads as empty: refuse it.
+std::string sourceFileProblem(const std::string& path) {
   std::error_code error;
-  if (std::filesystem::is_directory(path, error)) {
-    errno = EISDIR;
+  const std::filesystem::file_status status = std::filesystem::status(path, error);
+  if (error) return "";  // missing or unreadable: the open says why (errno)
+  if (std::filesystem::is_directory(status)) return "it is a directory, not a scene file";
+  if (!std::filesystem::is_regular_file(status)) return "it is not a regular file (a FIFO, device or socket)";
+  const std::uintmax_t size = std::filesystem::file_size(path, error);
+  if (!error && size > kMaxSourceBytes)
+    return "it is " + std::to_string(size >> 20) + " MiB, more than a scene file's " +
+           std::to_string(kMaxSourceBytes >> 20) + " MiB";
+  return "";
+}
+
+std::unique_ptr<SourceFile> readSourceFile(const std::string& path) {
+  // A directory opens as a stream on Linux and reads as empty, a FIFO blocks.
+  if (!sourceFileProblem(path).empty()) {
+    std::error_code error;
+    errno = std::filesystem::is_directory(path, error) ? EISDIR : EINVAL;
     return nullptr;
   }
   std::ifstream in(path, std::ios::binary);
@@ -58,7 +71,10 @@ std::unique_ptr<SourceFile> readSourceFile(const std::string& path) {
   std::ostringstream buffer;
   buffer << in.rdbuf();
   if (in.bad()) return nullptr;
-  return std::make_unique<SourceFile>(path, buffer.str());
+  std::string text = buffer.str();
+  // Editors on Windows may start a UTF-8 file with a byte order mark.
+  if (text.rfind("\xEF\xBB\xBF", 0) == 0) text.erase(0, 3);
+  return std::make_unique<SourceFile>(path, std::move(text));
 }
 
 }  // namespace sdfc

@@ -1,5 +1,6 @@
 // A source file held in memory, and positions inside it.
 #pragma once
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <string_view>
@@ -33,7 +34,13 @@ struct SourceRange {
   SourceRange to(const SourceRange& other) const { return {file, begin, other.end}; }
 };
 
-// Reads a file; nullptr when it cannot be read.
+// Why `path` is no scene file to read ("" when it may be read): a directory,
+// anything but a regular file (a FIFO would block, /dev/zero never end), or
+// a file beyond kMaxSourceBytes.
+constexpr std::uintmax_t kMaxSourceBytes = std::uintmax_t(256) << 20;
+std::string sourceFileProblem(const std::string& path);
+// Reads a file, less a leading UTF-8 byte order mark; nullptr when it cannot
+// be read (errno says why, or sourceFileProblem does).
 std::unique_ptr<SourceFile> readSourceFile(const std::string& path);
 
 }  // namespace sdfc
