@@ -14,6 +14,7 @@
 #include "camera.h"
 #include "driver/compile.h"
 #include "eval/evaluator.h"
+#include "passes/passes.h"
 #include "scene_render.h"
 #include "vulkan_context.h"
 
@@ -107,21 +108,21 @@ int countSets(const ir::Node& n) {
   return count;
 }
 
-// In a hard union, primitives of several kinds become one mixed set (one
-// search instead of one per kind); definitions stay code, as do smooth
-// unions' small groups (passes/instancing.cpp says why). The float64 value
-// equals the inline code's: exactly for a hard union (min is order-free),
-// within the blend's reordering for a smooth one (sequential blends of three
-// parts within k depend on the order).
+// Primitives of several kinds become one mixed set (one search instead of
+// one per kind), in a smooth union with a blend grid; definitions stay code
+// (passes/instancing.cpp says why). The float64 value equals the inline
+// code's: exactly for a hard union (min is order-free), within the blend's
+// reordering for a smooth one (the set blends nearest first, the code in
+// written order; sequential blends of three parts within k depend on it).
 TEST(ManyParts, MixedSetEqualsTheInlineCode) {
   for (double smooth : {0.0, 0.05}) {
     const CompiledScene data = checkedParts(pieces(64, smooth), 32), inline_form = checkedParts(pieces(64, smooth), 0);
     ASSERT_TRUE(data.ok && inline_form.ok);
-    EXPECT_EQ(countSets(*data.scene.root), smooth > 0 ? 0 : 1);
+    EXPECT_EQ(countSets(*data.scene.root), 1);
     EXPECT_EQ(countSets(*inline_form.scene.root), 0);
     const std::string dump = ir::dump(data.scene);
-    if (smooth == 0)
-      EXPECT_NE(dump.find("instances 32 (data form: union of 32 box, torus"), std::string::npos) << dump;
+    EXPECT_NE(dump.find("instances 32 (data form: union of 32 box, torus"), std::string::npos) << dump;
+    EXPECT_EQ(dump.find("blend grid") != std::string::npos, smooth > 0) << dump;
     const Evaluator fast(data.scene), brute(inline_form.scene);
     std::mt19937 rng(3);
     std::uniform_real_distribution<double> u(-5, 5), h(-0.5, 2);
@@ -140,6 +141,64 @@ TEST(ManyParts, MixedSetEqualsTheInlineCode) {
 
 // A block with many holes: the shapes a hard subtract cuts away are a
 // union, which becomes data; the value equals the inline code's.
+const ir::Node* findSet(const ir::Node& n) {
+  if (n.kind == ir::NodeKind::Instances) return &n;
+  for (const ir::NodeRef& c : n.children)
+    if (const ir::Node* s = findSet(*c)) return s;
+  return nullptr;
+}
+
+// A smooth set's blend grid (passes/blend_grid.cpp) lists, per cell, every
+// member that can come within k of the nearest: the evaluator's value through
+// the lists equals, bit for bit, the blend of all members nearest first, at
+// points inside the grid and beyond it, for every kind mixed, rotated and of
+// varied sizes, from tens to thousands of parts and blend radii up to
+// beyond a part's size. (One member left out of one list fails it.)
+TEST(ManyParts, BlendGridListsEveryMemberThatCounts) {
+  for (int per_kind : {8, 60, 400})
+    for (double k : {0.02, 0.1, 0.4}) {
+      std::string text = mixedParts(5, per_kind, "union", unsigned(per_kind));
+      text.replace(text.find("  union {"), 9, "  union(smooth: " + std::to_string(k) + ") {");
+      const CompiledScene c = checkedParts(text, 32);
+      ASSERT_TRUE(c.ok);
+      const ir::Node* set = findSet(*c.scene.root);
+      ASSERT_NE(set, nullptr);
+      ASSERT_TRUE(set->instances->grid.blend) << ir::dump(c.scene);
+      const ir::InstanceSet& members = *set->instances;
+      const Evaluator eval(c.scene);
+      const ir::InstanceGrid& g = members.grid;
+      const dvec3 lo = g.lo - 0.2 * (dvec3(g.dims) * g.cell), hi = g.lo + 1.2 * (dvec3(g.dims) * g.cell);
+      std::mt19937 rng(per_kind);
+      std::uniform_real_distribution<double> u(0, 1);
+      std::uniform_int_distribution<size_t> pick(0, members.size() - 1);
+      int near = 0;
+      for (int i = 0; i < 6000; ++i) {
+        // Where lists are tested hardest: near parts (where blends act) and
+        // at corners of (sub-)cells, the farthest from the centres the lists
+        // are proven from; and anywhere, beyond the grid too.
+        dvec3 p = lo + dvec3(u(rng), u(rng), u(rng)) * (hi - lo);
+        if (i % 3 == 0) {
+          const Aabb b = instanceBounds(members, pick(rng), *set).grow(k);
+          p = b.lo + dvec3(u(rng), u(rng), u(rng)) * (b.hi - b.lo);
+        } else if (i % 3 == 1) {
+          const Aabb b = instanceBounds(members, pick(rng), *set).grow(k);
+          const dvec3 q = b.lo + dvec3(u(rng), u(rng), u(rng)) * (b.hi - b.lo);
+          const double half = 0.5 * g.cell;
+          p = g.lo + glm::round((q - g.lo) / half) * half + (dvec3(u(rng), u(rng), u(rng)) - 0.5) * 1e-9;
+        }
+        std::vector<double> values;
+        for (size_t j = 0; j < members.size(); ++j) values.push_back(eval.instanceDistance(*set, j, p));
+        std::sort(values.begin(), values.end());
+        double want = std::numeric_limits<double>::infinity();
+        for (double v : values) want = smoothMin(want, v, k);
+        const double got = eval.evalNode(*set, p, -1).distance;
+        ASSERT_EQ(got, want) << per_kind * 5 << " parts, k " << k << ", at " << p.x << " " << p.y << " " << p.z;
+        near += std::fabs(want) < 0.1;
+      }
+      EXPECT_GT(near, 20) << per_kind * 5 << " parts, k " << k;
+    }
+}
+
 TEST(ManyParts, HolesCutAwayBecomeData) {
   const std::string text = mixedParts(5, 40, "union", 5, true);
   const std::string flat = [&] {

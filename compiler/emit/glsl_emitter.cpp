@@ -205,7 +205,8 @@ class SceneWriter {
       if (root.kind == ir::NodeKind::Union && root.smooth.isConst() && root.smooth.value == 0 &&
           root.children.size() == 1)
         only = root.children[0].get();
-      if (only->kind == ir::NodeKind::Instances && !only->instances->grid.empty()) ray_skip_set_ = only;
+      if (only->kind == ir::NodeKind::Instances && !only->instances->grid.empty() && !only->instances->grid.blend)
+        ray_skip_set_ = only;
       // One material: sdSceneMaterial reads none, so the slots need no w.
       packed_slots_ = uniformMaterial(root, -1) != kMixed;
     }
@@ -833,11 +834,15 @@ class SceneWriter {
     Function g;
     g.code << lineDirective(n);
     g.code << "// Grid of " << grid.dims.x << "x" << grid.dims.y << "x" << grid.dims.z << " cells at sd_data[" << gh
-           << "]: a lookup and a list of at most " << ir::kGridListMax << " (docs/design/large_scenes.md).\n";
+           << "]: a lookup and a list of "
+           << (grid.blend ? std::string("the members that can change the blend in the cell")
+                          : "at most " + std::to_string(ir::kGridListMax))
+           << " (docs/design/large_scenes.md).\n";
     g.code << (mat ? "vec2 " : "float ") << name << "(vec3 p" << (mat ? ", float inherited" : "") << ") {\n";
     g.code << "  vec4 g0 = sd_data[" << gh << "], g1 = sd_data[" << gh << " + 1];\n";
     g.code << "  vec3 o = max(max(g0.xyz - p, p - (g0.xyz + g1.xyz * g0.w)), 0.0);\n";
-    g.code << "  // Outside the grid's box: every instance is at least the margin farther.\n";
+    g.code << "  // Outside the grid's box: every instance is at least the margin farther"
+           << (grid.blend ? " (less 1.25 k: a blend's bound)" : "") << ".\n";
     g.code << "  if (o != vec3(0.0)) return " << (mat ? "vec2(length(o) + g1.w, inherited)" : "length(o) + g1.w")
            << ";\n";
     g.code << "  ivec3 dims = ivec3(g1.xyz);\n  vec3 f = (p - g0.xyz) / g0.w;\n";
@@ -866,6 +871,10 @@ class SceneWriter {
     g.code << countEvent(kEventLookups);
     if (split) g.code << splitCellLookup(l, unrolled, true);
     g.code << "  int count = int(cell.y);\n";
+    if (grid.blend) {
+      blendList(n, l, mat, one, tree, visits, g);
+      return;
+    }
     // Fixed slots take no loop iterations: only a crowded cell needs the hierarchy.
     g.code << "  if (count < 0" << (unrolled ? std::string() : " || count > " + visits) << ") return " << tree
            << "(p" << (mat ? ", inherited" : "") << ");\n";
@@ -931,6 +940,51 @@ class SceneWriter {
     g.code << "  }\n";
     if (skip) g.code << "  g_ray_skip = skip;\n";
     g.code << "  return best;\n}\n";
+    functions_ << g.code.str();
+  }
+
+  // A blend grid's cell (passes/blend_grid.cpp): the list's values, then
+  // their smooth minimum nearest first over those within k of the nearest
+  // (each pass picks the next by value, then by place in the list), which is
+  // the whole set's blend there. Only a driver that caps loops, with too few
+  // visits left for the list, takes the hierarchy.
+  void blendList(const ir::Node& n, const InstanceLayout& l, bool mat, const std::string& one,
+                 const std::string& tree, const std::string& visits, Function& g) {
+    const std::string longest = std::to_string(std::max(n.instances->grid.longest, 1));
+    const std::string loop0 = options_.with_kernel ? "loopZero()" : "0";
+    const std::string tick = options_.with_kernel ? "    g_loop_iterations++;\n" : "";
+    g.code << "  if (count * (count + 2) > " << visits << ") return " << tree << "(p" << (mat ? ", inherited" : "")
+           << ");\n";
+    g.code << "  float k = " << n.smooth.glsl() << ";\n";
+    g.code << "  int first = int(cell.x);\n";
+    g.code << "  float v[" << longest << "];\n";
+    if (mat) g.code << "  float vm[" << longest << "];\n";
+    g.code << "  float m = 1e30;\n";
+    g.code << "  for (int it = " << loop0 << "; it < count; it++) {\n" << tick;
+    g.code << countEvent(kEventEntries, "  ");
+    g.code << "    int e = first + it;\n";
+    g.code << "    int rec = " << listedRecord(l) << ";\n";
+    if (mat) {
+      g.code << "    vec2 r = " << one << "(p, rec, inherited);\n    v[it] = r.x;\n    vm[it] = r.y;\n";
+    } else {
+      g.code << "    v[it] = " << one << "(p, rec);\n";
+    }
+    g.code << "    m = min(m, v[it]);\n  }\n";
+    g.code << "  " << (mat ? "vec2 best = vec2(1e30, inherited);" : "float best = 1e30;") << "\n";
+    g.code << "  float last = -1e30;\n  int last_j = -1;\n";
+    g.code << "  for (int s = " << loop0 << "; s < count; s++) {\n" << tick;
+    g.code << "    float nv = 1e30;\n    int nj = -1;\n";
+    g.code << "    for (int j = " << loop0 << "; j < count; j++) {\n" << tick;
+    g.code << "      float x = v[j];\n";
+    g.code << "      if ((x > last || (x == last && j > last_j)) && x < nv) {\n        nv = x;\n        nj = j;\n      }\n";
+    g.code << "    }\n";
+    g.code << "    if (nj < 0 || nv >= m + k) break;\n";
+    if (mat) {
+      g.code << "    best = vec2(sdSmoothMin(best.x, nv, k), nv < best.x ? vm[nj] : best.y);\n";
+    } else {
+      g.code << "    best = sdSmoothMin(best, nv, k);\n";
+    }
+    g.code << "    last = nv;\n    last_j = nj;\n  }\n  return best;\n}\n";
     functions_ << g.code.str();
   }
 

@@ -93,6 +93,7 @@ EvalResult Evaluator::evalInstances(const ir::Node& n, const dvec3& p, int inher
   const double k = std::max(n.smooth.at(time_), 0.0);
   EvalResult best{std::numeric_limits<double>::infinity(), inherited};
   if (set.nodes.empty()) return best;
+  if (set.grid.blend) return evalBlend(n, p, inherited, k);
   struct Entry {
     std::uint32_t node;
     double distance;
@@ -127,6 +128,38 @@ EvalResult Evaluator::evalInstances(const ir::Node& n, const dvec3& p, int inher
         best = r;
       }
     }
+  }
+  return best;
+}
+
+// A smooth set with a blend grid (passes/blend_grid.cpp): the members'
+// smooth minimum taken nearest first, over those within k of the nearest (the
+// rest change nothing). In a cell those are among its list; outside the grid
+// any member may be. Equal values keep the list's order, as the kernel does.
+EvalResult Evaluator::evalBlend(const ir::Node& n, const dvec3& p, int inherited, double k) const {
+  const ir::InstanceSet& set = *n.instances;
+  const ir::InstanceGrid& g = set.grid;
+  std::vector<std::pair<double, EvalResult>> near;
+  double m = std::numeric_limits<double>::infinity();
+  auto take = [&](size_t i) {
+    const EvalResult r = evalInstance(n, i, p, inherited);
+    near.push_back({r.distance, r});
+    m = std::min(m, r.distance);
+  };
+  const dvec3 hi = g.lo + dvec3(g.dims) * g.cell;
+  if (glm::all(glm::greaterThanEqual(p, g.lo)) && glm::all(glm::lessThanEqual(p, hi))) {
+    const ir::GridCellAt at = instanceGridCellAt(g, p);
+    for (std::int32_t j = 0; j < g.count[at.index]; ++j) take(g.entries[g.first[at.index] + j]);
+  } else {
+    for (size_t i = 0; i < set.size(); ++i)
+      if (!(boxDistance(instanceBounds(set, i, n), p) >= m + k)) take(i);
+  }
+  std::stable_sort(near.begin(), near.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  EvalResult best{std::numeric_limits<double>::infinity(), inherited};
+  for (const auto& [v, r] : near) {
+    if (v >= m + k) break;
+    if (v < best.distance) best.material = r.material;
+    best.distance = smoothMin(best.distance, v, k);
   }
   return best;
 }

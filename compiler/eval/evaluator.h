@@ -29,6 +29,7 @@ class Evaluator {
  private:
   EvalResult evalInstances(const ir::Node& node, const glm::dvec3& p, int inherited) const;
   EvalResult evalInstance(const ir::Node& node, size_t i, const glm::dvec3& p, int inherited) const;
+  EvalResult evalBlend(const ir::Node& node, const glm::dvec3& p, int inherited, double k) const;
 
   const ir::Scene& scene_;
   double time_;

@@ -172,7 +172,8 @@ std::string dumpNode(const Node& n, int indent) {
           }
           char buf[200];
           std::snprintf(buf, sizeof buf,
-                        "; grid %dx%dx%d cells of %g, lists of %.2f on average, %zu split, %zu crowded",
+                        "; %sgrid %dx%dx%d cells of %g, lists of %.2f on average, %zu split, %zu crowded",
+                        set.grid.blend ? "blend " : "",
                         set.grid.dims.x, set.grid.dims.y, set.grid.dims.z, set.grid.cell,
                         double(listed) / double(std::max<size_t>(listing, 1)), split, crowded);
           out << buf;

@@ -64,6 +64,13 @@ struct InstanceGrid {
   std::vector<std::int32_t> count;   // per cell: list length, kGridCrowded or kGridSplit
   std::vector<double> reach;         // per cell
   std::vector<std::uint32_t> entries;  // instance indices (leaf order)
+  // A smooth set's grid (passes/blend_grid.cpp): each cell lists every
+  // instance that can come within k of the nearest inside it, so the blend of
+  // the list is the blend of the whole set there; no cell is crowded, `reach`
+  // is unused, and `longest` is the longest list. Outside the grid's box the
+  // blend is at least the distance to the box plus `margin`.
+  bool blend = false;
+  int longest = 0;
 
   bool empty() const { return count.empty(); }
   size_t cells() const { return count.size(); }  // sub-cells included
@@ -89,7 +96,7 @@ struct InstanceSet {
   std::vector<double> params;
   std::vector<BvhNode> nodes;
   int depth = 0;          // levels of the hierarchy (root alone = 1)
-  InstanceGrid grid;      // empty when not built (smooth sets, or too big)
+  InstanceGrid grid;      // empty when not built (too big, or a smooth set whose parts move)
   std::string origin;     // what it was formed from, for --emit ir
 
   size_t size() const { return instances.size(); }

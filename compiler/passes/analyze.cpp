@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <unordered_set>
 
+#include "eval/evaluator.h"
 #include "eval/noise.h"
 #include "passes/deform.h"
 #include "passes/passes.h"
@@ -41,7 +42,7 @@ double bendLipschitz(double k, double radius) {
 
 class Analyzer {
  public:
-  explicit Analyzer(Diagnostics& diags) : diags_(diags) {}
+  Analyzer(const ir::Scene& scene, Diagnostics& diags) : scene_(scene), diags_(diags) {}
 
   void visit(ir::Node& n) {
     if (!done_.insert(&n).second) return;
@@ -190,6 +191,7 @@ class Analyzer {
   }
 
  private:
+  const ir::Scene& scene_;
   Diagnostics& diags_;
   std::unordered_set<ir::Node*> done_;
 
@@ -235,8 +237,15 @@ class Analyzer {
     const bool smooth = !n.smooth.isConst() || n.smooth.value > 0;
     if (set.nodes.empty() && set.size() > 0) {
       buildInstanceHierarchy(set, n);
-      // A blend needs every copy within best + k: the grid's lists do not promise that.
-      if (!smooth) buildInstanceGrid(set, n);
+      if (!smooth) {
+        buildInstanceGrid(set, n);
+      } else if (!scene_.uses_time) {
+        // Lists proven per cell from the members' values at its centre (at
+        // time 0: a scene that moves keeps the hierarchy alone).
+        const Evaluator eval(scene_);
+        buildBlendGrid(set, n, upper(n.smooth),
+                       [&](size_t i, const glm::dvec3& p) { return eval.instanceDistance(n, i, p); });
+      }
     }
     n.bounds = set.nodes.empty() ? Aabb{} : set.nodes[0].box;
     if (smooth && n.bounds.finite()) n.bounds = n.bounds.grow(upper(n.smooth) / 4);
@@ -254,8 +263,13 @@ class Analyzer {
       if (ir::takesParams(set, templ) && templ.primitive == PrimitiveKind::Torus)
         n.exact = set.paramsOf(i)[1] <= set.paramsOf(i)[0];
     }
-    // A visit per hierarchy level and a leaf: what one evaluation costs.
+    // A visit per hierarchy level and a leaf: what one evaluation costs; a
+    // blend grid's lookup and list instead.
     n.cost = (cost * ir::kBvhLeafSize + 1) * (set.depth + 1);
+    if (set.grid.blend) {
+      const size_t lists = std::count_if(set.grid.count.begin(), set.grid.count.end(), [](std::int32_t c) { return c >= 0; });
+      n.cost = cost * double(set.grid.entries.size()) / double(std::max<size_t>(lists, 1)) + 1;
+    }
   }
 
   // twist(rate) about y, k = rate in radians per unit: the child is read at
@@ -474,7 +488,7 @@ bool repeatOffCentre(const ir::Node& repeat, int axis) {
 
 void analyze(ir::Scene& scene, Diagnostics& diags) {
   if (!scene.root) return;
-  Analyzer analyzer(diags);
+  Analyzer analyzer(scene, diags);
   analyzer.visit(*scene.root);
 }
 

@@ -244,7 +244,8 @@ ir::NodeRef subset(const ir::Node& n, const std::vector<std::uint32_t>& members,
 
 class Former {
  public:
-  explicit Former(const InstancingOptions& options) : options_(options) {}
+  // A scene that moves keeps smooth sets on their hierarchies (no blend grid).
+  Former(const InstancingOptions& options, bool blend_grids) : options_(options), blend_grids_(blend_grids) {}
 
   void visit(ir::NodeRef& ref) {
     if (!done_.insert(ref.get()).second) return;
@@ -298,6 +299,7 @@ class Former {
 
  private:
   const InstancingOptions& options_;
+  bool blend_grids_;
   std::unordered_set<const ir::Node*> done_;
 
   // Unions of a split set's groups, which a sharp parent union takes in.
@@ -365,12 +367,15 @@ class Former {
     // (32 distinct chess pieces 2x slower than inline code) and smooth
     // unions, whose searches visit many leaves (1,000 blended parts of five
     // kinds 2.5x slower). There a group of enough copies is a set of its own.
+    // A smooth union's primitives are merged too where the set gets a blend
+    // grid (a list per cell instead of the searches): one blend of all its
+    // parts, not one per kind blended again.
     std::vector<std::vector<std::string>> sets;
     std::vector<std::string> mixed;
     size_t mixed_count = 0;
     for (const auto& [key, members] : groups) {
       const bool cloud = key == "primitive sphere" && dataForm(members.size()) && cloudOf(members, peeled);
-      const bool mixable = sharp(u) && key.rfind("primitive ", 0) == 0;
+      const bool mixable = (sharp(u) || blend_grids_) && key.rfind("primitive ", 0) == 0;
       if (cloud || !mixable || (dataForm(members.size()) && groups.size() == 1)) {
         if (dataForm(members.size())) sets.push_back({key});
       } else {
@@ -521,7 +526,7 @@ void buildInstanceHierarchy(ir::InstanceSet& set, const ir::Node& node) {
 
 void formInstances(ir::Scene& scene, const InstancingOptions& options) {
   if (!scene.root) return;
-  Former former(options);
+  Former former(options, !scene.uses_time);
   former.visit(scene.root);
 }
 

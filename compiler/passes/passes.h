@@ -27,6 +27,10 @@ void buildInstanceHierarchy(ir::InstanceSet& set, const ir::Node& n);
 // would not pay), and its bound at p in float64 given each instance's distance
 // (NaN where the cell defers to the hierarchy): what the shader computes.
 void buildInstanceGrid(ir::InstanceSet& set, const ir::Node& n);
+// A smooth set's grid (passes/blend_grid.cpp) for blend radii up to k, given
+// instance i's distance at a point; false (and no grid) where it would not pay.
+bool buildBlendGrid(ir::InstanceSet& set, const ir::Node& n, double k,
+                    const std::function<double(size_t, const glm::dvec3&)>& distance_of);
 ir::GridCellAt instanceGridCellAt(const ir::InstanceGrid& grid, const glm::dvec3& p);
 double instanceGridBound(const ir::InstanceSet& set, const glm::dvec3& p,
                          const std::function<double(size_t)>& distance_of);

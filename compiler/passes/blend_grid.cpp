@@ -1,0 +1,225 @@
+// A smooth set's grid (ir::InstanceGrid with `blend`): per cell, the members
+// that can change the blend there, so a point folds a short list instead of
+// visiting the hierarchy. Lipschitz pruning (Barbier et al., Eurographics
+// 2025) for an n-ary blend.
+//
+// A set's blend is the chain of polynomial smooth minima taken in the order
+// of the members' values at the point, nearest first:
+//   F = smin(...smin(smin(x_(1), x_(2), k), x_(3), k)..., x_(n), k).
+// It does not depend on how the members are listed, it is continuous (where
+// two values cross, the two orders give the same result), and F <= x_(1) = m
+// after the first, so a member with x >= m + k changes nothing
+// (smin(a, b, k) = min(a, b) exactly where |a - b| >= k): only the members
+// within k of the nearest count, and F >= m - 1.25 k
+// (docs/design/large_scenes.md).
+// Over a cell C each member's value lies in [lo_j, hi_j] (its value at the
+// centre c +- L_j h, h the half diagonal, L_j its Lipschitz constant; lo_j at
+// least its box's distance from C too, where that is not 0). With U = min hi_j, a member with
+// lo_j >= U + k is never within k of the nearest in C: the cell lists the
+// others, and the blend of its list is the set's blend, bit for bit, wherever
+// the margin for float32 rounding holds.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "passes/passes.h"
+
+namespace sdfc {
+namespace {
+
+using glm::dvec3;
+
+// Cells per instance (the hard grid's 1 leaves lists of 20-40 in a dense
+// clump at k = 0.05), and the list length above which a cell is split into
+// octants (half the interval width: about a third of the list).
+constexpr double kCellsPerInstance = 4.0;
+constexpr size_t kSplitAbove = 8;
+// The kernel keeps a list's values in an array this long at most: a longer
+// list (a blend radius spanning many members) leaves the set to its hierarchy.
+constexpr size_t kMaxList = 128;
+// Beyond this many members within reach of one cell the set keeps its
+// hierarchy alone (a blend radius comparable with the whole set).
+constexpr size_t kMaxCandidates = 4096;
+constexpr size_t kMaxIndex = (size_t(1) << 24) - 1;
+
+double boxBoxDistance(const Aabb& a, const Aabb& b) {
+  const dvec3 gap = glm::max(glm::max(a.lo - b.hi, b.lo - a.hi), dvec3(0));
+  return glm::length(gap);
+}
+
+struct Interval {
+  double lo, hi;
+};
+
+class BlendGridBuilder {
+ public:
+  BlendGridBuilder(ir::InstanceSet& set, const ir::Node& node, double k,
+                   const std::function<double(size_t, const dvec3&)>& distance_of,
+                   const std::vector<double>& lipschitz)
+      : set_(set), node_(node), k_(k), distance_of_(distance_of), lipschitz_(lipschitz) {}
+
+  bool build() {
+    ir::InstanceGrid& g = set_.grid;
+    g = ir::InstanceGrid{};
+    const size_t n = set_.size();
+    if (n == 0 || set_.nodes.empty()) return false;
+    boxes_.resize(n);
+    std::vector<double> sizes(n);
+    Aabb bounds;
+    for (size_t i = 0; i < n; ++i) {
+      boxes_[i] = instanceBounds(set_, i, node_);
+      if (!boxes_[i].finite()) return false;
+      bounds = bounds.unite(boxes_[i]);
+      const dvec3 e = boxes_[i].hi - boxes_[i].lo;
+      sizes[i] = std::max({e.x, e.y, e.z});
+    }
+    std::nth_element(sizes.begin(), sizes.begin() + n / 2, sizes.end());
+    const double typical = std::max(sizes[n / 2], 1e-9);
+    const dvec3 extent = glm::max(bounds.hi - bounds.lo, dvec3(typical));
+    const double max_cells = std::min<double>(kCellsPerInstance * double(n) + 4096, double(kMaxIndex));
+    double cell = std::max(std::cbrt(extent.x * extent.y * extent.z / (kCellsPerInstance * double(n))), 0.5 * typical);
+    // The box is the bounds grown by 1.25 k plus half a cell: outside it every
+    // member is that far, the blend at least half a cell (a positive bound).
+    dvec3 dims;
+    for (;;) {
+      pad_ = 1.25 * k_ + 0.5 * cell;
+      dims = glm::ceil((bounds.hi - bounds.lo + 2.0 * pad_) / cell);
+      if (dims.x * dims.y * dims.z <= max_cells) break;
+      cell *= 1.05;
+    }
+    g.cell = cell;
+    g.dims = glm::ivec3(dims);
+    g.lo = bounds.lo - pad_;
+    g.margin = pad_ - 1.25 * k_;
+    g.blend = true;
+    // float32 rounding of the kernel's values (coordinates up to `scale`)
+    // must not turn a proven drop or reset into a near miss.
+    const dvec3 hi = g.lo + dims * cell;
+    const double scale = std::max(glm::length(glm::max(glm::abs(g.lo), glm::abs(hi))), glm::length(extent));
+    slack_ = 1e-3 * k_ + 1e-5 * scale;
+
+    const size_t cells = size_t(g.dims.x) * g.dims.y * g.dims.z;
+    g.first.resize(cells);
+    g.count.resize(cells);
+    g.reach.assign(cells, 0);
+    for (int z = 0; z < g.dims.z; ++z)
+      for (int y = 0; y < g.dims.y; ++y)
+        for (int x = 0; x < g.dims.x; ++x) {
+          const size_t c = size_t(x) + size_t(g.dims.x) * (size_t(y) + size_t(g.dims.y) * z);
+          const dvec3 lo = g.lo + dvec3(x, y, z) * cell;
+          if (!list(Aabb{lo, lo + cell}, list_)) return fail();
+          if (list_.size() > kSplitAbove) {
+            // Eight octants, each with its own (shorter) list.
+            g.first[c] = static_cast<std::uint32_t>(g.count.size());
+            g.count[c] = ir::kGridSplit;
+            const size_t sub = g.count.size();
+            g.first.resize(sub + 8);
+            g.count.resize(sub + 8);
+            g.reach.resize(sub + 8, 0);
+            const double half = 0.5 * cell;
+            for (int o = 0; o < 8; ++o) {
+              const dvec3 sub_lo = lo + dvec3(o & 1, (o >> 1) & 1, (o >> 2) & 1) * half;
+              if (!list(Aabb{sub_lo, sub_lo + half}, list_) || list_.size() > kMaxList) return fail();
+              store(sub + size_t(o));
+            }
+          } else {
+            store(c);
+          }
+          if (g.entries.size() > kMaxIndex) return fail();
+        }
+    return true;
+  }
+
+ private:
+  bool fail() {
+    set_.grid = ir::InstanceGrid{};
+    return false;
+  }
+
+  void store(size_t c) {
+    ir::InstanceGrid& g = set_.grid;
+    g.longest = std::max(g.longest, static_cast<int>(list_.size()));
+    g.first[c] = static_cast<std::uint32_t>(g.entries.size());
+    g.count[c] = static_cast<std::int32_t>(list_.size());
+    for (std::uint32_t i : list_) g.entries.push_back(i);
+  }
+
+  // Members whose boxes lie within r of `box`, from the hierarchy.
+  void near(const Aabb& box, double r, std::vector<std::uint32_t>& out) const {
+    out.clear();
+    std::vector<std::uint32_t> stack{0};
+    while (!stack.empty()) {
+      const std::uint32_t ni = stack.back();
+      stack.pop_back();
+      const ir::BvhNode& node = set_.nodes[ni];
+      if (boxBoxDistance(node.box, box) >= r) continue;
+      if (node.count == 0) {
+        stack.push_back(ni + 1);
+        stack.push_back(node.first);
+        continue;
+      }
+      for (std::uint32_t i = node.first; i < node.first + node.count; ++i)
+        if (boxBoxDistance(boxes_[i], box) < r) out.push_back(i);
+    }
+  }
+
+  // The members that can come within k of the nearest in `box`: all with
+  // a lower bound under U + k. Members whose boxes lie farther than r are
+  // not evaluated, so r must reach U + k.
+  bool list(const Aabb& box, std::vector<std::uint32_t>& out) {
+    const dvec3 c = box.center();
+    const double h = 0.5 * glm::length(box.hi - box.lo);
+    double r = 2 * h + k_;
+    for (;;) {
+      near(box, r, candidates_);
+      if (candidates_.size() > kMaxCandidates) return false;
+      if (candidates_.empty()) {
+        r *= 2;
+        continue;
+      }
+      values_.resize(candidates_.size());
+      double least_hi = std::numeric_limits<double>::infinity();
+      for (size_t j = 0; j < candidates_.size(); ++j) {
+        const std::uint32_t i = candidates_[j];
+        const double v = distance_of_(i, c), spread = lipschitz_[set_.instances[i].templ] * h;
+        // A cell apart from the member's box: the member is at least that far
+        // (a box touching the cell bounds nothing: the member may be inside).
+        const double apart = boxBoxDistance(boxes_[i], box);
+        values_[j] = {apart > 0 ? std::max(v - spread, apart) : v - spread, v + spread};
+        least_hi = std::min(least_hi, values_[j].hi);
+      }
+      const double cut = least_hi + k_ + slack_;
+      if (r < cut) {
+        r = cut;
+        continue;
+      }
+      out.clear();
+      for (size_t j = 0; j < candidates_.size(); ++j)
+        if (values_[j].lo < cut) out.push_back(candidates_[j]);
+      // Leaf order: neighbouring records.
+      std::sort(out.begin(), out.end());
+      return true;
+    }
+  }
+
+  ir::InstanceSet& set_;
+  const ir::Node& node_;
+  double k_;
+  const std::function<double(size_t, const dvec3&)>& distance_of_;
+  const std::vector<double>& lipschitz_;
+  std::vector<Aabb> boxes_;
+  double pad_ = 0, slack_ = 0;
+  std::vector<std::uint32_t> candidates_, list_;
+  std::vector<Interval> values_;
+};
+
+}  // namespace
+
+bool buildBlendGrid(ir::InstanceSet& set, const ir::Node& node, double k,
+                    const std::function<double(size_t, const glm::dvec3&)>& distance_of) {
+  std::vector<double> lipschitz;
+  for (const ir::NodeRef& templ : node.children) lipschitz.push_back(std::max(templ->lipschitz, 1.0));
+  return BlendGridBuilder(set, node, k, distance_of, lipschitz).build();
+}
+
+}  // namespace sdfc
