@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "api/evaluate.h"
+#include "api/option_limits.h"
 #include "api/scene.h"
 #include "api/scene_render.h"
 #include "driver_compile_level.h"
@@ -38,6 +39,33 @@ namespace py = pybind11;
 using namespace sdfc;
 
 namespace {
+
+// A keyword's value checked against api/option_limits.h, the table the
+// command line's flags use: a Python int or float (numpy's too), within the
+// option's range, else ValueError naming it (light_samples=-1 had wrapped to
+// 4294967295; bounces=1000, time=nan, voxel_size=nan were taken).
+double checkedOption(api::Option option, const py::handle& value) {
+  const api::OptionLimit& limit = api::optionLimit(option);
+  double v = 0;
+  if (PyIndex_Check(value.ptr()) && !PyFloat_Check(value.ptr())) {
+    // A huge int becomes inf (refused below) rather than an overflow error.
+    const py::object index = py::reinterpret_steal<py::object>(PyNumber_Index(value.ptr()));
+    if (!index) throw py::error_already_set();
+    v = PyLong_AsDouble(index.ptr());
+    if (v == -1.0 && PyErr_Occurred()) {
+      PyErr_Clear();
+      v = std::numeric_limits<double>::infinity();
+    }
+  } else if (PyFloat_Check(value.ptr()) || py::hasattr(value, "__float__")) {
+    v = py::cast<double>(py::float_(py::reinterpret_borrow<py::object>(value)));
+  } else {
+    throw py::type_error(std::string(limit.name) + " must be a number, got " +
+                         std::string(py::str(py::type::handle_of(value).attr("__name__"))));
+  }
+  const std::string problem = api::optionProblem(option, v, limit.name);
+  if (!problem.empty()) throw py::value_error(problem);
+  return v;
+}
 
 // One Vulkan device per index for the whole process: creating one costs tens of
 // milliseconds, and a notebook renders many times. Never destroyed: a scene's
@@ -123,7 +151,10 @@ class PyScene {
   }
 
   // Distance, gradient or material at every point, the GIL released.
-  py::object field(const py::handle& points, double time, int threads, const std::string& what) const {
+  py::object field(const py::handle& points, const py::handle& time_arg, const py::handle& threads_arg,
+                   const std::string& what) const {
+    const double time = checkedOption(api::Option::Time, time_arg);
+    const int threads = int(checkedOption(api::Option::Threads, threads_arg));
     auto p = checkedPoints(points);
     const size_t n = size_t(p.shape(0));
     api::EvalBatch batch;
@@ -164,27 +195,25 @@ class PyScene {
   // As `sdfc render -o x.exr` with the same settings: the kernel for the device
   // (no bounding volumes on a CPU), the scene's settings overridden field by
   // field, the denoiser (nlr by default), the linear float image.
-  py::array_t<float> render(std::optional<std::pair<int, int>> size, std::optional<int> spp,
-                            const std::string& view, std::optional<std::string> denoise, double time,
-                            uint32_t seed, std::optional<int> bounces, std::optional<int> light_samples,
-                            int device, std::optional<py::function> progress) {
+  py::array_t<float> render(const py::handle& size, const py::handle& spp, const std::string& view,
+                            std::optional<std::string> denoise, const py::handle& time, const py::handle& seed,
+                            const py::handle& bounces, const py::handle& light_samples, int device,
+                            std::optional<py::function> progress) {
     const KernelView kernel = *kernelView(view);
     RenderOverrides o;
-    if (size) {
-      if (size->first < 1 || size->second < 1 || size->first > 16384 || size->second > 16384)
-        throw py::value_error("size must be (width, height) with sides from 1 to 16384");
-      o.width = size->first;
-      o.height = size->second;
+    if (!size.is_none()) {
+      if (!py::isinstance<py::sequence>(size) || py::len(size) != 2)
+        throw py::value_error("size must be (width, height)");
+      const py::sequence sides = py::reinterpret_borrow<py::sequence>(size);
+      o.width = int(checkedOption(api::Option::Size, sides[0]));
+      o.height = int(checkedOption(api::Option::Size, sides[1]));
     }
-    if (spp) {
-      if (*spp < 1 || *spp > 1000000) throw py::value_error("spp must be from 1 to 1000000");
-      o.spp = *spp;
-    }
-    if (bounces) o.bounces = *bounces;
-    if (light_samples) o.light_samples = *light_samples;
+    if (!spp.is_none()) o.spp = int(checkedOption(api::Option::Spp, spp));
+    if (!bounces.is_none()) o.bounces = int(checkedOption(api::Option::Bounces, bounces));
+    if (!light_samples.is_none()) o.light_samples = int(checkedOption(api::Option::LightSamples, light_samples));
+    o.seed = uint32_t(checkedOption(api::Option::Seed, seed));
+    o.time = checkedOption(api::Option::Time, time);
     o.view = viewIdFromName(view);
-    o.seed = seed;
-    o.time = time;
     ImageOptions image;
     if (denoise) {
       const std::optional<Denoiser> d = parseDenoiser(*denoise);
@@ -278,14 +307,13 @@ class PyScene {
     return out;
   }
 
-  py::tuple mesh(int resolution, double voxel_size, std::optional<std::vector<double>> box, double time,
-                 int threads) const {
+  py::tuple mesh(const py::handle& resolution, const py::handle& voxel_size, std::optional<std::vector<double>> box,
+                 const py::handle& time, const py::handle& threads) const {
     MeshOptions options;
-    if (resolution < 4 || resolution > 1024) throw py::value_error("resolution must be from 4 to 1024");
-    options.resolution = resolution;
-    options.voxel_size = voxel_size;
-    options.time = time;
-    options.threads = threads;
+    options.resolution = int(checkedOption(api::Option::Resolution, resolution));
+    if (!voxel_size.is_none()) options.voxel_size = checkedOption(api::Option::VoxelSize, voxel_size);
+    options.time = checkedOption(api::Option::Time, time);
+    options.threads = int(checkedOption(api::Option::Threads, threads));
     if (box) {
       if (box->size() != 6) throw py::value_error("box must be [x0, y0, z0, x1, y1, z1]");
       options.box = Aabb{glm::dvec3((*box)[0], (*box)[1], (*box)[2]), glm::dvec3((*box)[3], (*box)[4], (*box)[5])};
@@ -414,9 +442,27 @@ PYBIND11_MODULE(_sdfc, m) {
            py::arg("view") = "beauty", py::arg("denoise") = py::none(), py::arg("time") = 0.0,
            py::arg("seed") = 0, py::arg("bounces") = py::none(), py::arg("light_samples") = py::none(),
            py::arg("device") = -1, py::arg("progress") = py::none())
-      .def("mesh", &PyScene::mesh, py::arg("resolution") = 128, py::arg("voxel_size") = 0.0,
+      .def("mesh", &PyScene::mesh, py::arg("resolution") = 128, py::arg("voxel_size") = py::none(),
            py::arg("box") = py::none(), py::arg("time") = 0.0, py::arg("threads") = 0);
 
+  m.def(
+      "option_limits",
+      [] {
+        py::list out;
+        for (const api::OptionLimit& l : api::optionLimits()) {
+          py::dict d;
+          d["name"] = l.name;
+          d["flag"] = l.flag;
+          d["python"] = l.python;
+          d["whole"] = l.whole;
+          d["lo"] = l.lo;
+          d["hi"] = l.hi;
+          d["open_low"] = l.open_low;
+          out.append(d);
+        }
+        return out;
+      },
+      "api/option_limits.h's table: every option's range, as every front end checks it");
   m.def(
       "load",
       [](const std::string& path, const std::map<std::string, double>& defines,
