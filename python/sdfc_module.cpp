@@ -17,6 +17,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <thread>
 #include <tuple>
@@ -104,6 +105,43 @@ std::optional<KernelView> kernelView(const std::string& name) {
 
 // The (N, 3) float64 points of eval and gradient, or a TypeError / ValueError
 // that says what was passed.
+// Arrays cross the boundary by numpy's array object (shape, strides, data),
+// never by pybind11's reading of a dtype: pybind11 before 2.12 reads a
+// dtype's item size from numpy 1's struct layout, and under numpy 2 gets 0,
+// so an array it sized itself (a 1-D result) had a stride of 0 and showed
+// its first element everywhere (the build tree's module, which links the
+// system's pybind11, with numpy 2 from pip: eval gave the first point's
+// distance for every point). Every array made here has its strides given,
+// and every array in or out is checked to be C-contiguous with the element
+// size of its type: a wrong one is an error, never wrong numbers.
+template <typename T>
+void checkLayout(const py::array& a, const char* what) {
+  if (a.size() == 0) return;  // no element to reach: numpy's strides are free
+  py::ssize_t step = sizeof(T);
+  for (py::ssize_t i = a.ndim(); i-- > 0;) {
+    if (a.shape(i) > 1 && a.strides(i) != step)
+      throw std::runtime_error(std::string(what) + ": numpy gave an array whose strides are not those of " +
+                               std::to_string(sizeof(T)) + "-byte elements in C order; this numpy (" +
+                               std::string(py::str(py::module_::import("numpy").attr("__version__"))) +
+                               ") and the pybind11 sdfc was built with (" + std::to_string(PYBIND11_VERSION_MAJOR) +
+                               "." + std::to_string(PYBIND11_VERSION_MINOR) + ") disagree on its layout");
+    step *= a.shape(i);
+  }
+}
+
+template <typename T>
+py::array_t<T> newArray(std::vector<py::ssize_t> shape, const char* what) {
+  std::vector<py::ssize_t> strides(shape.size());
+  py::ssize_t step = sizeof(T);
+  for (size_t i = shape.size(); i-- > 0;) {
+    strides[i] = step;
+    step *= shape[i];
+  }
+  py::array_t<T> a(shape, strides);
+  checkLayout<T>(a, what);
+  return a;
+}
+
 py::array_t<double, py::array::c_style> checkedPoints(const py::handle& points) {
   if (!py::isinstance<py::array>(points))
     throw py::type_error("points must be a numpy array of shape (N, 3) and dtype float64, got " +
@@ -118,7 +156,10 @@ py::array_t<double, py::array::c_style> checkedPoints(const py::handle& points) 
     shape += a.ndim() == 1 ? ",)" : ")";
     throw py::value_error("points must have shape (N, 3), got " + shape);
   }
-  return py::array_t<double, py::array::c_style>::ensure(a);  // a C-contiguous copy when strided
+  auto p = py::array_t<double, py::array::c_style>::ensure(a);  // a C-contiguous copy when strided
+  if (!p) throw py::error_already_set();
+  checkLayout<double>(p, "points");
+  return p;
 }
 
 class PyScene {
@@ -164,15 +205,15 @@ class PyScene {
     batch.threads = threads;
     py::array result;
     if (what == "distance") {
-      py::array_t<double> d{py::ssize_t(n)};
+      auto d = newArray<double>({py::ssize_t(n)}, "eval");
       batch.distance = d.mutable_data();
       result = d;
     } else if (what == "gradient") {
-      py::array_t<double> g({py::ssize_t(n), py::ssize_t(3)});
+      auto g = newArray<double>({py::ssize_t(n), 3}, "gradient");
       batch.gradient = g.mutable_data();
       result = g;
     } else {
-      py::array_t<int32_t> m{py::ssize_t(n)};
+      auto m = newArray<int32_t>({py::ssize_t(n)}, "material");
       batch.material = m.mutable_data();
       result = m;
     }
@@ -300,7 +341,7 @@ class PyScene {
     if (error) throw std::move(*error);
     if (failed) std::rethrow_exception(failed);
     const FloatImage& img = rendered.image();
-    py::array_t<float> out({py::ssize_t(img.height), py::ssize_t(img.width), py::ssize_t(3)});
+    auto out = newArray<float>({py::ssize_t(img.height), py::ssize_t(img.width), 3}, "render");
     float* dst = out.mutable_data();
     for (size_t i = 0; i < img.pixelCount(); ++i)
       for (int c = 0; c < 3; ++c) dst[i * 3 + c] = img.rgba[i * 4 + c];
@@ -325,9 +366,9 @@ class PyScene {
     }
     if (!result.error.empty()) throw py::value_error(result.error);
     const TriangleMesh& m = result.mesh;
-    py::array_t<double> vertices({py::ssize_t(m.positions.size()), py::ssize_t(3)});
-    py::array_t<uint32_t> faces({py::ssize_t(m.triangles.size()), py::ssize_t(3)});
-    py::array_t<int32_t> materials{py::ssize_t(m.materials.size())};
+    auto vertices = newArray<double>({py::ssize_t(m.positions.size()), 3}, "mesh");
+    auto faces = newArray<uint32_t>({py::ssize_t(m.triangles.size()), 3}, "mesh");
+    auto materials = newArray<int32_t>({py::ssize_t(m.materials.size())}, "mesh");
     double* v = vertices.mutable_data();
     for (size_t i = 0; i < m.positions.size(); ++i)
       for (int c = 0; c < 3; ++c) v[i * 3 + c] = m.positions[i][c];
@@ -482,7 +523,7 @@ PYBIND11_MODULE(_sdfc, m) {
       "read_image",
       [](const std::string& path) {
         FloatImage img = readImage(path);
-        py::array_t<float> out({py::ssize_t(img.height), py::ssize_t(img.width), py::ssize_t(3)});
+        auto out = newArray<float>({py::ssize_t(img.height), py::ssize_t(img.width), 3}, "read_image");
         float* dst = out.mutable_data();
         for (size_t i = 0; i < img.pixelCount(); ++i)
           for (int c = 0; c < 3; ++c) dst[i * 3 + c] = img.rgba[i * 4 + c];
@@ -493,12 +534,13 @@ PYBIND11_MODULE(_sdfc, m) {
       "to_srgb8",
       [](py::array_t<float, py::array::c_style | py::array::forcecast> image) {
         if (image.ndim() != 3 || image.shape(2) != 3) throw py::value_error("image must be (H, W, 3)");
+        checkLayout<float>(image, "image");
         FloatImage img(uint32_t(image.shape(1)), uint32_t(image.shape(0)), 1.0f);
         const float* src = image.data();
         for (size_t i = 0; i < img.pixelCount(); ++i)
           for (int c = 0; c < 3; ++c) img.rgba[i * 4 + c] = src[i * 3 + c];
         std::vector<uint8_t> bytes = toSrgb8(img, ToneMap{});
-        py::array_t<uint8_t> out({image.shape(0), image.shape(1), py::ssize_t(3)});
+        auto out = newArray<uint8_t>({image.shape(0), image.shape(1), 3}, "to_srgb8");
         std::copy(bytes.begin(), bytes.end(), out.mutable_data());
         return out;
       },
