@@ -3,6 +3,7 @@
 #include <chrono>
 #include <ctime>
 
+#include "option_limits.h"
 #include "check/checker.h"
 #include "loop_budget.h"
 #include "vk_check.h"
@@ -19,7 +20,8 @@ std::optional<std::pair<int, int>> parseImageSize(const std::string& text) {
       !whole(std::string_view(text).substr(x + 1)))
     return std::nullopt;
   const int w = std::stoi(text.substr(0, x)), h = std::stoi(text.substr(x + 1));
-  if (w < 1 || h < 1 || w > 16384 || h > 16384) return std::nullopt;
+  const api::OptionLimit& side = api::optionLimit(api::Option::Size);
+  if (w < side.lo || h < side.lo || w > side.hi || h > side.hi) return std::nullopt;
   return std::make_pair(w, h);
 }
 // The checker refuses more lights than the kernel's light loop is budgeted for.

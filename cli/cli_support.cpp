@@ -165,10 +165,15 @@ CLI::Validator wholeNumberIn(long long lo, long long hi) {
       "WHOLE NUMBER from " + range.str());
 }
 
+CLI::Validator limitOf(api::Option option) {
+  const api::OptionLimit& l = api::optionLimit(option);
+  return l.whole ? wholeNumberIn((long long)l.lo, (long long)l.hi) : numberIn(l.lo, l.hi, l.open_low);
+}
+
 bool checkTimeOption(double time, const char* option) {
-  if (std::isfinite(time) && std::fabs(time) <= std::numeric_limits<float>::max()) return true;
-  std::cerr << "sdfc: error: " << option << " must be a finite number within float32's range (|t| <= "
-            << std::numeric_limits<float>::max() << "), got " << time << "\n";
+  const std::string problem = api::optionProblem(api::Option::Time, time, option);
+  if (problem.empty()) return true;
+  std::cerr << "sdfc: error: " << problem << "\n";
   return false;
 }
 

@@ -4,6 +4,7 @@
 #include <optional>
 #include <string>
 
+#include "api/option_limits.h"
 #include "api/scene.h"
 #include "atomic_file.h"
 #include "commands.h"
@@ -49,6 +50,9 @@ std::optional<double> parsePlainNumber(const std::string& text);
 CLI::Validator numberIn(double lo, double hi, bool open_low = false);
 // A whole-number option: plain decimal digits within [lo, hi] (not 1.5, 1e3, inf).
 CLI::Validator wholeNumberIn(long long lo, long long hi);
+// The check of a flag the Python package and the viewer take too, from the
+// one table of their ranges (api/option_limits.h): wholeNumberIn or numberIn.
+CLI::Validator limitOf(api::Option option);
 
 // Usage checks shared by render, view, eval, mesh and farm submit: --time must be a float32
 // number. Prints the error and returns false when it is not.

@@ -21,8 +21,12 @@
 namespace sdfc {
 namespace {
 
-// A JSON string literal; "</" is written "<\/" so the text cannot end the
-// <script> element it sits in.
+// A JSON string literal that is also inert inside the <script> element it
+// sits in: '<', '>' and '&' are written \u003c, \u003e and \u0026, so no
+// "</script", "<!--" or "<script" in a file name or the kernel can end the
+// element or switch the HTML parser into its escaped states (a name holding
+// "<!--<script>" left the page blank). U+2028 and U+2029 are escaped too,
+// for a reader that takes the block as JavaScript rather than JSON.
 std::string jsonString(const std::string& s) {
   std::string out = "\"";
   for (size_t i = 0; i < s.size(); ++i) {
@@ -32,17 +36,39 @@ std::string jsonString(const std::string& s) {
       out += char(c);
     } else if (c == '\n') {
       out += "\\n";
-    } else if (c == '/' && i > 0 && s[i - 1] == '<') {
-      out += "\\/";
-    } else if (c < 0x20) {
+    } else if (c < 0x20 || c == '<' || c == '>' || c == '&' || c == 0x7f) {
       char buf[8];
       std::snprintf(buf, sizeof buf, "\\u%04x", c);
       out += buf;
+    } else if (c == 0xe2 && i + 2 < s.size() && static_cast<unsigned char>(s[i + 1]) == 0x80 &&
+               (static_cast<unsigned char>(s[i + 2]) == 0xa8 || static_cast<unsigned char>(s[i + 2]) == 0xa9)) {
+      out += static_cast<unsigned char>(s[i + 2]) == 0xa8 ? "\\u2028" : "\\u2029";
+      i += 2;
     } else {
       out += char(c);
     }
   }
   return out + "\"";
+}
+
+// The file name as it may stand in a `//` comment of GLSL: a control
+// character (a newline would end the comment and make the rest of the name
+// code) and a backslash (one before the newline splices the next line in)
+// are written as escapes: \n, \t, \r or \xNN.
+std::string commentSafe(const std::string& s) {
+  std::string out;
+  for (const char ch : s) {
+    const unsigned char c = static_cast<unsigned char>(ch);
+    if (c == '\n') out += "\\n";
+    else if (c == '\t') out += "\\t";
+    else if (c == '\r') out += "\\r";
+    else if (c < 0x20 || c == 0x7f || c == '\\') {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\x%02x", c);
+      out += buf;
+    } else out += ch;
+  }
+  return out;
 }
 
 std::string htmlEscape(const std::string& s) {
@@ -223,7 +249,7 @@ int runExport(const CommandLine& cl) {
 
   std::string out;
   if (shadertoy) {
-    out = "// " + stem(cl.input) + ": written by `sdfc export --target shadertoy` (docs/export.md).\n"
+    out = "// " + commentSafe(stem(cl.input)) + ": written by `sdfc export --target shadertoy` (docs/export.md).\n"
           "// Paste into a Shadertoy image tab: the scene's normal view; drag to orbit.\n" + kernel;
   } else {
     const CameraInsideTest inside = cameraInsideTest(c.scene, c.emitted.limits);

@@ -1,6 +1,9 @@
 // `sdfc view`: the command line's flags as the viewer's options (viewer/ does not
 // know CommandLine).
 #include "cli_support.h"
+
+#include <iostream>
+
 #include "commands.h"
 #include "view_loop.h"
 
@@ -8,6 +11,11 @@ namespace sdfc {
 
 int runView(const CommandLine& cl) {
   if (!checkTimeOption(cl.time)) return kExitUsage;
+  // As render's --size (a bad one was ignored, the scene's size used instead).
+  if (!cl.size.empty() && !parseImageSize(cl.size)) {
+    std::cerr << "sdfc: error: --size expects WxH with sides from 1 to 16384, e.g. 640x360\n";
+    return kExitUsage;
+  }
   view::ViewOptions o;
   o.input = cl.input;
   o.load.compile = compileOptionsFrom(cl);

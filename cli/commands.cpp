@@ -16,11 +16,6 @@
 #include "vulkan_context.h"
 
 namespace sdfc {
-namespace {
-// 2^64 either way: far past any useful exposure, still finite in float32.
-constexpr double kMaxExposureStops = 64;
-}  // namespace
-
 void registerCommands(CLI::App& app, CommandLine& cl) {
   auto common = [&](CLI::App* sub, bool needs_input = true) {
     if (needs_input) sub->add_option("scene", cl.input, "the .sdf file")->required();
@@ -94,10 +89,9 @@ void registerCommands(CLI::App& app, CommandLine& cl) {
   common(render);
   render->add_option("-o,--output", cl.output, "image: .png, .exr or .pfm")->required();
   render->add_option("--size", cl.size, "WxH, e.g. 640x360");
-  render->add_option("--spp", cl.spp, "samples per pixel")->check(wholeNumberIn(1, 1 << 20));
-  render->add_option("--bounces", cl.bounces, "maximum path length")->check(wholeNumberIn(0, 64));
-  render->add_option("--light-samples", cl.light_samples, "light samples per vertex")
-      ->check(wholeNumberIn(0, 16));
+  render->add_option("--spp", cl.spp, "samples per pixel")->check(limitOf(api::Option::Spp));
+  render->add_option("--bounces", cl.bounces, "maximum path length")->check(limitOf(api::Option::Bounces));
+  render->add_option("--light-samples", cl.light_samples, "light samples per vertex")->check(limitOf(api::Option::LightSamples));
   render->add_option("--denoise", cl.denoiser,
                      "none | bilateral | atrous | svgf | nlm | nlr (default nlr: it leaves converged "
                      "pixels as they are; none for reference images)")
@@ -158,10 +152,9 @@ void registerCommands(CLI::App& app, CommandLine& cl) {
       ->check(wholeNumberIn(0, 1 << 30));
   render->add_option("--fps", cl.fps, "frames per second of --frames (default 24)")
       ->check(numberIn(0.001, 1e6));
-  render->add_option("--seed", cl.seed, "random seed");
+  render->add_option("--seed", cl.seed, "random seed")->check(limitOf(api::Option::Seed));
   render->add_option("--device", cl.device, "Vulkan device index (see `sdfc devices`)");
-  render->add_option("--exposure", cl.exposure, "exposure in stops for PNG output")
-      ->check(numberIn(-kMaxExposureStops, kMaxExposureStops));
+  render->add_option("--exposure", cl.exposure, "exposure in stops for PNG output")->check(limitOf(api::Option::Exposure));
   render->add_option("--tonemap", cl.tonemap,
                      "PNG tone curve: neutral (Khronos PBR Neutral, the default) | aces | linear "
                      "(clamp); EXR and PFM stay linear")
@@ -180,20 +173,17 @@ void registerCommands(CLI::App& app, CommandLine& cl) {
       "view", "a window that path-traces the scene progressively and reloads it on save");
   common(view);
   view->add_option("--size", cl.size, "window size WxH (default: the scene's render size)");
-  view->add_option("--spp", cl.spp, "samples to accumulate while still (default: the scene's)")
-      ->check(wholeNumberIn(1, 1 << 20));
-  view->add_option("--bounces", cl.bounces, "maximum path length")->check(wholeNumberIn(0, 64));
-  view->add_option("--light-samples", cl.light_samples, "light samples per vertex")
-      ->check(wholeNumberIn(0, 16));
+  view->add_option("--spp", cl.spp, "samples to accumulate while still (default: the scene's)")->check(limitOf(api::Option::Spp));
+  view->add_option("--bounces", cl.bounces, "maximum path length")->check(limitOf(api::Option::Bounces));
+  view->add_option("--light-samples", cl.light_samples, "light samples per vertex")->check(limitOf(api::Option::LightSamples));
   view->add_option("--view", cl.view, "first view: beauty | normal | steps | depth | albedo")
       ->check(CLI::IsMember({"beauty", "normal", "steps", "depth", "albedo"}));
   view->add_option("--denoise", cl.denoiser, "none | atrous (start with the denoiser on)")
       ->check(CLI::IsMember({"none", "atrous"}));
   view->add_option("--time", cl.time, "start time in seconds");
-  view->add_option("--seed", cl.seed, "random seed");
+  view->add_option("--seed", cl.seed, "random seed")->check(limitOf(api::Option::Seed));
   view->add_option("--device", cl.device, "Vulkan device index (see `sdfc devices`)");
-  view->add_option("--exposure", cl.exposure, "exposure in stops")
-      ->check(numberIn(-kMaxExposureStops, kMaxExposureStops));
+  view->add_option("--exposure", cl.exposure, "exposure in stops")->check(limitOf(api::Option::Exposure));
   view->add_option("--tonemap", cl.tonemap, "tone curve: neutral (default) | aces | linear (clamp)")
       ->check(CLI::IsMember({"neutral", "aces", "linear"}));
   view->add_flag("--aces", cl.aces, "the same as --tonemap aces");
@@ -226,10 +216,8 @@ void registerCommands(CLI::App& app, CommandLine& cl) {
   common(mesh);
   ignored_mesh_mode(mesh);
   mesh->add_option("-o,--output", cl.output, "mesh file")->required();
-  mesh->add_option("--resolution", cl.resolution, "cells along the longest side")
-      ->check(wholeNumberIn(4, 1024));
-  mesh->add_option("--voxel-size", cl.voxel_size, "cell size (overrides --resolution)")
-      ->check(numberIn(0, std::numeric_limits<float>::max(), /*open_low=*/true));
+  mesh->add_option("--resolution", cl.resolution, "cells along the longest side")->check(limitOf(api::Option::Resolution));
+  mesh->add_option("--voxel-size", cl.voxel_size, "cell size (overrides --resolution)")->check(limitOf(api::Option::VoxelSize));
   mesh->add_option("--box", cl.box, "x0,y0,z0,x1,y1,z1: region for infinite scenes");
   mesh->add_option("--time", cl.time, "scene time in seconds");
   mesh->add_flag("-q,--quiet", cl.quiet, "no progress output");
@@ -243,15 +231,12 @@ void registerCommands(CLI::App& app, CommandLine& cl) {
                   "(the normal view, for an image tab)")
       ->check(CLI::IsMember({"html", "shadertoy"}));
   web->add_option("--size", cl.size, "the page's image WxH (default: the scene's render size)");
-  web->add_option("--spp", cl.spp, "samples the page accumulates (default: the scene's)")
-      ->check(wholeNumberIn(1, 1 << 20));
-  web->add_option("--bounces", cl.bounces, "maximum path length")->check(wholeNumberIn(0, 64));
-  web->add_option("--light-samples", cl.light_samples, "light samples per vertex")
-      ->check(wholeNumberIn(0, 16));
+  web->add_option("--spp", cl.spp, "samples the page accumulates (default: the scene's)")->check(limitOf(api::Option::Spp));
+  web->add_option("--bounces", cl.bounces, "maximum path length")->check(limitOf(api::Option::Bounces));
+  web->add_option("--light-samples", cl.light_samples, "light samples per vertex")->check(limitOf(api::Option::LightSamples));
   web->add_option("--time", cl.time, "scene time in seconds");
-  web->add_option("--seed", cl.seed, "random seed");
-  web->add_option("--exposure", cl.exposure, "exposure in stops")
-      ->check(numberIn(-kMaxExposureStops, kMaxExposureStops));
+  web->add_option("--seed", cl.seed, "random seed")->check(limitOf(api::Option::Seed));
+  web->add_option("--exposure", cl.exposure, "exposure in stops")->check(limitOf(api::Option::Exposure));
   web->add_option("--tonemap", cl.tonemap, "tone curve: neutral (default) | aces | linear (clamp)")
       ->check(CLI::IsMember({"neutral", "aces", "linear"}));
   web->add_flag("--aces", cl.aces, "the same as --tonemap aces");
@@ -279,15 +264,15 @@ void registerCommands(CLI::App& app, CommandLine& cl) {
       "submit", "check the scene, then submit a shard array and a dependent merge job");
   common(submit);
   submit->add_option("-o,--output", cl.output, "job directory on the shared file system")->required();
-  submit->add_option("--spp", cl.spp, "samples per pixel")->check(wholeNumberIn(1, 1 << 20));
+  submit->add_option("--spp", cl.spp, "samples per pixel")->check(limitOf(api::Option::Spp));
   submit->add_option("--shards", cl.shards, "shards per image (sample ranges)")->check(wholeNumberIn(1, 1 << 16));
   submit->add_option("--frames", cl.frames, "A-B: render frames A..B (time = frame / fps)");
   submit->add_option("--fps", cl.fps, "frames per second (default 24)")->check(numberIn(0.001, 1e6));
   submit->add_option("--size", cl.size, "WxH");
-  submit->add_option("--bounces", cl.bounces, "maximum path length")->check(wholeNumberIn(0, 64));
-  submit->add_option("--light-samples", cl.light_samples, "light samples per vertex")->check(wholeNumberIn(0, 16));
+  submit->add_option("--bounces", cl.bounces, "maximum path length")->check(limitOf(api::Option::Bounces));
+  submit->add_option("--light-samples", cl.light_samples, "light samples per vertex")->check(limitOf(api::Option::LightSamples));
   submit->add_option("--time", cl.time, "scene time of a still");
-  submit->add_option("--seed", cl.seed, "random seed");
+  submit->add_option("--seed", cl.seed, "random seed")->check(limitOf(api::Option::Seed));
   submit->add_option("--video", cl.video, "encode the frames with ffmpeg into this file (animations)");
   submit->add_option("--partition", cl.partition, "sbatch --partition");
   submit->add_option("--account", cl.account, "sbatch --account");

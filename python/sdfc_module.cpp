@@ -17,6 +17,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <thread>
 #include <tuple>
@@ -24,6 +25,7 @@
 #include <vector>
 
 #include "api/evaluate.h"
+#include "api/option_limits.h"
 #include "api/scene.h"
 #include "api/scene_render.h"
 #include "driver_compile_level.h"
@@ -38,6 +40,33 @@ namespace py = pybind11;
 using namespace sdfc;
 
 namespace {
+
+// A keyword's value checked against api/option_limits.h, the table the
+// command line's flags use: a Python int or float (numpy's too), within the
+// option's range, else ValueError naming it (light_samples=-1 had wrapped to
+// 4294967295; bounces=1000, time=nan, voxel_size=nan were taken).
+double checkedOption(api::Option option, const py::handle& value) {
+  const api::OptionLimit& limit = api::optionLimit(option);
+  double v = 0;
+  if (PyIndex_Check(value.ptr()) && !PyFloat_Check(value.ptr())) {
+    // A huge int becomes inf (refused below) rather than an overflow error.
+    const py::object index = py::reinterpret_steal<py::object>(PyNumber_Index(value.ptr()));
+    if (!index) throw py::error_already_set();
+    v = PyLong_AsDouble(index.ptr());
+    if (v == -1.0 && PyErr_Occurred()) {
+      PyErr_Clear();
+      v = std::numeric_limits<double>::infinity();
+    }
+  } else if (PyFloat_Check(value.ptr()) || py::hasattr(value, "__float__")) {
+    v = py::cast<double>(py::float_(py::reinterpret_borrow<py::object>(value)));
+  } else {
+    throw py::type_error(std::string(limit.name) + " must be a number, got " +
+                         std::string(py::str(py::type::handle_of(value).attr("__name__"))));
+  }
+  const std::string problem = api::optionProblem(option, v, limit.name);
+  if (!problem.empty()) throw py::value_error(problem);
+  return v;
+}
 
 // One Vulkan device per index for the whole process: creating one costs tens of
 // milliseconds, and a notebook renders many times. Never destroyed: a scene's
@@ -76,6 +105,43 @@ std::optional<KernelView> kernelView(const std::string& name) {
 
 // The (N, 3) float64 points of eval and gradient, or a TypeError / ValueError
 // that says what was passed.
+// Arrays cross the boundary by numpy's array object (shape, strides, data),
+// never by pybind11's reading of a dtype: pybind11 before 2.12 reads a
+// dtype's item size from numpy 1's struct layout, and under numpy 2 gets 0,
+// so an array it sized itself (a 1-D result) had a stride of 0 and showed
+// its first element everywhere (the build tree's module, which links the
+// system's pybind11, with numpy 2 from pip: eval gave the first point's
+// distance for every point). Every array made here has its strides given,
+// and every array in or out is checked to be C-contiguous with the element
+// size of its type: a wrong one is an error, never wrong numbers.
+template <typename T>
+void checkLayout(const py::array& a, const char* what) {
+  if (a.size() == 0) return;  // no element to reach: numpy's strides are free
+  py::ssize_t step = sizeof(T);
+  for (py::ssize_t i = a.ndim(); i-- > 0;) {
+    if (a.shape(i) > 1 && a.strides(i) != step)
+      throw std::runtime_error(std::string(what) + ": numpy gave an array whose strides are not those of " +
+                               std::to_string(sizeof(T)) + "-byte elements in C order; this numpy (" +
+                               std::string(py::str(py::module_::import("numpy").attr("__version__"))) +
+                               ") and the pybind11 sdfc was built with (" + std::to_string(PYBIND11_VERSION_MAJOR) +
+                               "." + std::to_string(PYBIND11_VERSION_MINOR) + ") disagree on its layout");
+    step *= a.shape(i);
+  }
+}
+
+template <typename T>
+py::array_t<T> newArray(std::vector<py::ssize_t> shape, const char* what) {
+  std::vector<py::ssize_t> strides(shape.size());
+  py::ssize_t step = sizeof(T);
+  for (size_t i = shape.size(); i-- > 0;) {
+    strides[i] = step;
+    step *= shape[i];
+  }
+  py::array_t<T> a(shape, strides);
+  checkLayout<T>(a, what);
+  return a;
+}
+
 py::array_t<double, py::array::c_style> checkedPoints(const py::handle& points) {
   if (!py::isinstance<py::array>(points))
     throw py::type_error("points must be a numpy array of shape (N, 3) and dtype float64, got " +
@@ -90,7 +156,10 @@ py::array_t<double, py::array::c_style> checkedPoints(const py::handle& points) 
     shape += a.ndim() == 1 ? ",)" : ")";
     throw py::value_error("points must have shape (N, 3), got " + shape);
   }
-  return py::array_t<double, py::array::c_style>::ensure(a);  // a C-contiguous copy when strided
+  auto p = py::array_t<double, py::array::c_style>::ensure(a);  // a C-contiguous copy when strided
+  if (!p) throw py::error_already_set();
+  checkLayout<double>(p, "points");
+  return p;
 }
 
 class PyScene {
@@ -123,7 +192,10 @@ class PyScene {
   }
 
   // Distance, gradient or material at every point, the GIL released.
-  py::object field(const py::handle& points, double time, int threads, const std::string& what) const {
+  py::object field(const py::handle& points, const py::handle& time_arg, const py::handle& threads_arg,
+                   const std::string& what) const {
+    const double time = checkedOption(api::Option::Time, time_arg);
+    const int threads = int(checkedOption(api::Option::Threads, threads_arg));
     auto p = checkedPoints(points);
     const size_t n = size_t(p.shape(0));
     api::EvalBatch batch;
@@ -133,15 +205,15 @@ class PyScene {
     batch.threads = threads;
     py::array result;
     if (what == "distance") {
-      py::array_t<double> d{py::ssize_t(n)};
+      auto d = newArray<double>({py::ssize_t(n)}, "eval");
       batch.distance = d.mutable_data();
       result = d;
     } else if (what == "gradient") {
-      py::array_t<double> g({py::ssize_t(n), py::ssize_t(3)});
+      auto g = newArray<double>({py::ssize_t(n), 3}, "gradient");
       batch.gradient = g.mutable_data();
       result = g;
     } else {
-      py::array_t<int32_t> m{py::ssize_t(n)};
+      auto m = newArray<int32_t>({py::ssize_t(n)}, "material");
       batch.material = m.mutable_data();
       result = m;
     }
@@ -164,27 +236,25 @@ class PyScene {
   // As `sdfc render -o x.exr` with the same settings: the kernel for the device
   // (no bounding volumes on a CPU), the scene's settings overridden field by
   // field, the denoiser (nlr by default), the linear float image.
-  py::array_t<float> render(std::optional<std::pair<int, int>> size, std::optional<int> spp,
-                            const std::string& view, std::optional<std::string> denoise, double time,
-                            uint32_t seed, std::optional<int> bounces, std::optional<int> light_samples,
-                            int device, std::optional<py::function> progress) {
+  py::array_t<float> render(const py::handle& size, const py::handle& spp, const std::string& view,
+                            std::optional<std::string> denoise, const py::handle& time, const py::handle& seed,
+                            const py::handle& bounces, const py::handle& light_samples, int device,
+                            std::optional<py::function> progress) {
     const KernelView kernel = *kernelView(view);
     RenderOverrides o;
-    if (size) {
-      if (size->first < 1 || size->second < 1 || size->first > 16384 || size->second > 16384)
-        throw py::value_error("size must be (width, height) with sides from 1 to 16384");
-      o.width = size->first;
-      o.height = size->second;
+    if (!size.is_none()) {
+      if (!py::isinstance<py::sequence>(size) || py::len(size) != 2)
+        throw py::value_error("size must be (width, height)");
+      const py::sequence sides = py::reinterpret_borrow<py::sequence>(size);
+      o.width = int(checkedOption(api::Option::Size, sides[0]));
+      o.height = int(checkedOption(api::Option::Size, sides[1]));
     }
-    if (spp) {
-      if (*spp < 1 || *spp > 1000000) throw py::value_error("spp must be from 1 to 1000000");
-      o.spp = *spp;
-    }
-    if (bounces) o.bounces = *bounces;
-    if (light_samples) o.light_samples = *light_samples;
+    if (!spp.is_none()) o.spp = int(checkedOption(api::Option::Spp, spp));
+    if (!bounces.is_none()) o.bounces = int(checkedOption(api::Option::Bounces, bounces));
+    if (!light_samples.is_none()) o.light_samples = int(checkedOption(api::Option::LightSamples, light_samples));
+    o.seed = uint32_t(checkedOption(api::Option::Seed, seed));
+    o.time = checkedOption(api::Option::Time, time);
     o.view = viewIdFromName(view);
-    o.seed = seed;
-    o.time = time;
     ImageOptions image;
     if (denoise) {
       const std::optional<Denoiser> d = parseDenoiser(*denoise);
@@ -271,21 +341,20 @@ class PyScene {
     if (error) throw std::move(*error);
     if (failed) std::rethrow_exception(failed);
     const FloatImage& img = rendered.image();
-    py::array_t<float> out({py::ssize_t(img.height), py::ssize_t(img.width), py::ssize_t(3)});
+    auto out = newArray<float>({py::ssize_t(img.height), py::ssize_t(img.width), 3}, "render");
     float* dst = out.mutable_data();
     for (size_t i = 0; i < img.pixelCount(); ++i)
       for (int c = 0; c < 3; ++c) dst[i * 3 + c] = img.rgba[i * 4 + c];
     return out;
   }
 
-  py::tuple mesh(int resolution, double voxel_size, std::optional<std::vector<double>> box, double time,
-                 int threads) const {
+  py::tuple mesh(const py::handle& resolution, const py::handle& voxel_size, std::optional<std::vector<double>> box,
+                 const py::handle& time, const py::handle& threads) const {
     MeshOptions options;
-    if (resolution < 4 || resolution > 1024) throw py::value_error("resolution must be from 4 to 1024");
-    options.resolution = resolution;
-    options.voxel_size = voxel_size;
-    options.time = time;
-    options.threads = threads;
+    options.resolution = int(checkedOption(api::Option::Resolution, resolution));
+    if (!voxel_size.is_none()) options.voxel_size = checkedOption(api::Option::VoxelSize, voxel_size);
+    options.time = checkedOption(api::Option::Time, time);
+    options.threads = int(checkedOption(api::Option::Threads, threads));
     if (box) {
       if (box->size() != 6) throw py::value_error("box must be [x0, y0, z0, x1, y1, z1]");
       options.box = Aabb{glm::dvec3((*box)[0], (*box)[1], (*box)[2]), glm::dvec3((*box)[3], (*box)[4], (*box)[5])};
@@ -297,9 +366,9 @@ class PyScene {
     }
     if (!result.error.empty()) throw py::value_error(result.error);
     const TriangleMesh& m = result.mesh;
-    py::array_t<double> vertices({py::ssize_t(m.positions.size()), py::ssize_t(3)});
-    py::array_t<uint32_t> faces({py::ssize_t(m.triangles.size()), py::ssize_t(3)});
-    py::array_t<int32_t> materials{py::ssize_t(m.materials.size())};
+    auto vertices = newArray<double>({py::ssize_t(m.positions.size()), 3}, "mesh");
+    auto faces = newArray<uint32_t>({py::ssize_t(m.triangles.size()), 3}, "mesh");
+    auto materials = newArray<int32_t>({py::ssize_t(m.materials.size())}, "mesh");
     double* v = vertices.mutable_data();
     for (size_t i = 0; i < m.positions.size(); ++i)
       for (int c = 0; c < 3; ++c) v[i * 3 + c] = m.positions[i][c];
@@ -414,9 +483,27 @@ PYBIND11_MODULE(_sdfc, m) {
            py::arg("view") = "beauty", py::arg("denoise") = py::none(), py::arg("time") = 0.0,
            py::arg("seed") = 0, py::arg("bounces") = py::none(), py::arg("light_samples") = py::none(),
            py::arg("device") = -1, py::arg("progress") = py::none())
-      .def("mesh", &PyScene::mesh, py::arg("resolution") = 128, py::arg("voxel_size") = 0.0,
+      .def("mesh", &PyScene::mesh, py::arg("resolution") = 128, py::arg("voxel_size") = py::none(),
            py::arg("box") = py::none(), py::arg("time") = 0.0, py::arg("threads") = 0);
 
+  m.def(
+      "option_limits",
+      [] {
+        py::list out;
+        for (const api::OptionLimit& l : api::optionLimits()) {
+          py::dict d;
+          d["name"] = l.name;
+          d["flag"] = l.flag;
+          d["python"] = l.python;
+          d["whole"] = l.whole;
+          d["lo"] = l.lo;
+          d["hi"] = l.hi;
+          d["open_low"] = l.open_low;
+          out.append(d);
+        }
+        return out;
+      },
+      "api/option_limits.h's table: every option's range, as every front end checks it");
   m.def(
       "load",
       [](const std::string& path, const std::map<std::string, double>& defines,
@@ -436,7 +523,7 @@ PYBIND11_MODULE(_sdfc, m) {
       "read_image",
       [](const std::string& path) {
         FloatImage img = readImage(path);
-        py::array_t<float> out({py::ssize_t(img.height), py::ssize_t(img.width), py::ssize_t(3)});
+        auto out = newArray<float>({py::ssize_t(img.height), py::ssize_t(img.width), 3}, "read_image");
         float* dst = out.mutable_data();
         for (size_t i = 0; i < img.pixelCount(); ++i)
           for (int c = 0; c < 3; ++c) dst[i * 3 + c] = img.rgba[i * 4 + c];
@@ -447,12 +534,13 @@ PYBIND11_MODULE(_sdfc, m) {
       "to_srgb8",
       [](py::array_t<float, py::array::c_style | py::array::forcecast> image) {
         if (image.ndim() != 3 || image.shape(2) != 3) throw py::value_error("image must be (H, W, 3)");
+        checkLayout<float>(image, "image");
         FloatImage img(uint32_t(image.shape(1)), uint32_t(image.shape(0)), 1.0f);
         const float* src = image.data();
         for (size_t i = 0; i < img.pixelCount(); ++i)
           for (int c = 0; c < 3; ++c) img.rgba[i * 4 + c] = src[i * 3 + c];
         std::vector<uint8_t> bytes = toSrgb8(img, ToneMap{});
-        py::array_t<uint8_t> out({image.shape(0), image.shape(1), py::ssize_t(3)});
+        auto out = newArray<uint8_t>({image.shape(0), image.shape(1), 3}, "to_srgb8");
         std::copy(bytes.begin(), bytes.end(), out.mutable_data());
         return out;
       },

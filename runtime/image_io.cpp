@@ -1,6 +1,7 @@
 #include "image_io.h"
 
 #include "atomic_file.h"
+#include "check/image_header.h"
 #include "exr_channels.h"
 #include "for_each_row.h"
 #include "png_encode.h"
@@ -23,12 +24,6 @@
 namespace sdfc {
 namespace {
 
-std::string lowerExtension(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return ext;
-}
 
 std::vector<float> toRgb(const FloatImage& image) {
   std::vector<float> rgb(image.pixelCount() * 3);
@@ -332,17 +327,13 @@ FloatImage readImage(const std::string& path) {
   const std::string ext = lowerExtension(path);
   if (ext == ".pfm") return readPfm(path);
   if (ext == ".exr") {
-    float* rgba = nullptr;
+    std::vector<float> rgba;
     int width = 0, height = 0;
-    const char* err = nullptr;
-    if (LoadEXR(&rgba, &width, &height, path.c_str(), &err) != TINYEXR_SUCCESS) {
-      const std::string message = err ? err : "unknown error";
-      FreeEXRErrorMessage(err);
-      throw ImageIoError("cannot read EXR " + path + ": " + message);
-    }
+    // Rows top first whatever the file's line order (check/image_header.h).
+    if (const std::string why = decodeExrRgba(path, rgba, width, height); !why.empty())
+      throw ImageIoError("cannot read EXR " + path + ": " + why);
     FloatImage image{uint32_t(width), uint32_t(height)};
-    std::copy(rgba, rgba + image.rgba.size(), image.rgba.begin());
-    std::free(rgba);
+    std::copy(rgba.begin(), rgba.end(), image.rgba.begin());
     return image;
   }
   int width = 0, height = 0, channels = 0;

@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """Colour fields reach the image (issue 33): the albedo view and the beauty
-image of a field-coloured wall equal the float64 field at the hit points.
+image of a field-coloured wall equal the float64 field at the hit points;
+a checker floor on a cell boundary has one colour per cell (checker_floor).
 
 A wall facing the camera (z = 0, an analytic plane; and the front face of a
 marched box) under a constant white sky with no sun: a diffuse surface there
@@ -81,7 +82,66 @@ def main():
             print(f"{name}: field spread {spread:.3f}, albedo view max |err| {err_albedo:.2e}, "
                   f"beauty mean |err| {err_beauty_mean:.4f} max {err_beauty_max:.4f} {'ok' if ok else 'FAIL'}")
             failures += not ok
+        failures += checker_floor(args.sdfc, tmp)
     return 1 if failures else 0
+
+
+FLOOR = """render(size: [{w}, {h}], spp: 1, bounces: 1)
+camera(position: [0.3, 3, 5], target: [0.3, 0, 0], fov: 40)
+sky(color: [1, 1, 1])
+let tiles = diffuse(albedo: checker([0.9, 0.9, 0.9], [0.1, 0.1, 0.1], size: 1))
+scene {{ {shape} }}
+"""
+FLOORS = {
+    "plane": "plane(normal: [0, 1, 0], offset: 0, material: tiles)",
+    "box": "translate([0, -1, 0]) { box(size: [40, 2, 40], material: tiles) }",
+}
+
+
+def checker_floor(sdfc, tmp):
+    """A floor at y = 0 under a checker of size 1 lies on a cell boundary (issue 47 item
+    15): each cell is one colour in the albedo view, as `sdfc eval --material` says at
+    the hit points (points 1e-5 either side of the floor took opposite colours, and the
+    kernel's hits speckled). Pixels whose hit is within 0.01 of an x or z cell edge are
+    left out: which side a pixel centre falls there is float32's rounding."""
+    cam = {"position": np.array([0.3, 3.0, 5.0]), "target": np.array([0.3, 0.0, 0.0]),
+           "up": np.array([0, 1, 0.0]), "fov": 40.0, "aperture": 0.0}
+    ro, rd = sb.camera_rays(cam, W, H)
+    t = -ro[1] / rd[..., 1]
+    hits = ro[None, None, :] + rd * t[..., None]
+    away = np.minimum(np.abs(hits[..., 0] - np.round(hits[..., 0])), np.abs(hits[..., 2] - np.round(hits[..., 2])))
+    inside = (t > 0) & (away > 0.01)
+    failures = 0
+    for name, shape in FLOORS.items():
+        scene = os.path.join(tmp, f"{name} floor.sdf")
+        with open(scene, "w") as f:
+            f.write(FLOOR.format(w=W, h=H, shape=shape))
+        points = hits.reshape(-1, 3)
+        text = "\n".join(f"{x!r} {y!r} {z!r}" for x, y, z in points.tolist()) + "\n"
+        out = subprocess.run([sdfc, "eval", scene, "--material"], input=text, capture_output=True, text=True,
+                             check=True).stdout.split("\n")
+        want = np.array([[float(v) for v in l.split()[2:5]] for l in out if l.strip()]).reshape(H, W, 3)
+        # Just above and below the floor: the same colour (the cell inside the surface).
+        for dy in (1e-5, -1e-5):
+            shifted = "\n".join(f"{x!r} {y + dy!r} {z!r}" for x, y, z in points.tolist()) + "\n"
+            out = subprocess.run([sdfc, "eval", scene, "--material"], input=shifted, capture_output=True, text=True,
+                                 check=True).stdout.split("\n")
+            near = np.array([[float(v) for v in l.split()[2:5]] for l in out if l.strip()]).reshape(H, W, 3)
+            same = float((np.abs(near - want).max(axis=-1)[inside] == 0).mean())
+            ok = same == 1.0
+            print(f"{name} floor: eval {dy:+g} off the floor gives the floor's colour at {same * 100:.1f}% of "
+                  f"the hits {'ok' if ok else 'FAIL'}")
+            failures += not ok
+        albedo_pfm = os.path.join(tmp, f"{name} floor albedo.pfm")
+        subprocess.run([sdfc, "render", scene, "-o", albedo_pfm, "--view", "albedo", "-q"], check=True)
+        albedo = sb.read_pfm(albedo_pfm)
+        wrong = (np.abs(albedo - want).max(axis=-1) > 1e-4) & inside
+        both = len(np.unique(want[inside].round(3), axis=0)) == 2
+        ok = both and int(wrong.sum()) == 0
+        print(f"{name} floor: {int(wrong.sum())} of {int(inside.sum())} pixels away from cell edges have the "
+              f"other colour in the albedo view {'ok' if ok else 'FAIL'}")
+        failures += not ok
+    return failures
 
 
 if __name__ == "__main__":

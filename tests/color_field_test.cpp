@@ -57,6 +57,25 @@ TEST(ColorField, CheckerAlternatesCubesOfItsSize) {
   expectColour(f, {-0.75, 0.1, 3.1}, 0);     // -2 + 0 + 6
 }
 
+// A face on a step of the field (issue 47 item 15): read inside the surface,
+// one colour on both sides of the face's exact position.
+TEST(ColorField, StepsAreReadInsideTheSurface) {
+  const ir::ColorField f = fieldOf("diffuse(albedo: checker([1, 0, 0], [0, 0, 1], size: 1))");
+  const dvec3 up(0, 1, 0);
+  for (double x : {0.25, 1.5, -2.75})
+    for (double dy : {1e-12, -1e-12, 1e-6, -1e-6}) {
+      // Below y = 0 the cell of (x, -, 0.5) is the one floor(x) + (-1) + 0 says.
+      const double below = std::fmod(std::fabs(std::floor(x) - 1), 2.0);
+      EXPECT_EQ(fieldColor(f, dvec3(x, dy, 0.5), up, 0), below == 0 ? dvec3(1, 0, 0) : dvec3(0, 0, 1)) << x << " " << dy;
+    }
+  // A ceiling (normal down) at y = 0 takes the cell above.
+  EXPECT_EQ(fieldColor(f, dvec3(0.25, -1e-9, 0.5), -up, 0), dvec3(1, 0, 0));
+  // Stripes across x on a wall at x = 0 facing +x: the stripe behind it.
+  const ir::ColorField s = fieldOf("diffuse(albedo: stripes([1, 0, 0], [0, 0, 1]))");
+  EXPECT_EQ(fieldColor(s, dvec3(1e-12, 0.3, 0.2), dvec3(1, 0, 0), 0), dvec3(0, 0, 1));
+  EXPECT_EQ(fieldColor(s, dvec3(-1e-12, 0.3, 0.2), dvec3(1, 0, 0), 0), dvec3(0, 0, 1));
+}
+
 TEST(ColorField, StripesAlongTheirAxis) {
   const ir::ColorField f =
       fieldOf("diffuse(albedo: stripes([0.9, 0.8, 0.7], [0.1, 0.2, 0.3], axis: [0, 2, 0], period: 0.5))");

@@ -103,6 +103,33 @@ def files_part(sdfc, tmp):
     r = run([sdfc, "export", big, "-o", out, "-q"])
     check(r.returncode == 0, "the same scene fits the default 2048 rows")
 
+    # A file name is data in both outputs (issue 47 item 17): in the page's JSON block no
+    # '<', '>' or '&' (a name holding "<!--<script>" kept the block open and the page blank);
+    # in Shadertoy's // comment no control character (a newline made the rest of the name code).
+    small = "camera(position: [0, 1, 4], target: [0, 0, 0])\nscene {\n  sphere(radius: 1)\n}\n"
+    hostile = os.path.join(tmp, "a<!--<script>&>b.sdf")
+    with open(hostile, "w") as f:
+        f.write(small)
+    page = os.path.join(tmp, "hostile.html")
+    r = run([sdfc, "export", hostile, "-o", page, "-q"])
+    html = open(page).read() if r.returncode == 0 else ""
+    m = re.search(r'<script type="application/json" id="sdfc-scene">(.*?)</script>', html, re.S)
+    block = m.group(1) if m else ""
+    check(m is not None and not any(c in block for c in "<>&") and
+          json.loads(block)["name"] == "a<!--<script>&>b",
+          "a name holding <!--<script> stays inside the page's JSON block, read back whole (%d)" % r.returncode)
+    check(html.count("<script") == 2, "the page has its two script elements and no other")
+    toy = os.path.join(tmp, "hostile.glsl")
+    hostile = os.path.join(tmp, "x\nvoid main() {}\n\\.sdf")
+    with open(hostile, "w") as f:
+        f.write(small)
+    r = run([sdfc, "export", hostile, "-o", toy, "--target", "shadertoy", "-q"])
+    code = open(toy).read() if r.returncode == 0 else ""
+    check(r.returncode == 0 and code.startswith("// x\\nvoid main() {}\\n\\x5c: written by") and
+          "\nvoid main() {}" not in code,
+          "Shadertoy: a newline in the name stays in the first comment line (%d: %s)"
+          % (r.returncode, code.split("\n")[0][:60]))
+
     bad = os.path.join(tmp, "bad scene.sdf")
     with open(bad, "w") as f:
         f.write("scene {\n  sphere(radus: 1)\n}\n")

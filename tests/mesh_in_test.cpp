@@ -206,6 +206,118 @@ TEST(MeshIn, BadFilesSayWhy) {
   EXPECT_EQ(dir.error, "it is a directory");
 }
 
+// A .gltf with its buffer inline (base64): float VEC3 positions and one
+// primitive per (mode, indices), unsigned int indices, in one node scaled by
+// `scale` (a negative component mirrors).
+std::string gltfOf(const std::vector<dvec3>& positions, const std::vector<std::pair<int, std::vector<uint32_t>>>& prims,
+                   const dvec3& scale = dvec3(1)) {
+  std::string bytes;
+  for (const dvec3& p : positions)
+    for (int a = 0; a < 3; ++a) {
+      const float f = float(p[a]);
+      bytes.append(reinterpret_cast<const char*>(&f), 4);
+    }
+  std::vector<size_t> offsets;
+  for (const auto& prim : prims) {
+    offsets.push_back(bytes.size());
+    bytes.append(reinterpret_cast<const char*>(prim.second.data()), prim.second.size() * 4);
+  }
+  static const char kDigits[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string b64;
+  for (size_t i = 0; i < bytes.size(); i += 3) {
+    uint32_t n = uint32_t(uint8_t(bytes[i])) << 16;
+    if (i + 1 < bytes.size()) n |= uint32_t(uint8_t(bytes[i + 1])) << 8;
+    if (i + 2 < bytes.size()) n |= uint32_t(uint8_t(bytes[i + 2]));
+    b64 += kDigits[n >> 18 & 63];
+    b64 += kDigits[n >> 12 & 63];
+    b64 += i + 1 < bytes.size() ? kDigits[n >> 6 & 63] : '=';
+    b64 += i + 2 < bytes.size() ? kDigits[n & 63] : '=';
+  }
+  dvec3 lo(1e300), hi(-1e300);
+  for (const dvec3& p : positions) lo = glm::min(lo, p), hi = glm::max(hi, p);
+  auto num = [](double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.9g", v);
+    return std::string(buf);
+  };
+  std::string views = "{\"buffer\": 0, \"byteOffset\": 0, \"byteLength\": " + std::to_string(positions.size() * 12) + "}";
+  std::string accessors = "{\"bufferView\": 0, \"componentType\": 5126, \"count\": " + std::to_string(positions.size()) +
+                          ", \"type\": \"VEC3\", \"min\": [" + num(lo.x) + ", " + num(lo.y) + ", " + num(lo.z) +
+                          "], \"max\": [" + num(hi.x) + ", " + num(hi.y) + ", " + num(hi.z) + "]}";
+  std::string primitives;
+  for (size_t i = 0; i < prims.size(); ++i) {
+    views += ", {\"buffer\": 0, \"byteOffset\": " + std::to_string(offsets[i]) + ", \"byteLength\": " +
+             std::to_string(prims[i].second.size() * 4) + "}";
+    accessors += ", {\"bufferView\": " + std::to_string(i + 1) + ", \"componentType\": 5125, \"count\": " +
+                 std::to_string(prims[i].second.size()) + ", \"type\": \"SCALAR\"}";
+    primitives += std::string(i ? ", " : "") + "{\"attributes\": {\"POSITION\": 0}, \"indices\": " +
+                  std::to_string(i + 1) + ", \"mode\": " + std::to_string(prims[i].first) + "}";
+  }
+  return "{\"asset\": {\"version\": \"2.0\"}, \"scene\": 0, \"scenes\": [{\"nodes\": [0]}], \"nodes\": [{\"mesh\": 0, "
+         "\"scale\": [" + num(scale.x) + ", " + num(scale.y) + ", " + num(scale.z) + "]}], \"meshes\": [{\"name\": \"m\", "
+         "\"primitives\": [" + primitives + "]}], \"buffers\": [{\"byteLength\": " + std::to_string(bytes.size()) +
+         ", \"uri\": \"data:application/octet-stream;base64," + b64 + "\"}], \"bufferViews\": [" + views +
+         "], \"accessors\": [" + accessors + "]}";
+}
+
+dvec3 faceNormal(const InputMesh& m, const glm::uvec3& t) {
+  return glm::cross(m.vertices[t[1]] - m.vertices[t[0]], m.vertices[t[2]] - m.vertices[t[0]]);
+}
+
+TEST(MeshIn, GltfStripsAndFansAreTriangles) {
+  // Beside a list of one triangle (z = 0), a strip of four corners (z = 1)
+  // and a fan of five (z = 2): 1 + 2 + 3 triangles, all facing +z.
+  std::vector<dvec3> p = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0},
+                          {0, 0, 1}, {1, 0, 1}, {0, 1, 1}, {1, 1, 1},
+                          {0, 0, 2}, {1, 0, 2}, {1, 1, 2}, {0.5, 1.5, 2}, {0, 1, 2}};
+  const MeshFile f = readMeshFile(writeFile("strips.gltf", gltfOf(p, {{4, {0, 1, 2}}, {5, {3, 4, 5, 6}},
+                                                                       {6, {7, 8, 9, 10, 11}}})));
+  ASSERT_TRUE(f.ok) << f.error;
+  ASSERT_EQ(f.mesh.triangles.size(), 6u);
+  for (const glm::uvec3& t : f.mesh.triangles) {
+    const dvec3 n = faceNormal(f.mesh, t);
+    EXPECT_GT(n.z, 0);
+    EXPECT_EQ(n.x, 0);
+    EXPECT_EQ(n.y, 0);
+  }
+  // A file of strips alone is a mesh too (it was "no triangles").
+  const MeshFile only = readMeshFile(writeFile("only strip.gltf", gltfOf(p, {{5, {3, 4, 5, 6}}})));
+  ASSERT_TRUE(only.ok) << only.error;
+  EXPECT_EQ(only.mesh.triangles.size(), 2u);
+}
+
+TEST(MeshIn, InwardMeshIsTurnedOutward) {
+  Soup in = icosphere(2);
+  for (glm::uvec3& t : in.f) std::swap(t[1], t[2]);
+  const MeshFile f = readMeshFile(writeFile("inward.stl", binaryStl(in)));
+  ASSERT_TRUE(f.ok) << f.error;
+  EXPECT_TRUE(f.turned_outward);
+  EXPECT_LT(f.inward_volume, -4.0);  // about -4.19, the unit ball's
+  const MeshDistance d(f.mesh);
+  EXPECT_NEAR(d.signedDistance(dvec3(0)), -1.0, 0.02);  // inside (it was +1: a shell)
+  EXPECT_NEAR(d.signedDistance(dvec3(3, 0, 0)), 2.0, 0.02);
+  // An outward one is left alone, and so is one mirrored by its glTF node
+  // (the faces' order reversed with the determinant).
+  const Soup out = icosphere(2);
+  EXPECT_FALSE(readMeshFile(writeFile("outward.stl", binaryStl(out))).turned_outward);
+  std::vector<uint32_t> list;
+  for (const glm::uvec3& t : out.f) list.insert(list.end(), {t[0], t[1], t[2]});
+  const MeshFile mirrored = readMeshFile(writeFile("mirrored.gltf", gltfOf(out.v, {{4, list}}, dvec3(-1, 1, 1))));
+  ASSERT_TRUE(mirrored.ok) << mirrored.error;
+  EXPECT_FALSE(mirrored.turned_outward);
+  // The checker says so, as a named warning at the file argument.
+  writeFile("inward.stl", binaryStl(in));
+  Diagnostics diags;
+  CompileOptions o;
+  o.produce_spirv = false;
+  const std::string text = "scene {\n  mesh(file: \"inward.stl\")\n}\n";
+  const CompiledScene c = compileSource(writeFile("inward.sdf", text), text, o, diags);
+  EXPECT_NE(diags.format().find("inward.sdf:2:14: warning: 'inward.stl' faces inward (closed, with volume -4."),
+            std::string::npos)
+      << diags.format();
+  EXPECT_NE(diags.format().find("[-Wmesh-inward]"), std::string::npos) << diags.format();
+}
+
 std::string sceneWith(const std::string& body) {
   return "camera(position: [0, 0.5, 4], target: [0, 0, 0])\nscene {\n" + body + "\n}\n";
 }

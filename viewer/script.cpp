@@ -2,6 +2,8 @@
 
 #include <GLFW/glfw3.h>
 
+#include "api/option_limits.h"
+
 #include <cstdlib>
 #include <fstream>
 #include <map>
@@ -93,6 +95,11 @@ std::vector<ScriptCommand> loadScript(const std::string& path) {
     if ((c.verb == "wait" || c.verb == "wait-spp" || c.verb == "scroll" || c.verb == "spp") &&
         !isNumber(c.args[0]))
       fail("'" + c.verb + "' expects a number");
+    // The same range as --spp and Python's spp (api/option_limits.h).
+    if (c.verb == "spp")
+      if (const std::string problem = api::optionProblem(api::Option::Spp, std::atof(c.args[0].c_str()), "'spp'");
+          !problem.empty())
+        fail(problem);
     commands.push_back(std::move(c));
   }
   return commands;

@@ -259,13 +259,9 @@ void Viewer::open() {
     width_ = uint32_t(checked.scene.render.width);
     height_ = uint32_t(checked.scene.render.height);
   }
-  const size_t x = cl_.size.find('x');  // WxH, 1 to 5 digits each (no std::regex: it recurses per character)
-  auto whole = [](const std::string& s) {
-    return !s.empty() && s.size() <= 5 && s.find_first_not_of("0123456789") == std::string::npos;
-  };
-  if (x != std::string::npos && whole(cl_.size.substr(0, x)) && whole(cl_.size.substr(x + 1))) {
-    width_ = uint32_t(std::stoi(cl_.size.substr(0, x)));
-    height_ = uint32_t(std::stoi(cl_.size.substr(x + 1)));
+  if (const auto size = parseImageSize(cl_.size)) {  // checked by the command line
+    width_ = uint32_t(size->first);
+    height_ = uint32_t(size->second);
   }
   width_ = std::clamp<uint32_t>(width_, 16, 4096);
   height_ = std::clamp<uint32_t>(height_, 16, 4096);

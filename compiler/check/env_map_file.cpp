@@ -54,31 +54,54 @@ EnvMapFile readEnvMapFile(const std::string& path) {
     }
     out.reason = badSize(w, h);
     if (!out.reason.empty()) return out;
-    float* data = stbi_loadf(path.c_str(), &w, &h, &channels, 3);
-    if (!data) {
-      out.reason = std::string("it cannot be decoded (") + stbi_failure_reason() + ")";
-      return out;
-    }
-    image->width = w;
-    image->height = h;
-    image->rgb.assign(data, data + size_t(w) * h * 3);
-    stbi_image_free(data);
+    out.reason = decodeHdrRgb(path, *image);
+    if (!out.reason.empty()) return out;
   } else {
     out.reason = "an environment map is an HDR image: an .exr or .hdr file";
     return out;
   }
-  // Every texel a finite, non-negative radiance: name the first that is not.
-  size_t bad = 0, first = 0;
-  for (size_t i = 0; i < image->rgb.size(); ++i)
-    if (!std::isfinite(image->rgb[i]) || image->rgb[i] < 0) {
+  // Every texel a finite, non-negative radiance within the renderer's range:
+  // name the first that is not.
+  size_t bad = 0, first = 0, huge = 0, first_huge = 0;
+  float peak = 0;
+  for (size_t i = 0; i < image->rgb.size(); ++i) {
+    const float v = image->rgb[i];
+    if (!std::isfinite(v) || v < 0) {
       if (bad++ == 0) first = i;
+    } else if (v > kMaxEnvMapRadiance) {
+      if (huge++ == 0) first_huge = i;
+    } else {
+      peak = std::max(peak, v);
     }
-  if (bad) {
-    const size_t texel = first / 3;
+  }
+  auto texel = [&](size_t i) {
     std::ostringstream s;
-    s << "texel (" << texel % image->width << ", " << texel / image->width << ") has "
-      << "RGB"[first % 3] << " = " << image->rgb[first] << "; a radiance must be finite and non-negative ("
-      << bad << (bad == 1 ? " value is not)" : " values are not)");
+    s << "texel (" << i / 3 % image->width << ", " << i / 3 / image->width << ") has " << "RGB"[i % 3] << " = "
+      << image->rgb[i];
+    return s.str();
+  };
+  if (bad) {
+    std::ostringstream s;
+    s << texel(first) << "; a radiance must be finite and non-negative (" << bad
+      << (bad == 1 ? " value is not)" : " values are not)");
+    out.reason = s.str();
+    return out;
+  }
+  if (huge) {
+    std::ostringstream s;
+    s << texel(first_huge) << "; sdfc takes radiances up to " << kMaxEnvMapRadiance
+      << " (a pixel's sums hold no more) (" << huge
+      << (huge == 1 ? " value is over)" : " values are over)");
+    out.reason = s.str();
+    return out;
+  }
+  // The peak is stored at the shared exponent's top, through a float scale
+  // that must stay a normal float: a map whose brightest texel is below
+  // kMinEnvMapPeak would render black.
+  if (peak > 0 && peak < kMinEnvMapPeak) {
+    std::ostringstream s;
+    s << "its brightest value is " << peak << "; a map brighter than black must reach " << kMinEnvMapPeak
+      << " somewhere (a dimmer one renders black): scale its values, and sky(strength:) if needed";
     out.reason = s.str();
     return out;
   }

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <sstream>
 
 namespace sdfc {
 namespace {
@@ -41,7 +42,25 @@ ImageFile readImageFile(const std::string& path) {
     }
     out.reason = decodeExrRgb(path, *image);
     if (!out.reason.empty()) return out;
-    for (float& v : image->rgb) v = std::isfinite(v) ? std::max(v, 0.0f) : 0.0f;  // no NaN or negative colour
+    // A NaN or infinite colour is refused as a map's radiance is (it was read
+    // as 0 without a word); a negative one is clamped to 0.
+    size_t bad = 0, first = 0;
+    for (size_t i = 0; i < image->rgb.size(); ++i) {
+      float& v = image->rgb[i];
+      if (!std::isfinite(v)) {
+        if (bad++ == 0) first = i;
+      } else {
+        v = std::max(v, 0.0f);
+      }
+    }
+    if (bad) {
+      std::ostringstream s;
+      s << "texel (" << first / 3 % image->width << ", " << first / 3 / image->width << ") has "
+        << "RGB"[first % 3] << " = " << image->rgb[first] << "; a colour must be finite (" << bad
+        << (bad == 1 ? " value is not)" : " values are not)");
+      out.reason = s.str();
+      return out;
+    }
   } else {
     int w = 0, h = 0, channels = 0;
     if (!stbi_info(path.c_str(), &w, &h, &channels)) {
@@ -52,16 +71,34 @@ ImageFile readImageFile(const std::string& path) {
       out.reason = tooLarge(w, h);
       return out;
     }
-    unsigned char* data = stbi_load(path.c_str(), &w, &h, &channels, 3);
-    if (!data) {
-      out.reason = std::string("it cannot be decoded (") + stbi_failure_reason() + ")";
-      return out;
+    if (stbi_is_hdr(path.c_str())) {
+      // Radiance .hdr: linear floats as stored, not through 8 bits (4.0 read as 1.0).
+      out.reason = decodeHdrRgb(path, *image);
+      if (!out.reason.empty()) return out;
+    } else if (stbi_is_16_bit(path.c_str())) {
+      // 16-bit PNG: all 16 bits decoded from sRGB (they were cut to 8).
+      stbi_us* data = stbi_load_16(path.c_str(), &w, &h, &channels, 3);
+      if (!data) {
+        out.reason = std::string("it cannot be decoded (") + stbi_failure_reason() + ")";
+        return out;
+      }
+      image->width = w;
+      image->height = h;
+      image->rgb.resize(size_t(w) * h * 3);
+      for (size_t i = 0; i < image->rgb.size(); ++i) image->rgb[i] = srgbToLinear(data[i] / 65535.0f);
+      stbi_image_free(data);
+    } else {
+      unsigned char* data = stbi_load(path.c_str(), &w, &h, &channels, 3);
+      if (!data) {
+        out.reason = std::string("it cannot be decoded (") + stbi_failure_reason() + ")";
+        return out;
+      }
+      image->width = w;
+      image->height = h;
+      image->rgb.resize(size_t(w) * h * 3);
+      for (size_t i = 0; i < image->rgb.size(); ++i) image->rgb[i] = srgbToLinear(data[i] / 255.0f);
+      stbi_image_free(data);
     }
-    image->width = w;
-    image->height = h;
-    image->rgb.resize(size_t(w) * h * 3);
-    for (size_t i = 0; i < image->rgb.size(); ++i) image->rgb[i] = srgbToLinear(data[i] / 255.0f);
-    stbi_image_free(data);
   }
   out.image = std::move(image);
   return out;

@@ -1,5 +1,6 @@
-// Images read at check time for texture(file: "..."): PNG (or any 8-bit
-// format stb_image reads; sRGB decoded to linear) and EXR (linear, as stored).
+// Images read at check time for texture(file: "..."): PNG (8 or 16 bits) or
+// any other format stb_image reads, sRGB decoded to linear; EXR and Radiance
+// .hdr linear, as stored.
 // Like point files, the path is relative to the scene's folder, and a file
 // too large for the shader's scene data is refused before it is decoded.
 #pragma once

@@ -25,6 +25,7 @@ inline constexpr WarningInfo kWarnings[] = {
     {"mesh-open", "a mesh(file: ...) with boundary edges: its winding number decides inside, which "
                   "is a guess near the holes"},
     {"mesh-degenerate", "a mesh(file: ...) with triangles of no area (they are dropped)"},
+    {"mesh-inward", "a closed mesh(file: ...) that faces inward (negative volume): it is turned to face outward"},
     {"unknown-warning", "a warning name in `// sdfc: allow(...)` that sdfc does not know"},
 };
 

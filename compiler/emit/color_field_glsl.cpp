@@ -2,6 +2,7 @@
 
 #include "emit/embedded_sources.h"
 #include "emit/glsl_emitter.h"
+#include "eval/color_field.h"
 
 namespace sdfc {
 namespace {
@@ -10,13 +11,17 @@ std::string vec3Of(const glm::dvec3& v) {
   return "vec3(" + glslFloat(v.x) + ", " + glslFloat(v.y) + ", " + glslFloat(v.z) + ")";
 }
 
-// The blend t of field f at point q, as a GLSL expression.
+std::string inset(const ir::ColorField& f) { return "(" + glslFloat(kFieldInset) + " * " + f.size.glsl() + ")"; }
+
+// The blend t of field f at point q with outward normal n, as a GLSL expression.
 std::string blend(const ir::ColorField& f) {
   switch (f.kind) {
+    // Read kFieldInset of the size inside the surface (eval/color_field.h):
+    // a face on a cell boundary has one colour, not speckles.
     case ir::FieldKind::Checker:
-      return "mod(dot(floor(q / " + f.size.glsl() + "), vec3(1.0)), 2.0)";
+      return "mod(dot(floor((q - n * " + inset(f) + ") / " + f.size.glsl() + "), vec3(1.0)), 2.0)";
     case ir::FieldKind::Stripes:
-      return "step(0.5, fract(dot(q, " + vec3Of(f.axis) + ") / " + f.size.glsl() + "))";
+      return "step(0.5, fract(dot(q - n * " + inset(f) + ", " + vec3Of(f.axis) + ") / " + f.size.glsl() + "))";
     case ir::FieldKind::Gradient:
       return "clamp((dot(q, " + vec3Of(f.axis) + ") - " + f.from.glsl() + ") / (" + f.to.glsl() + " - " +
              f.from.glsl() + "), 0.0, 1.0)";

@@ -30,6 +30,11 @@ double fieldBlend(const ir::ColorField& f, const glm::dvec3& p, double time) {
   return 0;
 }
 
+glm::dvec3 fieldPoint(const ir::ColorField& f, const glm::dvec3& p, const glm::dvec3& n, double time) {
+  if (f.kind != ir::FieldKind::Checker && f.kind != ir::FieldKind::Stripes) return p;
+  return p - n * (kFieldInset * f.size.at(time));
+}
+
 glm::dvec3 textureBilinear(const ir::TextureImage& image, double u, double v) {
   const int w = image.width, h = image.height;
   const double s = u * w - 0.5, t = v * h - 0.5;
@@ -58,7 +63,7 @@ glm::dvec3 textureTriplanar(const ir::TextureImage& image, const glm::dvec3& p, 
 
 glm::dvec3 fieldColor(const ir::ColorField& f, const glm::dvec3& p, const glm::dvec3& n, double time) {
   if (f.kind == ir::FieldKind::Texture) return textureTriplanar(*f.image, p, n, f.size.at(time));
-  const double t = fieldBlend(f, p, time);
+  const double t = fieldBlend(f, fieldPoint(f, p, n, time), time);
   const glm::dvec3 a = f.a.at(time), b = f.b.at(time);
   return a + (b - a) * t;
 }

@@ -7,6 +7,16 @@
 
 namespace sdfc {
 
+// Checker and stripes change colour in a step: a face lying on a step (a
+// floor at y = 0 under a checker) took either colour by the hit point's last
+// bits, speckled. Their colour is that of the point this fraction of the
+// field's size inside the surface, along the outward normal; the kernel's
+// (emit/color_field_glsl.cpp) likewise.
+constexpr double kFieldInset = 0.01;
+// Where field f is read for the surface point p with outward unit normal n:
+// p itself, or for checker and stripes p - n * kFieldInset * size.
+glm::dvec3 fieldPoint(const ir::ColorField& field, const glm::dvec3& p, const glm::dvec3& n, double time);
+
 // The blend t in [0, 1] of a procedural field at world point p and time.
 double fieldBlend(const ir::ColorField& field, const glm::dvec3& p, double time);
 // The field's colour at world point p with unit surface normal n: mix(a, b, t),

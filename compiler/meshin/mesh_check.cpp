@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <sstream>
 #include <unistd.h>
 
 #include "meshin/mesh_exact.h"
@@ -68,6 +69,13 @@ std::shared_ptr<MeshShape> loadMesh(const std::string& path, const std::string& 
     if (file.nonmanifold_edges > 0) how += " and " + std::to_string(file.nonmanifold_edges) + " belong to three or more";
     diags.warning(at, "mesh-open",
                   "'" + written + "' is not closed: " + how + "; its winding number decides inside, a guess near holes");
+  }
+  if (file.turned_outward) {
+    std::ostringstream volume;
+    volume << file.inward_volume;
+    diags.warning(at, "mesh-inward",
+                  "'" + written + "' faces inward (closed, with volume " + volume.str() +
+                      "): its triangles are turned to face outward, so the part is solid and the rest empty");
   }
   shape->flipped_edges = file.flipped_edges;
   for (const glm::uvec3& t : file.mesh.triangles) {

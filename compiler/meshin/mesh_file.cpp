@@ -126,6 +126,20 @@ class Builder {
       if (u.count >= 3) ++out_.nonmanifold_edges;
       if (u.count == 2 && u.direction != 0) ++out_.flipped_edges;
     }
+    // A closed, consistently oriented mesh of negative volume faces inward:
+    // its winding number is -1 inside and 0 outside, never above one half, so
+    // it would be positive everywhere (a shell of no thickness). Turned to
+    // face outward, and said so (the mesh-inward warning).
+    if (out_.boundary_edges == 0 && out_.nonmanifold_edges == 0 && out_.flipped_edges == 0) {
+      double volume = 0;
+      for (const glm::uvec3& t : m.triangles)
+        volume += glm::dot(m.vertices[t[0]], glm::cross(m.vertices[t[1]], m.vertices[t[2]])) / 6;
+      if (volume < 0) {
+        for (glm::uvec3& t : m.triangles) std::swap(t[1], t[2]);
+        out_.turned_outward = true;
+        out_.inward_volume = volume;
+      }
+    }
   }
 
  private:
@@ -315,10 +329,19 @@ bool accessorValue(const tinygltf::Model& model, const tinygltf::Accessor& acc, 
   return true;
 }
 
+// A primitive's triangles as glTF draws them: a list (mode 4, the default)
+// takes corners 3 at a time; a strip (5) makes triangle i of corners i, i + 1,
+// i + 2, the first two swapped on odd i so that all face alike; a fan (6) of
+// corners 0, i + 1, i + 2. Points and lines (0 to 3) have no surface.
 bool readGltfMesh(const tinygltf::Model& model, const tinygltf::Mesh& mesh, const glm::dmat4& m, Builder& b,
                   MeshFile& out) {
+  // A mirroring transform turns the faces inside out: their corners are
+  // taken in the other order (glTF's rule for a negative determinant).
+  const bool mirrored = glm::determinant(m) < 0;
   for (const tinygltf::Primitive& prim : mesh.primitives) {
-    if (prim.mode != -1 && prim.mode != TINYGLTF_MODE_TRIANGLES) continue;  // points, lines, strips
+    const int mode = prim.mode == -1 ? TINYGLTF_MODE_TRIANGLES : prim.mode;
+    if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP && mode != TINYGLTF_MODE_TRIANGLE_FAN)
+      continue;
     auto pos = prim.attributes.find("POSITION");
     if (pos == prim.attributes.end() || pos->second < 0 || pos->second >= int(model.accessors.size())) continue;
     const tinygltf::Accessor& pa = model.accessors[pos->second];
@@ -332,18 +355,25 @@ bool readGltfMesh(const tinygltf::Model& model, const tinygltf::Mesh& mesh, cons
       ia = &model.accessors[prim.indices];
     }
     const size_t corners = ia ? ia->count : pa.count;
-    for (size_t t = 0; t + 2 < corners; t += 3) {
+    const size_t triangles = mode == TINYGLTF_MODE_TRIANGLES ? corners / 3 : corners >= 3 ? corners - 2 : 0;
+    for (size_t t = 0; t < triangles; ++t) {
+      size_t corner[3];
+      if (mode == TINYGLTF_MODE_TRIANGLES) corner[0] = 3 * t, corner[1] = 3 * t + 1, corner[2] = 3 * t + 2;
+      else if (mode == TINYGLTF_MODE_TRIANGLE_FAN) corner[0] = 0, corner[1] = t + 1, corner[2] = t + 2;
+      else if (t % 2 == 0) corner[0] = t, corner[1] = t + 1, corner[2] = t + 2;
+      else corner[0] = t + 1, corner[1] = t, corner[2] = t + 2;
+      if (mirrored) std::swap(corner[1], corner[2]);
       dvec3 c[3];
       for (int k = 0; k < 3; ++k) {
-        double index = double(t + k);
-        if (ia && !accessorValue(model, *ia, t + k, 1, &index))
+        double index = double(corner[k]);
+        if (ia && !accessorValue(model, *ia, corner[k], 1, &index))
           return out.error = "mesh '" + mesh.name + "': an index lies outside its buffer", false;
         double xyz[3];
         if (index >= double(pa.count) || !accessorValue(model, pa, size_t(index), 3, xyz))
           return out.error = "mesh '" + mesh.name + "': a vertex index lies outside its positions", false;
         c[k] = dvec3(m * glm::dvec4(xyz[0], xyz[1], xyz[2], 1));
       }
-      if (!b.add(c, "mesh '" + mesh.name + "' triangle " + std::to_string(t / 3 + 1))) return false;
+      if (!b.add(c, "mesh '" + mesh.name + "' triangle " + std::to_string(t + 1))) return false;
     }
   }
   return true;

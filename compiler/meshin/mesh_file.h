@@ -1,6 +1,7 @@
 // Triangle meshes read at compile time for mesh(file: "part.stl"): binary and
 // ASCII STL, OBJ (v and f lines; polygons fanned), glTF and GLB (every
-// triangle primitive of every mesh, node transforms applied). docs/mesh_in.md
+// triangle list, strip and fan primitive of every mesh, node transforms
+// applied). A closed mesh that faces inward is turned to face outward. docs/mesh_in.md
 // has the rules: vertices must be finite and within float32's range,
 // triangles of no area are dropped (and counted), at most kMaxMeshTriangles.
 #pragma once
@@ -34,6 +35,10 @@ struct MeshFile {
   size_t nonmanifold_edges = 0;  // edges of three or more triangles
   size_t flipped_edges = 0;  // edges of two triangles facing opposite ways (inconsistent orientation)
   size_t edges = 0;
+  // A closed, consistently oriented mesh that faced inward (negative volume,
+  // `inward_volume`): its triangles were turned to face outward.
+  bool turned_outward = false;
+  double inward_volume = 0;
   std::string format;  // "binary STL", "ASCII STL", "OBJ", "glTF", "GLB"
 };
 

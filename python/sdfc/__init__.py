@@ -136,18 +136,20 @@ class Scene:
         `sdfc render -o x.exr` with the same settings (unset ones are the scene's; denoise
         None is nlr for the beauty view, "none" turns it off). progress(done, total) is
         called after every pass; Ctrl-C raises KeyboardInterrupt after the pass under way."""
-        if size is not None:
-            size = (int(size[0]), int(size[1]))
-        return self._native.render(size, spp, view, denoise, float(time), int(seed), bounces,
+        # Numbers go to the module as given: it checks each against the table of option
+        # limits the command line uses (api/option_limits.h), so 1.5 or -1 is refused,
+        # not rounded or wrapped.
+        return self._native.render(size, spp, view, denoise, time, seed, bounces,
                                    light_samples, int(device), progress)
 
-    def mesh(self, resolution: int = 128, voxel_size: float = 0.0, box=None, time: float = 0.0,
+    def mesh(self, resolution: int = 128, voxel_size: float | None = None, box=None, time: float = 0.0,
              threads: int = 0):
         """Dual-contoured mesh as `sdfc mesh` makes it: (vertices (V, 3) float64,
-        faces (F, 3) uint32, material ids (F,) int32)."""
+        faces (F, 3) uint32, material ids (F,) int32). voxel_size, when given, overrides
+        resolution (as --voxel-size)."""
         if box is not None:
             box = [float(v) for pair in box for v in pair] if len(box) == 2 else [float(v) for v in box]
-        return self._native.mesh(int(resolution), float(voxel_size), box, float(time), int(threads))
+        return self._native.mesh(resolution, voxel_size, box, time, threads)
 
     def save(self, path: str) -> None:
         """Writes the .sdf source to `path`."""
