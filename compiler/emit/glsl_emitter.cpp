@@ -959,17 +959,26 @@ class SceneWriter {
     g.code << "  int first = int(cell.x);\n";
     g.code << "  float v[" << longest << "];\n";
     if (mat) g.code << "  float vm[" << longest << "];\n";
-    g.code << "  float m = 1e30;\n";
+    // The three least values as they come (the first of equals first): where
+    // fewer than three lie within k of the least, the blend is known without
+    // the passes below (the same blends in the same order).
+    g.code << "  float m = 1e30, m2 = 1e30, m3 = 1e30;\n";
+    if (mat) g.code << "  float mm = inherited;\n";
     g.code << "  for (int it = " << loop0 << "; it < count; it++) {\n" << tick;
     g.code << countEvent(kEventEntries, "  ");
     g.code << "    int e = first + it;\n";
     g.code << "    int rec = " << listedRecord(l) << ";\n";
     if (mat) {
-      g.code << "    vec2 r = " << one << "(p, rec, inherited);\n    v[it] = r.x;\n    vm[it] = r.y;\n";
+      g.code << "    vec2 r = " << one << "(p, rec, inherited);\n    float x = r.x;\n    vm[it] = r.y;\n";
     } else {
-      g.code << "    v[it] = " << one << "(p, rec);\n";
+      g.code << "    float x = " << one << "(p, rec);\n";
     }
-    g.code << "    m = min(m, v[it]);\n  }\n";
+    g.code << "    v[it] = x;\n";
+    g.code << "    if (x < m) {\n      m3 = m2;\n      m2 = m;\n      m = x;\n" << (mat ? "      mm = r.y;\n" : "")
+           << "    } else if (x < m2) {\n      m3 = m2;\n      m2 = x;\n    } else {\n      m3 = min(m3, x);\n    }\n  }\n";
+    g.code << "  if (m2 >= m + k) return " << (mat ? "vec2(m, mm)" : "m") << ";\n";
+    g.code << "  if (m3 >= m + k) return " << (mat ? "vec2(sdSmoothMin(m, m2, k), mm)" : "sdSmoothMin(m, m2, k)")
+           << ";\n";
     g.code << "  " << (mat ? "vec2 best = vec2(1e30, inherited);" : "float best = 1e30;") << "\n";
     g.code << "  float last = -1e30;\n  int last_j = -1;\n";
     g.code << "  for (int s = " << loop0 << "; s < count; s++) {\n" << tick;
