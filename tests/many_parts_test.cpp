@@ -171,7 +171,7 @@ TEST(ManyParts, BlendGridListsEveryMemberThatCounts) {
       std::mt19937 rng(per_kind);
       std::uniform_real_distribution<double> u(0, 1);
       std::uniform_int_distribution<size_t> pick(0, members.size() - 1);
-      int near = 0;
+      int near = 0, far = 0;
       for (int i = 0; i < 6000; ++i) {
         // Where lists are tested hardest: near parts (where blends act) and
         // at corners of (sub-)cells, the farthest from the centres the lists
@@ -192,10 +192,25 @@ TEST(ManyParts, BlendGridListsEveryMemberThatCounts) {
         double want = std::numeric_limits<double>::infinity();
         for (double v : values) want = smoothMin(want, v, k);
         const double got = eval.evalNode(*set, p, -1).distance;
+        // Where the kernel steps on a bound (beyond the grid, or a cell far
+        // from every part), the bound must not exceed the blend.
+        const dvec3 top = g.lo + dvec3(g.dims) * g.cell;
+        const dvec3 out = glm::max(glm::max(g.lo - p, p - top), dvec3(0));
+        if (out != dvec3(0)) {
+          ASSERT_LE(glm::length(out) + g.margin, want) << "beyond the grid";
+        } else {
+          const ir::GridCellAt at = instanceGridCellAt(g, p);
+          const dvec3 in = glm::min(at.q, 1.0 - at.q);
+          if (g.count[at.index] == 0) {
+            ++far;
+            ASSERT_LE(g.reach[at.index] + at.size * std::max(0.0, std::min({in.x, in.y, in.z})), want) << "far cell";
+          }
+        }
         ASSERT_EQ(got, want) << per_kind * 5 << " parts, k " << k << ", at " << p.x << " " << p.y << " " << p.z;
         near += std::fabs(want) < 0.1;
       }
       EXPECT_GT(near, 20) << per_kind * 5 << " parts, k " << k;
+      if (per_kind >= 60) EXPECT_GT(far, 20) << per_kind * 5 << " parts, k " << k;
     }
 }
 

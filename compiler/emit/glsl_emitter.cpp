@@ -872,7 +872,7 @@ class SceneWriter {
     if (split) g.code << splitCellLookup(l, unrolled, true);
     g.code << "  int count = int(cell.y);\n";
     if (grid.blend) {
-      blendList(n, l, mat, one, tree, visits, g);
+      blendList(n, l, mat, one, tree, visits, size, g);
       return;
     }
     // Fixed slots take no loop iterations: only a crowded cell needs the hierarchy.
@@ -949,7 +949,12 @@ class SceneWriter {
   // the whole set's blend there. Only a driver that caps loops, with too few
   // visits left for the list, takes the hierarchy.
   void blendList(const ir::Node& n, const InstanceLayout& l, bool mat, const std::string& one,
-                 const std::string& tree, const std::string& visits, Function& g) {
+                 const std::string& tree, const std::string& visits, const std::string& size, Function& g) {
+    g.code << "  // Far from every part: a bound to step on.\n";
+    g.code << "  if (count == 0) {\n";
+    g.code << "    float face = min(min(min(q.x, q.y), q.z), min(min(1.0 - q.x, 1.0 - q.y), 1.0 - q.z));\n";
+    g.code << "    float far = cell.z + " << size << " * max(face, 0.0);\n";
+    g.code << "    return " << (mat ? "vec2(far, inherited)" : "far") << ";\n  }\n";
     const std::string longest = std::to_string(std::max(n.instances->grid.longest, 1));
     const std::string loop0 = options_.with_kernel ? "loopZero()" : "0";
     const std::string tick = options_.with_kernel ? "    g_loop_iterations++;\n" : "";

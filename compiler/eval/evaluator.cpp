@@ -147,12 +147,28 @@ EvalResult Evaluator::evalBlend(const ir::Node& n, const dvec3& p, int inherited
     m = std::min(m, r.distance);
   };
   const dvec3 hi = g.lo + dvec3(g.dims) * g.cell;
+  bool listed = false;
   if (glm::all(glm::greaterThanEqual(p, g.lo)) && glm::all(glm::lessThanEqual(p, hi))) {
     const ir::GridCellAt at = instanceGridCellAt(g, p);
     for (std::int32_t j = 0; j < g.count[at.index]; ++j) take(g.entries[g.first[at.index] + j]);
-  } else {
-    for (size_t i = 0; i < set.size(); ++i)
-      if (!(boxDistance(instanceBounds(set, i, n), p) >= m + k)) take(i);
+    listed = g.count[at.index] > 0;
+  }
+  if (!listed) {
+    // Far from the parts: the nearest by the hierarchy (branch and bound),
+    // then every member whose box lies within k of it.
+    std::vector<std::uint32_t> stack{0};
+    while (!stack.empty()) {
+      const ir::BvhNode& node = set.nodes[stack.back()];
+      const std::uint32_t ni = stack.back();
+      stack.pop_back();
+      if (boxDistance(node.box, p) >= m + k) continue;
+      if (node.count == 0) {
+        stack.push_back(node.first);
+        stack.push_back(ni + 1);
+        continue;
+      }
+      for (std::uint32_t i = node.first; i < node.first + node.count; ++i) take(i);
+    }
   }
   std::stable_sort(near.begin(), near.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
   EvalResult best{std::numeric_limits<double>::infinity(), inherited};

@@ -66,8 +66,9 @@ struct InstanceGrid {
   std::vector<std::uint32_t> entries;  // instance indices (leaf order)
   // A smooth set's grid (passes/blend_grid.cpp): each cell lists every
   // instance that can come within k of the nearest inside it, so the blend of
-  // the list is the blend of the whole set there; no cell is crowded, `reach`
-  // is unused, and `longest` is the longest list. Outside the grid's box the
+  // the list is the blend of the whole set there; no cell is crowded, and
+  // `longest` is the longest list. A cell far from every member lists none:
+  // there the blend is at least reach[c] + the distance to the cell's faces. Outside the grid's box the
   // blend is at least the distance to the box plus `margin`.
   bool blend = false;
   int longest = 0;

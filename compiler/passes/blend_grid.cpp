@@ -59,7 +59,8 @@ class BlendGridBuilder {
   BlendGridBuilder(ir::InstanceSet& set, const ir::Node& node, double k,
                    const std::function<double(size_t, const dvec3&)>& distance_of,
                    const std::vector<double>& lipschitz, const std::vector<bool>& exact)
-      : set_(set), node_(node), k_(k), distance_of_(distance_of), lipschitz_(lipschitz), exact_(exact) {}
+      : set_(set), node_(node), k_(k), distance_of_(distance_of), lipschitz_(lipschitz), exact_(exact),
+        all_exact_(std::find(exact.begin(), exact.end(), false) == exact.end()) {}
 
   bool build() {
     ir::InstanceGrid& g = set_.grid;
@@ -110,6 +111,7 @@ class BlendGridBuilder {
         for (int x = 0; x < g.dims.x; ++x) {
           const size_t c = size_t(x) + size_t(g.dims.x) * (size_t(y) + size_t(g.dims.y) * z);
           const dvec3 lo = g.lo + dvec3(x, y, z) * cell;
+          if (far(Aabb{lo, lo + cell}, c)) continue;
           if (!list(Aabb{lo, lo + cell}, list_)) return fail();
           if (list_.size() > kSplitAbove) {
             // Eight octants, each with its own (shorter) list.
@@ -180,6 +182,25 @@ class BlendGridBuilder {
   // The members that can come within k of the nearest in `box`: all with
   // a lower bound under U + k. Members whose boxes lie farther than r are
   // not evaluated, so r must reach U + k.
+  // A cell far from every member (of a set of exact members) lists none: its
+  // members' boxes are at least g from it, the nearest box's gap, so for p in
+  // it every member is at least g + (p's distance to its faces) away (the
+  // hard grid's argument, instance_grid.cpp) and the blend at least that
+  // less 1.25 k. Where that is at least the cell's half diagonal the kernel
+  // steps on it (a march never stops there); the evaluator searches all
+  // members. A list there would hold the many members facing the cell.
+  bool far(const Aabb& box, size_t c) {
+    if (!all_exact_) return false;
+    nearest(box, 1, candidates_);
+    const double g = boxBoxDistance(boxes_[candidates_[0]], box);
+    if (g - 1.25 * k_ < 0.5 * glm::length(box.hi - box.lo)) return false;
+    ir::InstanceGrid& grid = set_.grid;
+    grid.first[c] = static_cast<std::uint32_t>(grid.entries.size());
+    grid.count[c] = 0;
+    grid.reach[c] = g - 1.25 * k_;
+    return true;
+  }
+
   // The `count` members whose boxes are nearest `box`, best first.
   void nearest(const Aabb& box, size_t count, std::vector<std::uint32_t>& out) {
     out.clear();
@@ -261,6 +282,7 @@ class BlendGridBuilder {
   const std::function<double(size_t, const dvec3&)>& distance_of_;
   const std::vector<double>& lipschitz_;
   const std::vector<bool>& exact_;
+  bool all_exact_;
   std::vector<Aabb> boxes_;
   double pad_ = 0, slack_ = 0;
   std::vector<std::uint32_t> candidates_, list_, parent_, stack_;
