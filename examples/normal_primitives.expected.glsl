@@ -536,6 +536,13 @@ float march(vec3 ro, vec3 rd, float t_max, float side, bool shade, out int steps
       // (Keinert et al. 2014): 1.9 d is safe while d grows.
       steps = i + 1;
       d_peak = max(d_peak, d);
+      if (i + 1 >= kSceneMaxSteps) {
+        // Out of steps, moving off the surface it started on: a miss. (This
+        // branch went on into the refinement's iterations: steps reported one
+        // or two over the budget, issue 49.)
+        ended = true;
+        continue;
+      }
     } else if (t_stop >= 0.0) {
       crossed = crossed || d <= 0.0;
       if (abs(d) < abs(d_hit)) {

@@ -211,5 +211,38 @@ TEST_F(GrazingGpu, NoSkyBehindGrazedSilhouettesAt640x360) {
   }
 }
 
+// A camera on a box's top face looking along it: rays that leave the face at
+// a grazing angle stay in its band for hundreds of steps. The steps a ray
+// reports never exceed the budget (they were up to 2 over it: the branch for
+// rays leaving their start surface ran on into the refinement's iterations).
+TEST_F(GrazingGpu, StepsNeverExceedTheBudget) {
+  const std::string text =
+      "camera(position: [0, 0.5, 0], target: [10, 0.5, 0.3], fov: 40)\n"
+      "scene {\n  box(size: [40, 1, 40])\n  translate([30, 3, 0]) { sphere(radius: 2) }\n}\n";
+  CompileOptions options;
+  options.emit.march.image_height = 90;
+  Diagnostics diags;
+  const CompiledScene c = compileSource("leaving.sdf", text, options, diags);
+  ASSERT_TRUE(c.ok) << diags.format();
+  Renderer r(*context_, c);
+  RenderOverrides o;
+  o.width = 160;
+  o.height = 90;
+  o.spp = 1;
+  o.view = gpu::kViewDepth;
+  const RenderOutput out = r.render(cameraFor(c.scene), renderSettingsFor(c, o));
+  float most = 0;
+  int at_budget = 0;
+  for (uint32_t y = 0; y < 90; ++y)
+    for (uint32_t x = 0; x < 160; ++x) {
+      most = std::max(most, out.albedo_steps.at(x, y)[3]);
+      at_budget += out.albedo_steps.at(x, y)[3] >= c.emitted.limits.max_steps;
+    }
+  std::printf("[ grazing  ] leaving a face: max steps %g (budget %d), %d rays at the budget\n", most,
+              int(c.emitted.limits.max_steps), at_budget);
+  EXPECT_GT(at_budget, 0) << "the scene no longer exhausts the budget: the test tests nothing";
+  EXPECT_LE(most, float(c.emitted.limits.max_steps));
+}
+
 }  // namespace
 }  // namespace sdfc
