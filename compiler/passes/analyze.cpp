@@ -137,6 +137,11 @@ class Analyzer {
         n.cost += 2;
         break;
       case ir::NodeKind::Elongate: {
+        // A bound (issue 49): inside the stretched part the middle section's
+        // depth only (0.6 of a stretched box's), and beside it the distance
+        // to the middle section, short of the true one where the shape's
+        // sections grow away from its centre (0.36).
+        n.exact = false;
         const dvec3 h(upper(n.vec.x), upper(n.vec.y), upper(n.vec.z));
         n.bounds = first->bounds.finite() && std::isfinite(h.x + h.y + h.z)
                        ? Aabb{first->bounds.lo - h, first->bounds.hi + h}
@@ -149,7 +154,10 @@ class Analyzer {
         // An offset of an exact distance is exact: from outside, the nearest
         // point of the grown surface is r further along the same normal;
         // from inside, a ball of depth |d| plus r. It keeps the child's
-        // exactness and Lipschitz factor.
+        // exactness and Lipschitz factor. A shell is exact outside its wall,
+        // as a union is outside its shapes (where the march runs); inside
+        // the wall, where the shape's inner offset has corners (a box's
+        // edges), |d| - r is a bound (0.72 of the depth; docs/language.md).
         const double r = upper(n.amount);
         n.bounds = first->bounds.finite() && std::isfinite(r) ? first->bounds.grow(r) : Aabb::infinite();
         n.cost += 0.1;
