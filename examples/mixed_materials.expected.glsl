@@ -343,6 +343,9 @@ float hitEps(float ro_mag, float t) { return max(fpEps(ro_mag, t), t * kScenePix
 
 // Iterations a hit may add to refine its distance (runtime/loop_budget.h).
 const int kRefineSteps = 2;
+// Iterations a stop inside, bracketed by the sample before it, may refine
+// (regula falsi); taken from the march's own budget, not added to it.
+const int kBracketSteps = 8;
 // The largest over-relaxation of a march step (march(), docs/large_scenes.md).
 const float kRelaxMax = 1.6;
 
@@ -423,8 +426,12 @@ vec3 surfaceTapsNormal(SurfaceTaps s) {
 // an error of up to eps / cos(angle). The stop is a hit only if the refinement
 // confirms it (dErr). Otherwise the ray passes the surface within the band (a
 // near miss; accepting it would grow every silhouette and shadow) and resumes
-// sphere tracing from the stop with the band narrowed to dErr; a second
-// unconfirmed stop there is passed, stepping on from its nearest sample.
+// sphere tracing from the stop with the band narrowed to dErr, stepping at
+// least the wide band while d is below it (so that it cannot spend its budget
+// skimming the surface; docs/accuracy.md); a second unconfirmed stop there is
+// passed, stepping on from its nearest sample. Out of the wide band the band
+// is wide again. A stop inside after a sample outside is refined within that
+// bracket (regula falsi) until float error, from the march's own budget.
 //
 // A ray that starts on a surface (|d| in the band at t = 0) probes one step
 // ahead: moving away it is not a hit (a camera on a face looking away), moving
@@ -467,6 +474,10 @@ float march(vec3 ro, vec3 rd, float t_max, float side, bool shade, out int steps
   float t_stop = -1.0, d_stop = 0.0;  // where the march entered the hit band
   float t_hit = -1.0, d_hit = 0.0;    // the sample nearest the surface since then
   bool crossed = false;               // a sample since the stop lies inside
+  // A stop inside after a sample outside brackets the surface: [t_out, t_in],
+  // narrowed by regula falsi (Illinois: `kept` is the end kept last time).
+  float t_out = -1.0, d_out = 0.0, t_in = 0.0, d_in = 0.0;
+  float kept = 0.0;
   bool narrow = false;                // band narrowed to float error after a near miss
   float slope = -1.0;                 // dd/dt through the last two samples
   bool leaving = false;               // moving off the surface the ray started on
@@ -561,13 +572,40 @@ float march(vec3 ro, vec3 rd, float t_max, float side, bool shade, out int steps
       // (Keinert et al. 2014): 1.9 d is safe while d grows.
       steps = i + 1;
       d_peak = max(d_peak, d);
+      if (i + 1 >= kSceneMaxSteps) {
+        // Out of steps, moving off the surface it started on: a miss. (This
+        // branch went on into the refinement's iterations: steps reported one
+        // or two over the budget, issue 49.)
+        ended = true;
+        continue;
+      }
     } else if (t_stop >= 0.0) {
       crossed = crossed || d <= 0.0;
       if (abs(d) < abs(d_hit)) {
         t_hit = t;
         d_hit = d;
       }
-      if (++refined == kRefineSteps) {
+      if (t_out >= 0.0) {
+        // The sample replaces the bracket's end of its sign; an end kept twice
+        // has its d halved (Illinois), so the bracket closes from both sides.
+        if (d <= 0.0) {
+          if (kept < 0.0) d_out *= 0.5;
+          t_in = t;
+          d_in = d;
+          kept = -1.0;
+        } else {
+          if (kept > 0.0) d_in *= 0.5;
+          t_out = t;
+          d_out = d;
+          kept = 1.0;
+        }
+      }
+      // A bracketed stop refines on, within the loop's budget, until a sample
+      // lies within float error (a grazing step may land a quarter pixel
+      // along the ray past the surface, where two secant steps fell short).
+      ++refined;
+      bool bracketing = t_out >= 0.0 && refined < kBracketSteps && abs(d_hit) > dErr(ro_mag, t_hit);
+      if (!bracketing && refined >= kRefineSteps) {
         if (crossed || abs(d_hit) <= dErr(ro_mag, t_hit)) {
           ended = true;
           continue;
@@ -604,6 +642,9 @@ float march(vec3 ro, vec3 rd, float t_max, float side, bool shade, out int steps
         t = t_prev + d_prev * kSceneStepScale;
         continue;
       }
+      // Out of the wide band the near miss is behind: the next surface gets
+      // the wide band and its refinement again, as on a fresh ray.
+      if (narrow && d >= hitEps(ro_mag, t)) narrow = false;
       float band = narrow ? dErr(ro_mag, t) : hitEps(ro_mag, t);
       if (i == 0 && t == 0.0 && abs(d) < band) {
         // On a surface at the ray's origin: step off it and look, far enough
@@ -620,6 +661,11 @@ float march(vec3 ro, vec3 rd, float t_max, float side, bool shade, out int steps
         t_hit = t;
         d_hit = d;
         crossed = d <= 0.0;
+        t_out = crossed && i > 0 && d_prev > 0.0 ? t_prev : -1.0;
+        d_out = d_prev;
+        t_in = t;
+        d_in = d;
+        kept = 0.0;
       } else if (i + 1 >= kSceneMaxSteps) {
         // Out of steps: a miss, unless still closing in.
         exhausted = slope < 0.0;
@@ -644,6 +690,21 @@ float march(vec3 ro, vec3 rd, float t_max, float side, bool shade, out int steps
     }
     relaxed = omega > 1.0;
     float t_next = t + d * kSceneStepScale * omega;
+    // Past a near miss the band is float error, and a ray that skims the
+    // surface it passed crawled along it by steps of its tiny d until out of
+    // steps, then drawn as sky though a surface lay behind (issue 49). It
+    // steps at least the wide band (a quarter pixel) while d is below it, but
+    // no farther than where d, falling at its slope, would reach 0 (a corner
+    // it clips lies there): the ray enters a surface (d < 0: a stop, refined)
+    // or passes it; only a sliver thinner than the band may be passed.
+    if (narrow && t_stop < 0.0) {
+      float floor_step = hitEps(ro_mag, t);
+      if (slope < 0.0) floor_step = min(floor_step, d / -slope);
+      if (t_next < t + floor_step) {
+        t_next = t + floor_step;
+        relaxed = false;
+      }
+    }
     if (t_stop >= 0.0) {
       // Secant on d(t) through the last two samples; a plain step if they
       // do not bracket a descent, and never farther than 8 |d| from the hit:
@@ -652,6 +713,9 @@ float march(vec3 ro, vec3 rd, float t_max, float side, bool shade, out int steps
       if (i > 0 && slope < 0.0) t_next = t - d / slope;
       // ... nor past t_max (an analytic plane may lie just beyond the hit).
       t_next = clamp(t_next, t_hit - 8.0 * abs(d_hit), min(t_hit + 8.0 * abs(d_hit), t_max));
+      // A bracketed stop: regula falsi, within the bracket (a grazing step
+      // into a face may land far past the root along the ray).
+      if (t_out >= 0.0) t_next = clamp(t_out + (t_in - t_out) * d_out / max(d_out - d_in, 1e-30), t_out, t_in);
     }
     t_prev = t;
     d_prev = d;

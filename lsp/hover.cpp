@@ -28,7 +28,7 @@ std::string whyBound(const ir::Node& n) {
                                                : "subtraction (max(a, -b)) is a bound near the cut";
     case ir::NodeKind::ScaleNonUniform: return "a non-uniform scale stretches distances (min factor used)";
     case ir::NodeKind::Reflect: return "the shape crosses the mirror plane";
-    case ir::NodeKind::Repeat: return "the shape crosses its cell, so neighbour cells are checked";
+    case ir::NodeKind::Repeat: return "the copies overlap (a union: a bound inside), or more cells than are checked hold them";
     case ir::NodeKind::Morph: return "a blend of two distance fields is not a distance";
     case ir::NodeKind::Revolve: return "the profile reaches across the axis (x < -offset)";
     case ir::NodeKind::Twist: {
@@ -51,7 +51,7 @@ std::string whyBound(const ir::Node& n) {
                                      "divided by that", n.deform_lipschitz);
       return buf;
     }
-    case ir::NodeKind::RepeatPolar: return "the shape reaches past its sector, so farther copies may be nearer";
+    case ir::NodeKind::RepeatPolar: return "the copies overlap (a union: a bound inside), or more sectors than are checked hold them";
     default: return "a transform of a bound";
   }
 }

@@ -270,15 +270,18 @@ TEST(Deformations, BoundsNeverExceedTheDistanceToTheSampledSurface) {
   }
 }
 
-TEST(RepeatPolar, EqualsTheUnionOfItsCopiesWhenTheShapeStaysInItsSector) {
+TEST(RepeatPolar, EqualsTheUnionOfItsCopies) {
   const std::string child = "translate([1.2, 0.1, 0.2]) { box(size: [0.5, 0.4, 0.3], rounding: 0.05) }";
-  for (const int count : {2, 5, 12}) {
+  for (const int count : {2, 5, 12, 24}) {
     const Compiled polar = compile("repeat_polar(count: " + std::to_string(count) + ") { " + child + " }");
-    // The box's corners are within atan(0.35 / 0.95) = 20.2 degrees of +x:
-    // inside the wedge of 2 and 5 copies (90 and 36 degrees), not of 12 (15).
-    const bool inside = count <= 5;
+    // The box's corners lie between 2.0 and 20.2 degrees from +x: 9.1 degrees
+    // either side of 11.1, within the sector of 2, 5 and 12 copies (half
+    // angles 90, 36 and 15 degrees), not of 24 (7.5), whose copies overlap
+    // (exact outside, a bound inside). Past its sector it was a warning and
+    // up to 23x the distance; now the sectors around its middle are tried.
+    const bool inside = count <= 12;
     EXPECT_EQ(polar.top().exact, inside) << count;
-    EXPECT_EQ(polar.messages.find("reaches past its sector") == std::string::npos, inside) << polar.messages;
+    EXPECT_EQ(polar.messages.find("repeat-reach"), std::string::npos) << polar.messages;
     std::string copies = "union { ";
     for (int j = 0; j < count; ++j)
       copies += "rotate(axis: [0, 1, 0], degrees: " + std::to_string(360.0 * j / count) + ") { " + child + " } ";
@@ -290,7 +293,7 @@ TEST(RepeatPolar, EqualsTheUnionOfItsCopiesWhenTheShapeStaysInItsSector) {
     for (int i = 0; i < 20000; ++i) {
       const dvec3 p(u(rng), u(rng) * 0.5, u(rng));
       const double dp = ep.distance(p), dw = ew.distance(p);
-      if (inside) ASSERT_NEAR(dp, dw, 1e-9) << count << " at " << p.x << " " << p.y << " " << p.z;
+      ASSERT_NEAR(dp, dw, 1e-9) << count << " at " << p.x << " " << p.y << " " << p.z;
       worst = std::max(worst, dp - dw);
     }
     std::printf("repeat_polar count %d: polar - written out at most %.3g\n", count, worst);
@@ -438,13 +441,15 @@ TEST(Deformations, Diagnostics) {
             "t.sdf:1:29: error: 'count' of 'repeat_polar' must be a whole number from 1 to 10000, got 2.5\n"
             "scene { repeat_polar(count: 2.5) { sphere(radius: 1) } }\n"
             "                            ^~~\n");
-  // A shape reaching past its sector (corners up to 48.8 degrees from +x, the sector 22.5).
-  EXPECT_EQ(diagnosticsOf("scene { repeat_polar(count: 8) { translate([1, 0, 0.5]) { sphere(radius: 0.3) } } }\n"),
-            "t.sdf:1:9: warning: the shape of 'repeat_polar' reaches past its sector (within 22.5 degrees of +x, seen "
-            "from the y axis); copies beyond the neighbouring sectors are not checked, so its distance may be too "
-            "large (keep the shape in its sector) [-Wrepeat-reach]\n"
-            "scene { repeat_polar(count: 8) { translate([1, 0, 0.5]) { sphere(radius: 0.3) } } }\n"
-            "        ^~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~\n");
+  // A shape past its sector is no warning (the sectors around its middle are
+  // tried); one needing more than 3 sectors is, for the cost: this sphere's
+  // box spans 28.8 +- 20 degrees, 2 sectors of 11.25 either side.
+  EXPECT_EQ(diagnosticsOf("scene { repeat_polar(count: 8) { translate([1, 0, 0.5]) { sphere(radius: 0.3) } } }\n"), "");
+  EXPECT_EQ(diagnosticsOf("scene { repeat_polar(count: 32) { translate([1, 0, 0.5]) { sphere(radius: 0.3) } } }\n"),
+            "t.sdf:1:9: warning: the shape of 'repeat_polar' spans several sectors: 5 copies are evaluated at "
+            "every point (keep it within its sector of 11.25 degrees for 3) [-Wrepeat-reach]\n"
+            "scene { repeat_polar(count: 32) { translate([1, 0, 0.5]) { sphere(radius: 0.3) } } }\n"
+            "        ^~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~\n");
   EXPECT_EQ(diagnosticsOf("scene { displace(amplitude: 0.1) { circle(radius: 1) } }\n"),
             "t.sdf:1:36: error: 'displace' does not take a 2D profile; extrude or revolve it first\n"
             "scene { displace(amplitude: 0.1) { circle(radius: 1) } }\n"

@@ -119,6 +119,17 @@ std::vector<SceneCase> operatorScenes() {
       {"displace by time", "scene { displace(amplitude: 0.05 * sin(time), scale: 2 + cos(time)) { box(size: [1, 0.8, 0.6]) } }"},
       {"repeat_polar", "scene { repeat_polar(count: 6) { translate([0.7, 0, 0]) { box(size: [0.3, 0.5, 0.2]) } } }"},
       {"repeat_polar crossing", "scene { repeat_polar(count: 5) { translate([0.5, 0.1, 0.3]) { sphere(radius: 0.3) } } }"},
+      // Issue 49: copies far off the cell's centre, wider than the cell, past
+      // the sector, or around the axis: more cells and sectors tried.
+      {"repeat far off centre",
+       "scene { repeat(cell: [1, 0, 1]) { translate([2.6, 0.1, -1.3]) { rotate(euler: [30, 20, 0]) { "
+       "torus(major: 0.3, minor: 0.1) } } } }"},
+      {"repeat wider than its cell",
+       "scene { repeat(cell: [0.4, 0, 0.5], count: [6, 0, 3]) { box(size: [0.9, 0.3, 0.3]) } }"},
+      {"repeat_polar past its sector",
+       "scene { repeat_polar(count: 8) { translate([0.5, 0, 0.6]) { box(size: [0.5, 0.3, 0.3]) } } }"},
+      {"repeat_polar around the axis",
+       "scene { repeat_polar(count: 5) { translate([0.1, 0, -0.1]) { box(size: [0.8, 0.2, 0.1]) } } }"},
       {"shell", "scene { shell(thickness: 0.1) { subtract { sphere(radius: 0.8) box(size: [2, 0.5, 2]) } } }"},
       {"transform chain",
        "scene { translate([0.2, 0.1, 0]) { rotate(axis: [0, 0, 1], degrees: 30) { scale(1.5) {\n"

@@ -18,7 +18,7 @@ inline constexpr WarningInfo kWarnings[] = {
     {"unused", "a definition or a material that nothing uses"},
     {"time-range", "a value that depends on 'time' leaves its valid range at some times"},
     {"energy", "an albedo or tint above 1 reflects more light than arrives"},
-    {"repeat-reach", "a repeated shape reaches further than the neighbouring cells checked"},
+    {"repeat-reach", "a repeated shape wide enough that many cells or sectors are evaluated, or more than are checked"},
     {"bend-fold", "a 'bend' strong enough to fold space inside the shape (it shows twice there)"},
     {"subtract-nothing", "'subtract' with one shape"},
     {"setting-again", "a setting given twice (the last one wins)"},

@@ -147,10 +147,12 @@ int traversalsPerEvaluation(const ir::Node& n, const ir::Node* free_set) {
   if (n.kind == ir::NodeKind::Mesh) return n.mesh->mode == MeshMode::Exact ? 1 : 0;
   int sum = 0;
   for (const ir::NodeRef& c : n.children) sum += traversalsPerEvaluation(*c, free_set);
-  if (n.kind == ir::NodeKind::RepeatPolar && n.count.x > 1) sum *= 3;
+  if (n.kind == ir::NodeKind::RepeatPolar && n.count.x > 1) {
+    const PolarSectors s = polarSectors(n);
+    sum *= s.last - s.first + 1;
+  }
   if (n.kind == ir::NodeKind::Repeat && sum > 0)
-    for (int a = 0; a < 3; ++a)
-      if (repeatNeedsNeighbours(n, a)) sum *= 3;
+    for (int a = 0; a < 3; ++a) sum *= 2 * repeatCells(n, a).side + 1;
   return sum;
 }
 
@@ -633,22 +635,30 @@ class SceneWriter {
       }
       case ir::NodeKind::RepeatPolar: {
         if (n.count.x == 1) return node(*n.children[0], p, f, mat, mine);
-        // The point's sector and its two neighbours, each turned back onto
-        // sector 0, the child evaluated through one function.
+        // The sector whose copy is nearest in angle and those polarSectors()
+        // adds (passes.h), each turned back onto sector 0, the child
+        // evaluated through one function.
         const ir::Node& c = *n.children[0];
+        const PolarSectors s = polarSectors(n);
         const std::string w = glslFloat(2 * M_PI / n.count.x), i = var(f, "i");
-        f.code << "  float " << i << " = round(atan(" << p << ".z, " << p << ".x) / " << w << ");" << lineComment(n)
-               << " repeat_polar\n";
+        std::string angle = "atan(" + p + ".z, " + p + ".x)";
+        if (s.centre != 0) {
+          // The angle from the child's centre, wrapped into [-pi, pi].
+          const std::string u = var(f, "u");
+          f.code << "  float " << u << " = " << angle << " - " << glslFloat(s.centre) << ";\n";
+          angle = "(" + u + " - 6.2831853 * round(" + u + " * 0.15915494))";
+        }
+        f.code << "  float " << i << " = round(" << angle << " / " << w << ");" << lineComment(n) << " repeat_polar\n";
         const std::string label = c.definition.empty() ? "sector" : c.definition;
         const std::string acc = var(f, "d");
-        for (int d = -1; d <= 1; ++d) {
+        for (int d = s.first; d <= s.last; ++d) {
           const std::string a = var(f, "a"), q = var(f, "p");
-          f.code << "  float " << a << " = (" << i << (d < 0 ? " - 1.0" : d > 0 ? " + 1.0" : "") << ") * " << w
-                 << ";\n";
+          f.code << "  float " << a << " = (" << i << (d < 0 ? " - " : d > 0 ? " + " : "")
+                 << (d != 0 ? glslFloat(std::abs(d)) : std::string()) << ") * " << w << ";\n";
           f.code << "  vec3 " << q << " = vec3(cos(" << a << ") * " << p << ".x + sin(" << a << ") * " << p << ".z, "
                  << p << ".y, cos(" << a << ") * " << p << ".z - sin(" << a << ") * " << p << ".x);\n";
           const std::string e = callFunction(c, q, f, mat, mine, label);
-          if (d == -1) {
+          if (d == s.first) {
             f.code << "  " << (mat ? "vec2 " : "float ") << acc << " = " << e << ";\n";
           } else {
             const std::string r = var(f, "r");
@@ -1660,7 +1670,10 @@ class SceneWriter {
     for (int a = 0; a < 3; ++a) {
       if (cell[a] == 0) continue;
       const std::string s = glslFloat(cell[a]);
-      const std::string x = p + "." + kAxis[a];
+      // The copy whose centre is nearest (repeatCells, passes.h).
+      const RepeatCells r = repeatCells(n, a);
+      const std::string x = r.centre == 0 ? p + "." + kAxis[a]
+                                          : "(" + p + "." + kAxis[a] + " - " + glslFloat(r.centre) + ")";
       index[a] = var(f, "i");
       if (n.count[a] == 0) {
         f.code << "  float " << index[a] << " = round(" << x << " / " << s << ");\n";
@@ -1669,7 +1682,7 @@ class SceneWriter {
         f.code << "  float " << index[a] << " = clamp(round(" << x << " / " << s << " + " << glslFloat(half)
                << "), 0.0, " << glslFloat(n.count[a] - 1) << ") - " << glslFloat(half) << ";\n";
       }
-      span[a] = repeatNeedsNeighbours(n, a) ? 1 : 0;
+      span[a] = r.side;
     }
     auto point = [&](const int d[3]) {
       std::string comps;
@@ -1678,7 +1691,7 @@ class SceneWriter {
         if (cell[a] != 0) {
           std::string j = index[a];
           if (d[a] != 0) {
-            j = index[a] + (d[a] > 0 ? " + 1.0" : " - 1.0");
+            j = index[a] + (d[a] > 0 ? " + " : " - ") + glslFloat(std::abs(d[a]));
             if (n.count[a] > 0) {
               const double half = (n.count[a] - 1) * 0.5;
               j = "clamp(" + j + ", " + glslFloat(-half) + ", " + glslFloat(half) + ")";

@@ -207,10 +207,12 @@ void BlockEvaluator::evalNode(const ir::Node& n, const PointBlock& p, int inheri
     case ir::NodeKind::Repeat: {
       const dvec3 cell = n.vec.value();
       int span[3] = {0, 0, 0};
-      double half[3] = {0, 0, 0};
+      double half[3] = {0, 0, 0}, centre[3] = {0, 0, 0};
       for (int a = 0; a < 3; ++a) {
         if (cell[a] == 0) continue;
-        span[a] = repeatNeedsNeighbours(n, a) ? 1 : 0;
+        const RepeatCells r = repeatCells(n, a);
+        span[a] = r.side;
+        centre[a] = r.centre;
         if (n.count[a] > 0) half[a] = (n.count[a] - 1) * 0.5;
       }
       // The cell index of every point, per axis; then each neighbour offset
@@ -221,7 +223,7 @@ void BlockEvaluator::evalNode(const ir::Node& n, const PointBlock& p, int inheri
         const dvec3 x = p.at(i);
         dvec3 j(0);
         for (int a = 0; a < 3; ++a)
-          if (cell[a] != 0) j[a] = repeatCellIndex(x[a], cell[a], n.count[a]);
+          if (cell[a] != 0) j[a] = repeatCellIndex(x[a] - centre[a], cell[a], n.count[a]);
         index.set(i, j);
       }
       BlockResult& r = level.result;

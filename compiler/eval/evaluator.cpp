@@ -250,16 +250,16 @@ EvalResult Evaluator::evalNode(const ir::Node& n, const dvec3& p, int inherited)
       return child(0, side < 0 ? p - 2 * side * nn : p);
     }
     case ir::NodeKind::Repeat: {
-      // A child that reaches past its cell may be nearest from a neighbour
-      // cell on either side (an off-centre child), so such axes try the
-      // cells i - 1, i and i + 1.
+      // The copy whose centre is nearest, and the ones on either side that
+      // can hold the nearest point (repeatCells, passes.h).
       const dvec3 cell = n.vec.value();
       dvec3 index(0);
       int span[3] = {0, 0, 0};
       for (int a = 0; a < 3; ++a) {
         if (cell[a] == 0) continue;
-        index[a] = repeatCellIndex(p[a], cell[a], n.count[a]);
-        span[a] = repeatNeedsNeighbours(n, a) ? 1 : 0;
+        const RepeatCells r = repeatCells(n, a);
+        index[a] = repeatCellIndex(p[a] - r.centre, cell[a], n.count[a]);
+        span[a] = r.side;
       }
       EvalResult best{std::numeric_limits<double>::infinity(), mat};
       for (int dx = -span[0]; dx <= span[0]; ++dx)
@@ -327,9 +327,12 @@ EvalResult Evaluator::evalNode(const ir::Node& n, const dvec3& p, int inherited)
     case ir::NodeKind::RepeatPolar: {
       const int count = n.count.x;
       if (count == 1) return child(0, p);
-      const double w = 2 * M_PI / count, i = std::round(std::atan2(p.z, p.x) / w);
+      // The sector whose copy is nearest in angle and those polarSectors()
+      // adds (passes.h).
+      const PolarSectors s = polarSectors(n);
+      const double w = 2 * M_PI / count, i = std::round(std::remainder(std::atan2(p.z, p.x) - s.centre, 2 * M_PI) / w);
       EvalResult best{std::numeric_limits<double>::infinity(), mat};
-      for (int d = -1; d <= 1; ++d) {
+      for (int d = s.first; d <= s.last; ++d) {
         EvalResult e = child(0, polarPoint(p, (i + d) * w));
         if (e.distance < best.distance) best = e;
       }

@@ -138,6 +138,11 @@ class Analyzer {
         n.cost += 2;
         break;
       case ir::NodeKind::Elongate: {
+        // A bound (issue 49): inside the stretched part the middle section's
+        // depth only (0.6 of a stretched box's), and beside it the distance
+        // to the middle section, short of the true one where the shape's
+        // sections grow away from its centre (0.36).
+        n.exact = false;
         const dvec3 h(upper(n.vec.x), upper(n.vec.y), upper(n.vec.z));
         n.bounds = first->bounds.finite() && std::isfinite(h.x + h.y + h.z)
                        ? Aabb{first->bounds.lo - h, first->bounds.hi + h}
@@ -150,7 +155,10 @@ class Analyzer {
         // An offset of an exact distance is exact: from outside, the nearest
         // point of the grown surface is r further along the same normal;
         // from inside, a ball of depth |d| plus r. It keeps the child's
-        // exactness and Lipschitz factor.
+        // exactness and Lipschitz factor. A shell is exact outside its wall,
+        // as a union is outside its shapes (where the march runs); inside
+        // the wall, where the shape's inner offset has corners (a box's
+        // edges), |d| - r is a bound (0.72 of the depth; docs/language.md).
         const double r = upper(n.amount);
         n.bounds = first->bounds.finite() && std::isfinite(r) ? first->bounds.grow(r) : Aabb::infinite();
         n.cost += 0.1;
@@ -334,40 +342,44 @@ class Analyzer {
     n.cost += 1.5 * o;
   }
 
-  // repeat_polar(count): the point's sector i = round(atan2(z, x) / w), w =
-  // 2 pi / count, and its neighbours i - 1 and i + 1, each turned back onto
-  // sector 0. For every point s of the child, the copy of s nearest p is the
-  // one nearest in angle (same radius and height); with the child inside the
-  // wedge |atan2(z, x)| <= w / 2 that copy is in sector i - 1, i or i + 1, so
-  // the minimum over the three is the exact distance of an exact child.
+  // repeat_polar(count): the copies in the sectors polarSectors() names
+  // (passes.h: the nearest copy lies among them), each turned back onto
+  // sector 0. Exact for an exact child whose copies do not overlap.
   void repeatPolar(ir::Node& n) {
     const Aabb& b = n.children[0]->bounds;
     const int count = n.count.x;
-    n.cost = count == 1 ? n.children[0]->cost : 3 * n.children[0]->cost + 0.5;
+    const PolarSectors s = polarSectors(n);
+    n.cost = count == 1 ? n.children[0]->cost : (s.last - s.first + 1) * n.children[0]->cost + 0.5;
+    if (count == 1) {
+      n.bounds = b;
+      return;
+    }
     if (!b.finite()) {
       n.bounds = Aabb::infinite();
       n.exact = false;
-      if (count > 1)
-        diags_.warning(n.range, "repeat-reach", "the shape of 'repeat_polar' is unbounded, so it crosses its "
-                                                "sector's edges and its distance may be too large");
+      diags_.warning(n.range, "repeat-reach", "the shape of 'repeat_polar' is unbounded, so it crosses its "
+                                              "sector's edges and its distance may be too large");
       return;
     }
     double r = 0;
-    bool inside = true;
-    const double half = M_PI / count;
     for (int i = 0; i < 4; ++i) {
       const double x = (i & 1) ? b.hi.x : b.lo.x, z = (i & 2) ? b.hi.z : b.lo.z;
       r = std::max(r, std::sqrt(x * x + z * z));
-      // The wedge is convex (count >= 2), so its corners decide.
-      if ((x != 0 || z != 0) && std::fabs(std::atan2(z, x)) > half * (1 + 1e-12)) inside = false;
     }
-    n.bounds = count == 1 ? b : Aabb{dvec3(-r, b.lo.y, -r), dvec3(r, b.hi.y, r)};
-    if (count == 1 || inside) return;
-    n.exact = false;
-    diags_.warning(n.range, "repeat-reach", "the shape of 'repeat_polar' reaches past its sector (within " +
-                                                fmtNumber(180.0 / count) + " degrees of +x, seen from the y "
-                                                "axis); copies beyond the neighbouring sectors are not checked, "
-                                                "so its distance may be too large (keep the shape in its sector)");
+    n.bounds = Aabb{dvec3(-r, b.lo.y, -r), dvec3(r, b.hi.y, r)};
+    if (s.half > M_PI / count * (1 + 1e-12)) n.exact = false;  // the copies may overlap
+    if (!s.covered) {
+      diags_.warning(n.range, "repeat-reach", "the shape of 'repeat_polar' spans more than " +
+                                                  std::to_string(kPolarMaxSectors) + " of its " +
+                                                  std::to_string(count) + " sectors; copies beyond them are not "
+                                                  "checked, so its distance may be too large (keep the shape "
+                                                  "off the axis and within a few sectors)");
+    } else if (s.last - s.first + 1 > 3) {
+      diags_.warning(n.range, "repeat-reach", "the shape of 'repeat_polar' spans several sectors: " +
+                                                  std::to_string(s.last - s.first + 1) + " copies are evaluated "
+                                                  "at every point (keep it within its sector of " +
+                                                  fmtNumber(360.0 / count) + " degrees for 3)");
+    }
   }
 
   // The profile's x is the distance from the axis minus the offset, so only
@@ -446,16 +458,24 @@ class Analyzer {
         n.bounds.lo[a] -= spread;
         n.bounds.hi[a] += spread;
       }
-      if (repeatNeedsNeighbours(n, a)) {
-        cells_evaluated *= 3;
-        // Inside its cell, the three cells give the exact distance (passes.h).
-        if (repeatReach(n, a) > cell[a] / 2) n.exact = false;
-        if (repeatReach(n, a) > cell[a] * 1.5)
-          diags_.warning(n.range, "repeat-reach", "the repeated shape reaches more than one cell beyond its own "
-                                  "along axis " + std::string(1, "xyz"[a]) +
-                                  "; only neighbouring cells are checked, so its distance may be "
-                                  "too large (use a larger cell)");
-      }
+      const RepeatCells r = repeatCells(n, a);
+      cells_evaluated *= 2 * r.side + 1;
+      // Overlapping copies: their min is a bound inside (passes.h).
+      if (r.side > 0 && (!r.covered || r.half > cell[a] / 2)) n.exact = false;
+      const std::string axis(1, "xyz"[a]);
+      if (!r.covered && !child.bounds.finite())
+        diags_.warning(n.range, "repeat-reach", "the repeated shape is unbounded; only the neighbouring cells "
+                                                "along axis " + axis + " are checked, so its distance may be "
+                                                "too large");
+      else if (!r.covered)
+        diags_.warning(n.range, "repeat-reach", "the repeated shape spans more than " +
+                                                    std::to_string(2 * kRepeatMaxSide + 1) + " cells along axis " +
+                                                    axis + "; copies beyond them are not checked, so its "
+                                                    "distance may be too large (use a larger cell)");
+      else if (r.side > 1)
+        diags_.warning(n.range, "repeat-reach", "the repeated shape is wider than its cell along axis " + axis +
+                                                    ": " + std::to_string(2 * r.side + 1) + " copies are "
+                                                    "evaluated along it at every point (use a larger cell for 3)");
     }
     n.cost = child.cost * cells_evaluated + 0.5;
   }
@@ -484,6 +504,138 @@ bool repeatOffCentre(const ir::Node& repeat, int axis) {
   const Aabb& b = repeat.children[0]->bounds;
   // A few ulps of the reach: a centred child's bounds cancel to rounding.
   return b.finite() && std::fabs(b.lo[axis] + b.hi[axis]) > 1e-9 * repeatReach(repeat, axis);
+}
+
+bool mirrorSymmetric(const ir::Node& n, int axis) {
+  switch (n.kind) {
+    case ir::NodeKind::Primitive:
+      switch (n.primitive) {
+        case PrimitiveKind::Sphere:
+        case PrimitiveKind::Box:
+        case PrimitiveKind::Torus:
+        case PrimitiveKind::Cylinder:
+        case PrimitiveKind::Capsule:
+        case PrimitiveKind::HexPrism:
+        case PrimitiveKind::Menger:
+        case PrimitiveKind::Octahedron:
+        case PrimitiveKind::Ellipsoid:
+        case PrimitiveKind::Circle:
+        case PrimitiveKind::Rect:
+        case PrimitiveKind::Hexagon: return true;
+        // Apex or base on y = 0: symmetric across x = 0 and z = 0 only.
+        case PrimitiveKind::Cone:
+        case PrimitiveKind::Pyramid:
+        case PrimitiveKind::RoundCone:
+        case PrimitiveKind::TriPrism: return axis != 1;
+        case PrimitiveKind::Polygon:
+          if (axis == 2) return true;
+          for (const glm::dvec2& a : n.points) {
+            bool mirrored = false;
+            for (const glm::dvec2& b : n.points)
+              mirrored = mirrored || (axis == 0 ? (b.x == -a.x && b.y == a.y) : (b.x == a.x && b.y == -a.y));
+            if (!mirrored) return false;
+          }
+          return true;
+        default: return false;
+      }
+    case ir::NodeKind::Union:
+    case ir::NodeKind::Intersect:
+    case ir::NodeKind::Subtract:
+    case ir::NodeKind::Round:
+    case ir::NodeKind::Shell:
+    case ir::NodeKind::Scale:
+    case ir::NodeKind::Elongate:
+      for (const ir::NodeRef& c : n.children)
+        if (!mirrorSymmetric(*c, axis)) return false;
+      return true;
+    case ir::NodeKind::Translate:
+    {
+      const ir::Scalar& o = axis == 0 ? n.vec.x : axis == 1 ? n.vec.y : n.vec.z;
+      return o.isConst() && o.value == 0 && mirrorSymmetric(*n.children[0], axis);
+    }
+    case ir::NodeKind::Affine: {
+      // local = L p + o. When p's `axis` feeds local's axis b alone and
+      // nothing else feeds b (an axis-aligned turn, up to rounding: cos 90
+      // degrees is 6e-17), and o moves nothing along b, flipping p's axis
+      // flips local's b: symmetric when the child is across b.
+      const glm::dmat3& l = n.linear;  // column-major: l[column][row]
+      double big = 0;
+      for (int c = 0; c < 3; ++c)
+        for (int r = 0; r < 3; ++r) big = std::max(big, std::fabs(l[c][r]));
+      const double tiny = 1e-12 * big;
+      int b = 0;
+      for (int r = 1; r < 3; ++r)
+        if (std::fabs(l[axis][r]) > std::fabs(l[axis][b])) b = r;
+      for (int r = 0; r < 3; ++r)
+        if (r != b && std::fabs(l[axis][r]) > tiny) return false;
+      for (int c = 0; c < 3; ++c)
+        if (c != axis && std::fabs(l[c][b]) > tiny) return false;
+      return std::fabs(n.offset[b]) <= 1e-12 * (1 + glm::length(n.offset)) && mirrorSymmetric(*n.children[0], b);
+    }
+    default: return false;
+  }
+}
+
+RepeatCells repeatCells(const ir::Node& repeat, int axis) {
+  RepeatCells r;
+  const double cell = repeat.vec.value()[axis];
+  if (cell == 0) return r;
+  const Aabb& b = repeat.children[0]->bounds;
+  if (!b.finite()) {
+    r.side = 1;
+    r.covered = false;
+    return r;
+  }
+  if (!repeatOffCentre(repeat, axis) && repeatReach(repeat, axis) <= cell / 2 &&
+      mirrorSymmetric(*repeat.children[0], axis))
+    return r;
+  r.centre = (b.lo[axis] + b.hi[axis]) / 2;
+  const double h = (b.hi[axis] - b.lo[axis]) / 2;
+  r.half = h;
+  // ceil(h / c), a few ulps under a whole number taken as that number.
+  const double need = std::max(1.0, std::ceil(h / cell - 1e-9));
+  r.side = int(std::min<double>(need, kRepeatMaxSide));
+  r.covered = need <= kRepeatMaxSide;
+  return r;
+}
+
+PolarSectors polarSectors(const ir::Node& n) {
+  PolarSectors s;
+  const int count = n.count.x;
+  if (count <= 1) {
+    s.first = s.last = 0;
+    return s;
+  }
+  const double w = 2 * M_PI / count;
+  const Aabb& b = n.children[0]->bounds;
+  double half = M_PI;  // the half angle the child's box spans about `centre`
+  if (b.finite() && !(b.lo.x <= 0 && b.hi.x >= 0 && b.lo.z <= 0 && b.hi.z >= 0)) {
+    // The box's xz rectangle leaves out the axis, so it spans under pi:
+    // its corners' angles about the direction of its centre.
+    s.centre = std::atan2((b.lo.z + b.hi.z) / 2, (b.lo.x + b.hi.x) / 2);
+    double lo = 0, hi = 0;
+    for (int i = 0; i < 4; ++i) {
+      const double x = (i & 1) ? b.hi.x : b.lo.x, z = (i & 2) ? b.hi.z : b.lo.z;
+      const double a = std::remainder(std::atan2(z, x) - s.centre, 2 * M_PI);
+      lo = std::min(lo, a);
+      hi = std::max(hi, a);
+    }
+    s.centre += (lo + hi) / 2;
+    half = (hi - lo) / 2;
+  }
+  s.half = half;
+  // Sectors within ceil(half / w) of the nearest, or every copy.
+  const int need = int(std::max(1.0, std::ceil(half / w - 1e-9)));
+  if (2 * need + 1 < count && 2 * need + 1 <= kPolarMaxSectors) {
+    s.first = -need;
+    s.last = need;
+    return s;
+  }
+  const int all = std::min(count, kPolarMaxSectors);
+  s.first = -(all - 1) / 2;
+  s.last = all / 2;
+  s.covered = all == count;
+  return s;
 }
 
 void analyze(ir::Scene& scene, Diagnostics& diags) {

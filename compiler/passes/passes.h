@@ -68,25 +68,57 @@ struct MarchPolicy {
 MarchLimits deriveMarchLimits(const ir::Scene& scene, const MarchPolicy& policy);
 
 // How far a repeat node's child reaches from its cell centre along `axis`
-// (infinite when unbounded). Past half a cell, the cells on either side can
-// hold the nearest copy: analysis, evaluator and emitter all decide by this.
+// (infinite when unbounded).
 double repeatReach(const ir::Node& repeat, int axis);
 // Whether the child's bounds are off the cell's centre along `axis`.
 bool repeatOffCentre(const ir::Node& repeat, int axis);
-// The cells on either side are tried too when the child reaches past half a
-// cell, or when it sits off the centre: a copy in the next cell can then be
-// nearer than the cell's own (cell 2, a copy spanning x in [0.5, 1]: at x =
-// -0.9 the own copy is 1.4 away, the next cell's 0.1), and a march stepping by
-// the own copy's distance passed through the nearer one. For a child inside
-// its cell, the cells beyond those are never nearer (each of their points has
-// a nearer twin one cell back), so the three give the exact distance. A child
-// whose box is centred is taken from its own cell alone: exact when it is
-// symmetric about the centre, not for parts on opposite corners of a centred
-// box (docs/language.md says so).
-inline bool repeatNeedsNeighbours(const ir::Node& repeat, int axis) {
-  const double cell = repeat.vec.value()[axis];
-  return cell != 0 && (repeatReach(repeat, axis) > cell / 2 || repeatOffCentre(repeat, axis));
-}
+
+// The copies of a repeat's child tried along one axis: the one whose centre
+// (the child's box centre, moved by whole cells) is nearest the point, and
+// `side` more on either side. Analysis, evaluator and emitter all use this.
+//
+// Why it is exact: with the child's box of half-width h about its centre m,
+// a point in the window of copy i (|x - m - c i| <= c / 2) and a copy j >= i +
+// 1 + h / c, every point s of copy j has a twin s - c in copy j - 1 that is
+// nearer (x <= s - c / 2), and the same on the other side; so the copies within
+// ceil(h / c) of i hold the nearest one (issue 49: a child far off its cell's
+// centre was taken from the wrong cells, up to 16x too far, copies vanishing).
+// A child whose box is centred and within half a cell, and that is its own
+// mirror image across the cell's centre plane (mirrorSymmetric), is taken from
+// its own cell alone: the mirror image of a point of the next copy across the
+// cells' shared face is a point of the own copy, on the side of the query
+// point. Any other centred child (a rotated torus, parts on opposite corners
+// of a centred box) tries the cells on either side too. An unbounded
+// child tries one cell on either side of its own, a bound (warned).
+// `side` is at most kRepeatMaxSide: a child wider than that many cells keeps
+// only those (warned, the distance may be too large there).
+constexpr int kRepeatMaxSide = 2;
+// Whether the shape is its own mirror image across the plane through the
+// origin normal to `axis` (false when not known).
+bool mirrorSymmetric(const ir::Node& n, int axis);
+struct RepeatCells {
+  int side = 0;        // copies tried on either side of the nearest
+  double centre = 0;   // m: the child's box centre along the axis (0 unbounded)
+  bool covered = true; // every copy that can be nearest is tried
+  double half = 0;     // h: the child's box half-width (copies overlap past c / 2)
+};
+RepeatCells repeatCells(const ir::Node& repeat, int axis);
+inline bool repeatNeedsNeighbours(const ir::Node& repeat, int axis) { return repeatCells(repeat, axis).side > 0; }
+
+// The same for repeat_polar: the sectors first..last (relative to the one
+// whose copy's angular centre is nearest the point's angle, `centre` radians
+// about y from +x, as atan2(z, x)) hold the nearest copy, by the same twin
+// argument in angle (same radius and height, nearer in angle is nearer). A
+// child whose box holds the axis spans every angle: all copies, up to
+// kPolarMaxSectors.
+constexpr int kPolarMaxSectors = 33;
+struct PolarSectors {
+  int first = -1, last = 1;
+  double centre = 0;
+  bool covered = true;
+  double half = 0;  // the half angle the child spans (copies overlap past pi / count)
+};
+PolarSectors polarSectors(const ir::Node& repeat_polar);
 
 // Rotation by `degrees` about unit `axis` (right-handed), as a matrix.
 glm::dmat3 rotationMatrix(glm::dvec3 axis, double degrees);
