@@ -817,9 +817,10 @@ class SceneWriter {
   // A split cell (ir::kGridSplit: too crowded for one list) hands p to its
   // octant's sub-cell, half the size: ci, q, size and cell (and the fixed
   // slots) become the sub-cell's. q * 2 - o is exact in float.
-  std::string splitCellLookup(const InstanceLayout& l, bool slots, bool sized) const {
+  std::string splitCellLookup(const InstanceLayout& l, bool slots, bool sized, bool again = false) const {
     std::ostringstream out;
-    if (sized) out << "  float size = g0.w;\n";
+    if (sized && !again) out << "  float size = g0.w;\n";
+    sized = sized || again;
     out << "  if (cell.y < -1.5) {  // split: the octant's sub-cell\n";
     out << "    ivec3 o = ivec3(greaterThanEqual(q, vec3(0.5)));\n";
     out << "    ci = int(cell.x) + o.x + 2 * o.y + 4 * o.z;\n";
@@ -879,7 +880,11 @@ class SceneWriter {
     g.code << "  vec4 cell = sd_data[" << gc << " + ci];\n";
     g.code << "  vec3 q = f - vec3(c);\n";
     g.code << countEvent(kEventLookups);
-    if (split) g.code << splitCellLookup(l, unrolled, true);
+    if (split) {
+      g.code << splitCellLookup(l, unrolled, true);
+      // A blend grid's octants may be split again: the same step per level.
+      for (int level = 1; level < grid.splits; ++level) g.code << splitCellLookup(l, unrolled, false, true);
+    }
     g.code << "  int count = int(cell.y);\n";
     if (grid.blend) {
       blendList(n, l, mat, one, tree, visits, size, g);

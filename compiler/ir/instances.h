@@ -52,6 +52,8 @@ constexpr std::uint32_t kBvhLeafSize = 4;
 // (count kGridCrowded) leaves its points to the hierarchy. Outside the grid's
 // box every instance is at least `margin` farther than the box.
 constexpr int kGridListMax = 8;
+// A blend grid's cells may be split again, down to this many levels.
+constexpr int kGridMaxSplits = 3;
 constexpr std::int32_t kGridCrowded = -1;
 constexpr std::int32_t kGridSplit = -2;
 
@@ -72,6 +74,7 @@ struct InstanceGrid {
   // blend is at least the distance to the box plus `margin`.
   bool blend = false;
   int longest = 0;
+  int splits = 1;  // levels of octants a lookup may descend (the hard grid: at most 1)
 
   bool empty() const { return count.empty(); }
   size_t cells() const { return count.size(); }  // sub-cells included

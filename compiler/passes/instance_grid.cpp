@@ -219,7 +219,7 @@ ir::GridCellAt instanceGridCellAt(const ir::InstanceGrid& g, const glm::dvec3& p
   at.index = size_t(c.x) + size_t(g.dims.x) * (size_t(c.y) + size_t(g.dims.y) * c.z);
   at.q = f - dvec3(c);
   at.size = g.cell;
-  if (g.count[at.index] == ir::kGridSplit) {
+  while (g.count[at.index] == ir::kGridSplit) {
     const glm::ivec3 o(glm::greaterThanEqual(at.q, dvec3(0.5)));
     at.index = g.first[at.index] + size_t(o.x + 2 * o.y + 4 * o.z);
     at.q = at.q * 2.0 - dvec3(o);
