@@ -281,6 +281,31 @@ TEST(Accuracy, GrazingRaysOnAMarchedGroundAreNotSky) {
   EXPECT_LE(s.depth_off, s.both / 200);
 }
 
+// Issue 47 item 13: a long box seen along its top face from 0.02 above it,
+// the hits from a few hundredths to tens of units away at angles down to a
+// thousandth of a radian. The hit floor was a millionth of the box's
+// diagonal: at length 2,040 hits 10% deep (2,520 of 7,190 pixels beyond
+// float32's bound), from 60,000 every pixel at depth 0 (the camera, 0.02
+// above the face, was "on" it) and at 2e6 6,164 pixels missed.
+TEST(Accuracy, GrazingViewAlongALongBox) {
+  for (double length : {40.0, 2040.0, 60000.0, 2e6}) {
+    std::ostringstream text;
+    text.precision(17);
+    text << "render(size: [160, 90])\ncamera(position: [0, 0.02, -1], target: [0, 0, -11], fov: 40)\n"
+         << "let grey = diffuse(albedo: [0.6, 0.6, 0.6])\n"
+         << "scene { translate([0, -0.5, " << -length / 2 << "]) { box(size: [4, 1, " << length
+         << "], material: grey) } }\n";
+    const std::string name = "long box " + std::to_string(int(length));
+    const Stats s = measure(name.c_str(), {box({0, -0.5, -length / 2}, {4, 1, length}, kGrey)}, true, text.str());
+    EXPECT_EQ(s.inside, 0) << name << ": pixels drawn inside the solid";
+    EXPECT_EQ(s.ref_hits, s.both) << name << ": pixels missed";
+    // Rays skimming the far end's edge within float32's rounding of it.
+    EXPECT_LE(s.sdfc_hits - s.both, 16) << name;
+    EXPECT_LE(s.depth_off, s.both / 1000) << name << ": depth beyond float32's bound";
+    EXPECT_LT(s.worst_rel, 1e-3) << name;
+  }
+}
+
 // 3. A camera on a surface looking away from it sees the scene, not t = 0.
 TEST(Accuracy, CameraOnABoxFaceLookingAway) {
   const Stats s = measure("i17_camera_on_box.sdf",
