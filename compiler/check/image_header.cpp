@@ -31,6 +31,8 @@ std::string readExrHeader(const std::string& path, EXRHeader& header) {
   if (ParseEXRHeaderFromFile(&header, &version, path.c_str(), &err) != TINYEXR_SUCCESS) {
     std::string reason = err ? err : "its EXR header cannot be read";
     FreeEXRErrorMessage(err);
+    // What tinyexr read before it failed (channels, attributes) is still held.
+    FreeEXRHeader(&header);
     return reason;
   }
   return "";
