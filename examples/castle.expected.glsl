@@ -791,9 +791,10 @@ float march(vec3 ro, vec3 rd, float t_max, float side, bool shade, out int steps
       // to reach it in budget (steps shrink by the sine of the angle). It is no sky:
       // it hits at the root of the secant through its last two samples (exact on a
       // flat face) when that lies within reach, else at its first stop if it had one.
-      // Near a face, d's float noise can outweigh its fall over one step:
-      // after a first stop, the secant runs from that stop, whose d is a
-      // band above the face, and is out of steps while d has fallen since.
+      // Near a face, d's float noise can outweigh its fall over one short step,
+      // so the last two samples need not show the ray closing in: a ray out of
+      // steps whose d has fallen since its first, unconfirmed stop takes the
+      // secant from that stop instead.
       bool descended = t_first >= 0.0 && t_prev > t_first && d_prev < d_first;
       if (t_hit < 0.0 && (exhausted || (descended && i >= kSceneMaxSteps))) {
         float fall = exhausted ? slope : (d_prev - d_first) / (t_prev - t_first);
