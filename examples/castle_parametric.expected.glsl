@@ -260,12 +260,12 @@ vec3 sampleGgxVndf(vec3 wo, float alpha, vec2 u) {
 // ---- scene constants (derived per scene by the compiler) ----
 const float kSceneMaxDist = 428.087713;
 const int kSceneMaxSteps = 802;
-const float kSceneHitEps = 3.4805244e-06;
+const float kSceneHitEps = 1.5e-06;
 const float kScenePixelCone = 0.000478232796;
 const float kSceneStepScale = 1.0;
 // The marched part of the scene lies in this box.
-const vec3 kSceneBoxLo = vec3(-6.30002706, -2.70626842e-05, -6.30002706);
-const vec3 kSceneBoxHi = vec3(6.30002706, 8.63733361, 8.69284739);
+const vec3 kSceneBoxLo = vec3(-6.30001914, -1.91405867e-05, -6.30001914);
+const vec3 kSceneBoxHi = vec3(6.30001914, 8.63732569, 8.69283946);
 const vec3 kSunDir = vec3(-0.420542382, 0.747630902, 0.513996245);
 const float kSunCosAngle = 0.999390827;
 const vec3 kSunRadiance = vec3(783.791869, 728.926438, 642.709333);
@@ -802,12 +802,18 @@ float march(vec3 ro, vec3 rd, float t_max, float side, bool shade, out int steps
       // to reach it in budget (steps shrink by the sine of the angle). It is no sky:
       // it hits at the root of the secant through its last two samples (exact on a
       // flat face) when that lies within reach, else at its first stop if it had one.
-      if (t_hit < 0.0 && exhausted) {
-        float t_root = t_prev - d_prev / min(slope, -1e-30);
+      // Near a face, d's float noise can outweigh its fall over one short step,
+      // so the last two samples need not show the ray closing in: a ray out of
+      // steps whose d has fallen since its first, unconfirmed stop takes the
+      // secant from that stop instead.
+      bool descended = t_first >= 0.0 && t_prev > t_first && d_prev < d_first;
+      if (t_hit < 0.0 && (exhausted || (descended && i >= kSceneMaxSteps))) {
+        float fall = exhausted ? slope : (d_prev - d_first) / (t_prev - t_first);
+        float t_root = t_prev - d_prev / min(fall, -1e-30);
         if (t_root <= t_max) {
           t_hit = t_root;
           d_hit = 0.0;
-        } else if (t_first >= 0.0) {
+        } else if (t_first >= 0.0 && exhausted) {
           t_hit = t_first;
           d_hit = d_first;
         }

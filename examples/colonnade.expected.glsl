@@ -229,12 +229,12 @@ vec3 sampleUniformCone(vec2 u, float one_minus_cos_max) {
 // ---- scene constants (derived per scene by the compiler) ----
 const float kSceneMaxDist = 270.658456;
 const int kSceneMaxSteps = 512;
-const float kSceneHitEps = 1.19982369e-05;
+const float kSceneHitEps = 3e-07;
 const float kScenePixelCone = 0.000767062153;
 const float kSceneStepScale = 1.0;
 // The marched part of the scene lies in this box.
-const vec3 kSceneBoxLo = vec3(-6.250055, -5.49979111e-05, -2.000055);
-const vec3 kSceneBoxHi = vec3(6.250055, 3.300055, 2.000055);
+const vec3 kSceneBoxLo = vec3(-6.2500082, -8.20496345e-06, -2.0000082);
+const vec3 kSceneBoxHi = vec3(6.2500082, 3.3000082, 2.0000082);
 const int kNumSphereLights = 1;
 const vec4 kSphereLights[kNumSphereLights] = vec4[](vec4(0.0, 2.2, 0.0, 0.35));
 const vec3 kSphereLightRadiance[kNumSphereLights] = vec3[](vec3(40.0, 34.0, 24.0));
@@ -488,12 +488,18 @@ float march(vec3 ro, vec3 rd, float t_max, float side, bool shade, out int steps
       // to reach it in budget (steps shrink by the sine of the angle). It is no sky:
       // it hits at the root of the secant through its last two samples (exact on a
       // flat face) when that lies within reach, else at its first stop if it had one.
-      if (t_hit < 0.0 && exhausted) {
-        float t_root = t_prev - d_prev / min(slope, -1e-30);
+      // Near a face, d's float noise can outweigh its fall over one short step,
+      // so the last two samples need not show the ray closing in: a ray out of
+      // steps whose d has fallen since its first, unconfirmed stop takes the
+      // secant from that stop instead.
+      bool descended = t_first >= 0.0 && t_prev > t_first && d_prev < d_first;
+      if (t_hit < 0.0 && (exhausted || (descended && i >= kSceneMaxSteps))) {
+        float fall = exhausted ? slope : (d_prev - d_first) / (t_prev - t_first);
+        float t_root = t_prev - d_prev / min(fall, -1e-30);
         if (t_root <= t_max) {
           t_hit = t_root;
           d_hit = 0.0;
-        } else if (t_first >= 0.0) {
+        } else if (t_first >= 0.0 && exhausted) {
           t_hit = t_first;
           d_hit = d_first;
         }

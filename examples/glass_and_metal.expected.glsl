@@ -259,12 +259,12 @@ vec3 sampleGgxVndf(vec3 wo, float alpha, vec2 u) {
 // ---- scene constants (derived per scene by the compiler) ----
 const float kSceneMaxDist = 126.973422;
 const int kSceneMaxSteps = 578;
-const float kSceneHitEps = 1.03923048e-06;
+const float kSceneHitEps = 5e-08;
 const float kScenePixelCone = 0.000674018952;
 const float kSceneStepScale = 1.0;
 // The marched part of the scene lies in this box.
-const vec3 kSceneBoxLo = vec3(-2.00000828, -8.28156336e-06, -2.00000828);
-const vec3 kSceneBoxHi = vec3(2.20000828, 3.52500828, 1.20000828);
+const vec3 kSceneBoxLo = vec3(-2.00000432, -4.32464142e-06, -2.00000432);
+const vec3 kSceneBoxHi = vec3(2.20000432, 3.52500432, 1.20000432);
 const vec3 kSunDir = vec3(-0.268328157, 0.894427191, 0.357770876);
 const float kSunCosAngle = 0.999390827;
 const vec3 kSunRadiance = vec3(313.516748);
@@ -542,12 +542,18 @@ float march(vec3 ro, vec3 rd, float t_max, float side, bool shade, out int steps
       // to reach it in budget (steps shrink by the sine of the angle). It is no sky:
       // it hits at the root of the secant through its last two samples (exact on a
       // flat face) when that lies within reach, else at its first stop if it had one.
-      if (t_hit < 0.0 && exhausted) {
-        float t_root = t_prev - d_prev / min(slope, -1e-30);
+      // Near a face, d's float noise can outweigh its fall over one short step,
+      // so the last two samples need not show the ray closing in: a ray out of
+      // steps whose d has fallen since its first, unconfirmed stop takes the
+      // secant from that stop instead.
+      bool descended = t_first >= 0.0 && t_prev > t_first && d_prev < d_first;
+      if (t_hit < 0.0 && (exhausted || (descended && i >= kSceneMaxSteps))) {
+        float fall = exhausted ? slope : (d_prev - d_first) / (t_prev - t_first);
+        float t_root = t_prev - d_prev / min(fall, -1e-30);
         if (t_root <= t_max) {
           t_hit = t_root;
           d_hit = 0.0;
-        } else if (t_first >= 0.0) {
+        } else if (t_first >= 0.0 && exhausted) {
           t_hit = t_first;
           d_hit = d_first;
         }

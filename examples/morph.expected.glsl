@@ -228,12 +228,12 @@ vec3 sampleUniformCone(vec2 u, float one_minus_cos_max) {
 // ---- scene constants (derived per scene by the compiler) ----
 const float kSceneMaxDist = 51.9615242;
 const int kSceneMaxSteps = 518;
-const float kSceneHitEps = 2.59807621e-06;
+const float kSceneHitEps = 1.5e-06;
 const float kScenePixelCone = 0.000758271321;
 const float kSceneStepScale = 1.0;
 // The marched part of the scene lies in this box.
-const vec3 kSceneBoxLo = vec3(-0.750012183, 0.0499878165, -0.750012183);
-const vec3 kSceneBoxHi = vec3(0.750012183, 1.55001218, 0.750012183);
+const vec3 kSceneBoxLo = vec3(-0.750007791, 0.0499922088, -0.750007791);
+const vec3 kSceneBoxHi = vec3(0.750007791, 1.55000779, 0.750007791);
 const vec3 kSunDir = vec3(0.336860768, 0.842151921, 0.421075961);
 const float kSunCosAngle = 0.998629535;
 const vec3 kSunRadiance = vec3(139.358464);
@@ -460,12 +460,18 @@ float march(vec3 ro, vec3 rd, float t_max, float side, bool shade, out int steps
       // to reach it in budget (steps shrink by the sine of the angle). It is no sky:
       // it hits at the root of the secant through its last two samples (exact on a
       // flat face) when that lies within reach, else at its first stop if it had one.
-      if (t_hit < 0.0 && exhausted) {
-        float t_root = t_prev - d_prev / min(slope, -1e-30);
+      // Near a face, d's float noise can outweigh its fall over one short step,
+      // so the last two samples need not show the ray closing in: a ray out of
+      // steps whose d has fallen since its first, unconfirmed stop takes the
+      // secant from that stop instead.
+      bool descended = t_first >= 0.0 && t_prev > t_first && d_prev < d_first;
+      if (t_hit < 0.0 && (exhausted || (descended && i >= kSceneMaxSteps))) {
+        float fall = exhausted ? slope : (d_prev - d_first) / (t_prev - t_first);
+        float t_root = t_prev - d_prev / min(fall, -1e-30);
         if (t_root <= t_max) {
           t_hit = t_root;
           d_hit = 0.0;
-        } else if (t_first >= 0.0) {
+        } else if (t_first >= 0.0 && exhausted) {
           t_hit = t_first;
           d_hit = d_first;
         }

@@ -228,12 +228,12 @@ vec3 sampleUniformCone(vec2 u, float one_minus_cos_max) {
 // ---- scene constants (derived per scene by the compiler) ----
 const float kSceneMaxDist = 10.0196632;
 const int kSceneMaxSteps = 499;
-const float kSceneHitEps = 2.59807621e-06;
+const float kSceneHitEps = 1.5e-06;
 const float kScenePixelCone = 0.000788246972;
 const float kSceneStepScale = 1.0;
 // The marched part of the scene lies in this box.
-const vec3 kSceneBoxLo = vec3(-0.750013791, -0.800013791, -0.900013791);
-const vec3 kSceneBoxHi = vec3(3.30001379, 1.00001379, 0.900013791);
+const vec3 kSceneBoxLo = vec3(-0.750009399, -0.800009399, -0.900009399);
+const vec3 kSceneBoxHi = vec3(3.3000094, 1.0000094, 0.900009399);
 const vec3 kSunDir = vec3(0.259160528, 0.863868426, 0.431934213);
 const float kSunCosAngle = 0.99756405;
 const vec3 kSunRadiance = vec3(78.4030674);
@@ -472,12 +472,18 @@ float march(vec3 ro, vec3 rd, float t_max, float side, bool shade, out int steps
       // to reach it in budget (steps shrink by the sine of the angle). It is no sky:
       // it hits at the root of the secant through its last two samples (exact on a
       // flat face) when that lies within reach, else at its first stop if it had one.
-      if (t_hit < 0.0 && exhausted) {
-        float t_root = t_prev - d_prev / min(slope, -1e-30);
+      // Near a face, d's float noise can outweigh its fall over one short step,
+      // so the last two samples need not show the ray closing in: a ray out of
+      // steps whose d has fallen since its first, unconfirmed stop takes the
+      // secant from that stop instead.
+      bool descended = t_first >= 0.0 && t_prev > t_first && d_prev < d_first;
+      if (t_hit < 0.0 && (exhausted || (descended && i >= kSceneMaxSteps))) {
+        float fall = exhausted ? slope : (d_prev - d_first) / (t_prev - t_first);
+        float t_root = t_prev - d_prev / min(fall, -1e-30);
         if (t_root <= t_max) {
           t_hit = t_root;
           d_hit = 0.0;
-        } else if (t_first >= 0.0) {
+        } else if (t_first >= 0.0 && exhausted) {
           t_hit = t_first;
           d_hit = d_first;
         }

@@ -229,12 +229,12 @@ vec3 sampleUniformCone(vec2 u, float one_minus_cos_max) {
 // ---- scene constants (derived per scene by the compiler) ----
 const float kSceneMaxDist = 150.300712;
 const int kSceneMaxSteps = 578;
-const float kSceneHitEps = 1.72336879e-06;
+const float kSceneHitEps = 3e-07;
 const float kScenePixelCone = 0.000674018952;
 const float kSceneStepScale = 1.0;
 // The marched part of the scene lies in this box.
-const vec3 kSceneBoxLo = vec3(-3.6000108, -1.07964532e-05, -0.730950904);
-const vec3 kSceneBoxHi = vec3(3.49498554, 2.0000108, 0.730950904);
+const vec3 kSceneBoxLo = vec3(-3.6000051, -5.10297805e-06, -0.730945211);
+const vec3 kSceneBoxHi = vec3(3.49497985, 2.0000051, 0.730945211);
 const vec3 kSunDir = vec3(0.336860768, 0.842151921, 0.421075961);
 const float kSunCosAngle = 0.999390827;
 const vec3 kSunRadiance = vec3(783.791869);
@@ -594,12 +594,18 @@ float march(vec3 ro, vec3 rd, float t_max, float side, bool shade, out int steps
       // to reach it in budget (steps shrink by the sine of the angle). It is no sky:
       // it hits at the root of the secant through its last two samples (exact on a
       // flat face) when that lies within reach, else at its first stop if it had one.
-      if (t_hit < 0.0 && exhausted) {
-        float t_root = t_prev - d_prev / min(slope, -1e-30);
+      // Near a face, d's float noise can outweigh its fall over one short step,
+      // so the last two samples need not show the ray closing in: a ray out of
+      // steps whose d has fallen since its first, unconfirmed stop takes the
+      // secant from that stop instead.
+      bool descended = t_first >= 0.0 && t_prev > t_first && d_prev < d_first;
+      if (t_hit < 0.0 && (exhausted || (descended && i >= kSceneMaxSteps))) {
+        float fall = exhausted ? slope : (d_prev - d_first) / (t_prev - t_first);
+        float t_root = t_prev - d_prev / min(fall, -1e-30);
         if (t_root <= t_max) {
           t_hit = t_root;
           d_hit = 0.0;
-        } else if (t_first >= 0.0) {
+        } else if (t_first >= 0.0 && exhausted) {
           t_hit = t_first;
           d_hit = d_first;
         }

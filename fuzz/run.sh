@@ -3,11 +3,20 @@
 # directory and fuzzes for a bounded time:
 #   sdfc_fuzz          the front end (lexer, parser, checker, passes);
 #   sdfc_compile_fuzz  check, then emit and glslang on every accepted input
-#                      (a checked scene that does not compile is a finding).
+#                      (a checked scene that does not compile is a finding);
+#   and one per reader of outside data, each seeded from fuzz/corpus-<kind>:
+#   sdfc_mesh_file_fuzz   STL, OBJ, glTF, GLB      (corpus-mesh)
+#   sdfc_image_file_fuzz  PNG, .hdr, EXR           (corpus-image)
+#   sdfc_point_file_fuzz  CSV point lists          (corpus-points)
+#   sdfc_lsp_frame_fuzz   the server's framing     (corpus-lsp)
 #
-#   fuzz/run.sh [seconds]          fuzz for `seconds` in all (default 60):
-#                                  a third on sdfc_fuzz, the rest on sdfc_compile_fuzz
-#   fuzz/run.sh --replay [files]   run inputs once through both (default: fuzz/regressions/*)
+#   fuzz/run.sh [seconds]          fuzz the scene targets for `seconds` in all
+#                                  (default 60: a third on sdfc_fuzz, the rest on
+#                                  sdfc_compile_fuzz), then each reader for a third
+#                                  of it: 30 takes 70 s of fuzzing
+#   fuzz/run.sh --replay [files]   run .sdf inputs once through both scene targets
+#                                  (default: fuzz/regressions/*.sdf), and each
+#                                  reader's seeds (its regressions among them) once
 #
 # Environment: SDFC_FUZZ_BUILD (build dir, default build-fuzz next to fuzz/),
 # SDFC_FUZZ_JOBS (ninja jobs). Exits non-zero when the fuzzer finds a crash,
@@ -34,13 +43,27 @@ if [ ! -f "$build/build.ninja" ]; then
     -DCMAKE_BUILD_TYPE=Fuzz -DCMAKE_CXX_FLAGS_FUZZ="-O1 -gline-tables-only" \
     -DCMAKE_C_FLAGS_FUZZ="-O1" "${hook[@]}" >"$log" 2>&1 || { cat "$log" >&2; exit 2; }
 fi
-ninja -C "$build" -j "$jobs" sdfc_fuzz sdfc_compile_fuzz >"$log" 2>&1 || { cat "$log" >&2; exit 2; }
+readers="mesh_file:mesh image_file:image point_file:points lsp_frame:lsp"
+reader_targets=()
+for r in $readers; do reader_targets+=("sdfc_${r%%:*}_fuzz"); done
+ninja -C "$build" -j "$jobs" sdfc_fuzz sdfc_compile_fuzz "${reader_targets[@]}" >"$log" 2>&1 ||
+  { cat "$log" >&2; exit 2; }
 front=$build/fuzz/sdfc_fuzz
 back=$build/fuzz/sdfc_compile_fuzz
 
 if [ "${1:-}" = "--replay" ]; then
   shift
-  if [ $# -eq 0 ]; then set -- "$root"/fuzz/regressions/*.sdf; fi
+  if [ $# -eq 0 ]; then
+    set -- "$root"/fuzz/regressions/*.sdf
+    # Every seed without the tinyexr suppression but the one input that needs it
+    # (fuzz/lsan.supp), so that a leak of sdfc's own is still caught here.
+    for r in $readers; do
+      seeds=()
+      for f in "$root/fuzz/corpus-${r#*:}"/*; do [[ $f == *tinyexr_leak* ]] || seeds+=("$f"); done
+      "$build/fuzz/sdfc_${r%%:*}_fuzz" "${seeds[@]}"
+    done
+    LSAN_OPTIONS=suppressions=$root/fuzz/lsan.supp "$build/fuzz/sdfc_image_file_fuzz" "$root"/fuzz/corpus-image/*tinyexr_leak*
+  fi
   "$front" "$@"
   "$back" "$@"
   exit
@@ -61,4 +84,16 @@ status=0
   "$build/corpus" -dict="$root/fuzz/sdf.dict" -max_total_time="$back_seconds" -max_len=4096 \
   -timeout=30 -rss_limit_mb=2048 -print_final_stats=1 -artifact_prefix="$build/artifacts/compile-" ||
   status=$?
+# The readers: a third of `seconds` each, from their seeds (new inputs in the
+# build tree), small inputs (the formats' corners fit in a few kilobytes).
+reader_seconds=$(( seconds / 3 > 0 ? seconds / 3 : 1 ))
+for r in $readers; do
+  target=sdfc_${r%%:*}_fuzz kind=${r#*:}
+  mkdir -p "$build/corpus-$kind"
+  # tinyexr's own leaks on bad pixel blocks (fuzz/lsan.supp) would end every image run.
+  LSAN_OPTIONS=suppressions=$root/fuzz/lsan.supp \
+  "$build/fuzz/$target" "$build/corpus-$kind" "$root/fuzz/corpus-$kind" -max_total_time="$reader_seconds" \
+    -max_len=16384 -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
+    -artifact_prefix="$build/artifacts/$kind-" || status=$?
+done
 exit $status

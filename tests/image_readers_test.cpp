@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -124,6 +125,30 @@ fs::path writeHdr(const std::string& name, int w, int h, float value, size_t cut
   EXPECT_TRUE(stbi_write_hdr(path.c_str(), w, h, 3, texels.data()));
   if (cut) fs::resize_file(path, fs::file_size(path) - cut);
   return path;
+}
+
+// A data window whose size overflows 32 bits (found by fuzz/image_file_fuzz:
+// 2 * -2147483646 in the map's 2:1 check, undefined behaviour) is refused by
+// its size, as a texture and as a map.
+TEST(ImageReaders, ExrDataWindowsBeyondIntAreRefused) {
+  for (const std::vector<int32_t>& window : std::vector<std::vector<int32_t>>{
+           {0, 2147483647, 3, 0}, {0, -2147483647 - 1, 3, 2147483647}, {2147483647, 0, -2147483647 - 1, 1}}) {
+    const fs::path path = dir() / "window.exr";
+    writeExr(path, 4, 2, 0, [](int, int, int) { return 0.5f; });
+    std::ifstream in(path, std::ios::binary);
+    std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::string key = std::string("dataWindow") + '\0' + "box2i" + '\0';
+    const size_t at = std::string(bytes.begin(), bytes.end()).find(key);
+    ASSERT_NE(at, std::string::npos);
+    std::memcpy(&bytes[at + key.size() + 4], window.data(), 16);
+    writeBytes(path, bytes);
+    const ImageFile texture = readImageFile(path.string());
+    EXPECT_FALSE(texture.image);
+    EXPECT_NE(texture.reason.find("its data window is"), std::string::npos) << texture.reason;
+    const EnvMapFile map = readEnvMapFile(path.string());
+    EXPECT_FALSE(map.image);
+    EXPECT_NE(map.reason.find("its data window is"), std::string::npos) << map.reason;
+  }
 }
 
 TEST(ImageReaders, TruncatedHdrIsRefused) {

@@ -527,6 +527,10 @@ class InstancesGpu : public ::testing::Test {
     options.produce_spirv = kernel;
     options.emit.bounding_volumes = false;
     options.emit.march.image_height = 36;
+    // The points probed lie about the world origin: keep the scene there (the
+    // default camera stands among the parts, which would move it to the
+    // camera's frame; passes/rebase.cpp).
+    options.camera_frame = false;
     Diagnostics diags;
     CompiledScene c = compileSource("test.sdf", text, options, diags);
     EXPECT_TRUE(c.ok) << diags.format();

@@ -286,6 +286,20 @@ TEST(MeshIn, GltfStripsAndFansAreTriangles) {
   EXPECT_EQ(only.mesh.triangles.size(), 2u);
 }
 
+// Indices are unsigned integers in glTF: a float index accessor (one holding
+// NaN, found by fuzz/mesh_file_fuzz: converting it to an index was undefined
+// behaviour) is refused.
+TEST(MeshIn, GltfFloatIndicesAreRefused) {
+  std::string text = gltfOf({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {{4, {0x7fc00000u, 1, 2}}});
+  const std::string unsigned_int = "\"componentType\": 5125";
+  const size_t at = text.find(unsigned_int);
+  ASSERT_NE(at, std::string::npos);
+  text.replace(at, unsigned_int.size(), "\"componentType\": 5126");
+  const MeshFile f = readMeshFile(writeFile("float indices.gltf", text));
+  EXPECT_FALSE(f.ok);
+  EXPECT_EQ(f.error, "mesh 'm': indices must be unsigned integer scalars");
+}
+
 TEST(MeshIn, InwardMeshIsTurnedOutward) {
   Soup in = icosphere(2);
   for (glm::uvec3& t : in.f) std::swap(t[1], t[2]);

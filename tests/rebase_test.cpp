@@ -84,7 +84,7 @@ TEST(Rebase, TheMovedSceneIsTheWorldSceneAtEveryTime) {
 }
 
 TEST(Rebase, ScenesNearTheOriginKeepTheWorldFrame) {
-  // The castle's camera: 22 from the origin, 23 from its target.
+  // The castle's camera: 22 from the origin, about 16 from the castle.
   const CompiledScene c = checked("camera(position: [8, 8, 22], target: [0, 2.4, 0])\nscene { sphere(radius: 1) }\n");
   EXPECT_FALSE(wantsCameraFrame(c.scene));
   CompileOptions options;
@@ -93,6 +93,27 @@ TEST(Rebase, ScenesNearTheOriginKeepTheWorldFrame) {
   EXPECT_EQ(compileSource("near.sdf", "camera(position: [8, 8, 22], target: [0, 2.4, 0])\nscene { sphere(radius: 1) }\n",
                           options, diags).scene.origin,
             dvec3(0));
+}
+
+// Issue 47 item 12: the scene's distance from the camera decides, not the
+// target's: a target 1e9 ahead kept a scene 6 away in world coordinates.
+TEST(Rebase, TheSceneNotTheTargetDecides) {
+  const std::string far_scene = "scene { translate([1e6, 0, 1e6]) { sphere(radius: 1) box(size: [8, 4, 0.5]) } }\n";
+  for (const char* target : {"[1000000, 0, 1000000]", "[1000000, 0, -999000000]"}) {
+    const CompiledScene c =
+        checked(std::string("camera(position: [1000000, 1, 1000006], target: ") + target + ")\n" + far_scene);
+    EXPECT_NEAR(sceneDistanceFromCamera(c.scene), 5.1, 0.1) << target;
+    EXPECT_TRUE(wantsCameraFrame(c.scene)) << target;
+  }
+  // Far from the origin but farther from the scene: nothing to gain.
+  const CompiledScene away = checked("camera(position: [1e6, 0, 0], target: [1e6, 0, -1e9])\nscene { sphere(radius: 1) }\n");
+  EXPECT_FALSE(wantsCameraFrame(away.scene));
+  // A camera just above an endless floor near the origin looks at the parts
+  // around the origin: the floor alone does not move the scene.
+  const CompiledScene floor = checked(
+      "camera(position: [0, 0.3, 10], target: [0, 0.3, -1e9])\nscene { plane(normal: [0, 1, 0]) sphere(radius: 1) }\n");
+  EXPECT_NEAR(sceneDistanceFromCamera(floor.scene), 9.0, 0.1);
+  EXPECT_FALSE(wantsCameraFrame(floor.scene));
 }
 
 TEST(Rebase, CompileMovesTheSceneAndCheckDoesNot) {

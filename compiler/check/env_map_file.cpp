@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <filesystem>
 #include <sstream>
@@ -16,7 +17,7 @@ namespace {
 // The size is checked from the header, before the pixels are decoded.
 std::string badSize(int w, int h) {
   std::ostringstream s;
-  if (w != 2 * h)
+  if (int64_t(w) != 2 * int64_t(h))
     s << "it is " << w << " x " << h << " texels, not 2:1 (an equirectangular map is twice as wide as high)";
   else if (w > kMaxEnvMapWidth)
     s << "it is " << w << " x " << h << " texels; at most " << kMaxEnvMapWidth << " x " << kMaxEnvMapWidth / 2

@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <string>
 
 namespace sdfc {
 
@@ -31,6 +32,8 @@ std::string readExrHeader(const std::string& path, EXRHeader& header) {
   if (ParseEXRHeaderFromFile(&header, &version, path.c_str(), &err) != TINYEXR_SUCCESS) {
     std::string reason = err ? err : "its EXR header cannot be read";
     FreeEXRErrorMessage(err);
+    // What tinyexr read before it failed (channels, attributes) is still held.
+    FreeEXRHeader(&header);
     return reason;
   }
   return "";
@@ -41,9 +44,14 @@ std::string readExrHeader(const std::string& path, EXRHeader& header) {
 std::string exrSizeFromHeader(const std::string& path, int& width, int& height) {
   EXRHeader header;
   if (std::string why = readExrHeader(path, header); !why.empty()) return why;
-  width = header.data_window.max_x - header.data_window.min_x + 1;
-  height = header.data_window.max_y - header.data_window.min_y + 1;
+  // In 64 bits: a window from -2^31 to 2^31 - 1 is 2^32 wide.
+  const long long w = (long long)header.data_window.max_x - header.data_window.min_x + 1,
+                  h = (long long)header.data_window.max_y - header.data_window.min_y + 1;
   FreeEXRHeader(&header);
+  if (w <= 0 || h <= 0 || w > (1 << 30) || h > (1 << 30))
+    return "its data window is " + std::to_string(w) + " x " + std::to_string(h) + " texels";
+  width = int(w);
+  height = int(h);
   return "";
 }
 

@@ -353,6 +353,11 @@ bool readGltfMesh(const tinygltf::Model& model, const tinygltf::Mesh& mesh, cons
     if (prim.indices >= 0) {
       if (prim.indices >= int(model.accessors.size())) return out.error = "an index accessor is missing", false;
       ia = &model.accessors[prim.indices];
+      // glTF's indices are unsigned integers: a float accessor could hold NaN.
+      if (ia->type != TINYGLTF_TYPE_SCALAR || (ia->componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE &&
+                                               ia->componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
+                                               ia->componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT))
+        return out.error = "mesh '" + mesh.name + "': indices must be unsigned integer scalars", false;
     }
     const size_t corners = ia ? ia->count : pa.count;
     const size_t triangles = mode == TINYGLTF_MODE_TRIANGLES ? corners / 3 : corners >= 3 ? corners - 2 : 0;
@@ -369,7 +374,7 @@ bool readGltfMesh(const tinygltf::Model& model, const tinygltf::Mesh& mesh, cons
         if (ia && !accessorValue(model, *ia, corner[k], 1, &index))
           return out.error = "mesh '" + mesh.name + "': an index lies outside its buffer", false;
         double xyz[3];
-        if (index >= double(pa.count) || !accessorValue(model, pa, size_t(index), 3, xyz))
+        if (!(index >= 0 && index < double(pa.count)) || !accessorValue(model, pa, size_t(index), 3, xyz))
           return out.error = "mesh '" + mesh.name + "': a vertex index lies outside its positions", false;
         c[k] = dvec3(m * glm::dvec4(xyz[0], xyz[1], xyz[2], 1));
       }

@@ -646,22 +646,26 @@ void analyze(ir::Scene& scene, Diagnostics& diags) {
 
 namespace {
 
-// The diagonal of the smallest finite part of n (at most `size`), looking
+// The thinnest side of a box: float32 resolves the faces across it to ulps
+// of that, however long the box is.
+double thinnestSide(const Aabb& b) { return std::min({b.hi.x - b.lo.x, b.hi.y - b.lo.y, b.hi.z - b.lo.z}); }
+
+// The thinnest side of the finite parts of n (at most `size`), looking
 // through unions (their children are parts) and instance sets (each copy is).
-double smallestPart(const ir::Node& n, double size) {
+double thinnestPart(const ir::Node& n, double size) {
   if (n.kind == ir::NodeKind::Union) {
-    for (const ir::NodeRef& c : n.children) size = smallestPart(*c, size);
+    for (const ir::NodeRef& c : n.children) size = thinnestPart(*c, size);
     return size;
   }
   if (n.kind == ir::NodeKind::Instances && !n.children.empty()) {
     const ir::InstanceSet& set = *n.instances;
     for (size_t i = 0; i < set.size(); ++i) {
       const Aabb b = instanceBounds(set, i, n);
-      if (b.finite() && !b.empty()) size = std::min(size, std::max(glm::length(b.hi - b.lo), 1e-12));
+      if (b.finite() && !b.empty()) size = std::min(size, std::max(thinnestSide(b), 1e-12));
     }
     return size;
   }
-  if (n.bounds.finite() && !n.bounds.empty()) size = std::min(size, std::max(glm::length(n.bounds.hi - n.bounds.lo), 1e-12));
+  if (n.bounds.finite() && !n.bounds.empty()) size = std::min(size, std::max(thinnestSide(n.bounds), 1e-12));
   return size;
 }
 
@@ -701,7 +705,7 @@ MarchLimits deriveMarchLimits(const ir::Scene& scene, const MarchPolicy& policy)
   // Parts are looked for inside unions and instance sets: a set's or a
   // union's box spans its spread, and one copy 1e6 away made 45 spheres of
   // radius 0.5 a slab (a floor of 1.0).
-  m.hit_epsilon = smallestPart(root, size) * 1e-6;
+  m.hit_epsilon = thinnestPart(root, size) * 1e-6;
   m.pixel_cone = 0.25 * 2 * std::tan(glm::radians(scene.camera.fov_degrees) / 2) /
                  std::max(policy.image_height > 0 ? policy.image_height : scene.render.height, 1);
   m.step_scale = 1 / std::max(root.lipschitz, 1.0);

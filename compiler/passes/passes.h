@@ -49,6 +49,11 @@ Aabb instanceBounds(const ir::InstanceSet& set, size_t i, const ir::Node& n);
 void analyze(ir::Scene& scene, Diagnostics& diags);
 // A scene far from the world origin, seen from near by, is moved to the
 // camera's frame (passes/rebase.cpp): scene.origin says where that frame is.
+// How far the scene lies from its camera: the distance to the nearest surface
+// (float64, at time 0), or to the box around the scene's finite parts where
+// that is farther. The camera's frame is wanted where the camera is more than
+// 4 times that from the origin.
+double sceneDistanceFromCamera(const ir::Scene& scene);
 bool wantsCameraFrame(const ir::Scene& scene);
 void rebaseToCamera(ir::Scene& scene, Diagnostics& diags);
 

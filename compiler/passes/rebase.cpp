@@ -16,6 +16,7 @@
 #include <cmath>
 #include <unordered_map>
 
+#include "eval/evaluator.h"
 #include "passes/passes.h"
 
 namespace sdfc {
@@ -107,13 +108,37 @@ class Rebase {
 
 }  // namespace
 
+double sceneDistanceFromCamera(const ir::Scene& scene) {
+  if (!scene.root) return 0;
+  const dvec3 eye = scene.camera.position;
+  // The nearest surface (a lower bound where the field is one), at time 0.
+  double nearest = std::fabs(Evaluator(scene).distance(eye));
+  if (!std::isfinite(nearest)) nearest = 0;
+  // The box around the finite parts (an endless floor has none): the
+  // surfaces a camera looks at, beyond the floor it stands on.
+  const ir::Node& root = *scene.root;
+  Aabb finite_part;
+  if (root.kind == ir::NodeKind::Union) {
+    for (const ir::NodeRef& c : root.children)
+      if (c->bounds.finite()) finite_part = finite_part.unite(c->bounds);
+  } else if (root.bounds.finite()) {
+    finite_part = root.bounds;
+  }
+  double to_box = 0;
+  if (!finite_part.empty()) to_box = glm::length(glm::max(glm::max(finite_part.lo - eye, eye - finite_part.hi), dvec3(0)));
+  return std::max(nearest, to_box);
+}
+
 bool wantsCameraFrame(const ir::Scene& scene) {
   const dvec3 eye = scene.camera.position;
   const double from_origin = std::max({std::fabs(eye.x), std::fabs(eye.y), std::fabs(eye.z)});
-  // float32's error at a hit at distance t grows with |eye| + t: within 4 t
-  // of the origin the camera's frame would gain at most 2 bits (and change
-  // every shader constant of the scenes around the origin).
-  return from_origin > 4 * glm::length(scene.camera.target - eye);
+  // float32's error at a hit at distance t grows with |eye| + t, and the
+  // hits nearest the camera, the ones that need it most, lie at least as far
+  // as the scene is: within 4 times that of the origin the camera's frame
+  // would gain at most 2 bits (and change every shader constant of the scenes
+  // around the origin). Where the camera aims does not enter: a target 1e9
+  // ahead kept a scene 6 away in world coordinates (issue 47 item 12).
+  return from_origin > 4 * sceneDistanceFromCamera(scene);
 }
 
 void rebaseToCamera(ir::Scene& scene, Diagnostics& diags) {
