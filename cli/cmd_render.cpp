@@ -13,6 +13,7 @@
 #include "cli_support.h"
 #include "commands.h"
 #include "image_io.h"
+#include "render_defaults.h"
 #include "render_layers.h"
 #include "progress.h"
 #include "scene_render.h"
@@ -128,16 +129,12 @@ int iterationsCostPass(const CommandLine& cl, const VulkanContext& context, cons
   return kExitOk;
 }
 
-}  // namespace
-
-int runRender(const CommandLine& cl) {
-  RenderOverrides o;
-  if (!renderOverridesFrom(cl, o)) return kExitUsage;
-  o.view = viewIdFromName(cl.view);
+// --adaptive and --layers against the flags they cannot go with (usage errors).
+bool checkLayersFlags(const CommandLine& cl) {
   if (cl.adaptive && (cl.shards > 0 || cl.shard_index >= 0)) {
     std::cerr << "sdfc: error: --adaptive cannot be split into --shards (its counts depend on the "
                  "whole first phase)\n";
-    return kExitUsage;
+    return false;
   }
   if (cl.layers) {
     // One multi-channel EXR of the raw samples and the primary ray's layers
@@ -151,7 +148,7 @@ int runRender(const CommandLine& cl) {
       std::cerr << "sdfc: error: --layers does not go with " << other
                 << ": it writes the raw mean of uniform samples and the primary ray's layers "
                    "(docs/layers.md)\n";
-      return kExitUsage;
+      return false;
     }
     // With --shards, -o is the shard directory; `sdfc merge` writes the EXR.
     const bool shards = cl.shards > 0 || cl.shard_index >= 0;
@@ -163,50 +160,54 @@ int runRender(const CommandLine& cl) {
     if (!exr && !shards) {
       std::cerr << "sdfc: error: --layers writes one multi-channel EXR: -o '" << cl.output
                 << "' must end in .exr\n";
-      return kExitUsage;
+      return false;
     }
   }
-  if (cl.shards > 0 || cl.shard_index >= 0) {
-    // A shard holds raw sample sums and `sdfc merge` writes them undenoised and
-    // untoned: flags that act on the finished image would be dropped unseen.
-    const char* image_flag = !cl.denoiser.empty() && cl.denoiser != "none" ? "--denoise"
-                             : !cl.denoise_select.empty()  ? "--denoise-select"
-                             : cl.denoise_aovs != "auto"   ? "--denoise-aovs"
-                             : cl.exposure != 0            ? "--exposure"
-                             : cl.aces                     ? "--aces"
-                             : cl.tonemap != "neutral"     ? "--tonemap"
-                                                           : nullptr;
-    if (image_flag) {
-      std::cerr << "sdfc: error: " << image_flag
-                << " does not apply to --shards: a shard holds sample sums, and `sdfc merge` writes "
-                   "their exact mean, undenoised and untoned (render without --shards to use it)\n";
-      return kExitUsage;
-    }
-    return runRenderShard(cl, o);
+  return true;
+}
+
+// Flags that act on the finished image, refused with --shards (a usage error).
+bool checkShardFlags(const CommandLine& cl) {
+  // A shard holds raw sample sums and `sdfc merge` writes them undenoised and
+  // untoned: flags that act on the finished image would be dropped unseen.
+  const char* image_flag = !cl.denoiser.empty() && cl.denoiser != "none" ? "--denoise"
+                           : !cl.denoise_select.empty()  ? "--denoise-select"
+                           : cl.denoise_aovs != "auto"   ? "--denoise-aovs"
+                           : cl.exposure != 0            ? "--exposure"
+                           : cl.aces                     ? "--aces"
+                           : cl.tonemap != "neutral"     ? "--tonemap"
+                                                         : nullptr;
+  if (image_flag) {
+    std::cerr << "sdfc: error: " << image_flag
+              << " does not apply to --shards: a shard holds sample sums, and `sdfc merge` writes "
+                 "their exact mean, undenoised and untoned (render without --shards to use it)\n";
+    return false;
   }
-  // Frame sequence: frame numbers A-B at --fps (time = frame / fps), the
-  // same meaning as with --shards and `farm submit`. The count is decided
-  // (and limited) before any list is built or any work starts.
-  std::vector<double> times = {cl.time};
-  std::vector<int> frame_numbers;  // empty: a still, written to -o as it is
+  return true;
+}
+
+// Frame sequence: frame numbers A-B at --fps (time = frame / fps), the same
+// meaning as with --shards and `farm submit`. The count is decided (and
+// limited) before any list is built or any work starts.
+bool framesFrom(const CommandLine& cl, std::vector<double>& times, std::vector<int>& frame_numbers) {
   if (!cl.frames.empty()) {
     if (cl.frames.find(':') != std::string::npos) {
       std::cerr << "sdfc: error: --frames takes frame numbers A-B at --fps (default 24), not "
                    "times A-B:step; " << framesHint(cl.frames) << "\n";
-      return kExitUsage;
+      return false;
     }
     std::pair<int, int> range;
     try {
       range = farm::parseFrameRange(cl.frames);
     } catch (const std::exception& e) {
       std::cerr << "sdfc: error: " << e.what() << "\n";
-      return kExitUsage;
+      return false;
     }
     const double count = static_cast<double>(range.second) - range.first + 1;
     if (!(count <= kMaxFrames)) {
       std::cerr << "sdfc: error: --frames " << cl.frames << " gives " << count << " frames; at most "
                 << kMaxFrames << "\n";
-      return kExitUsage;
+      return false;
     }
     times.clear();
     for (int frame = range.first; frame <= range.second; ++frame) {
@@ -214,10 +215,88 @@ int runRender(const CommandLine& cl) {
       times.push_back(frame / cl.fps);
     }
   }
-  // Beauty renders are denoised by default: nlr's weights fade with the
-  // estimated variance, so a converged pixel is left as it is (docs/denoise.md).
-  // --layers: the raw mean (a compositor's denoiser wants it and the variance).
-  const auto denoiser = parseDenoiser(cl.layers ? "none" : cl.denoiser.empty() ? "nlr" : cl.denoiser);
+  return true;
+}
+
+// --adaptive's parameters from their flags (docs/adaptive.md).
+AdaptiveParams adaptiveParamsFrom(const CommandLine& cl) {
+  AdaptiveParams params;
+  params.estimate = *parseAdaptiveEstimate(cl.adaptive_estimate);
+  params.first_share = cl.adaptive_share;
+  params.cap = cl.adaptive_cap;
+  params.block = cl.adaptive_block;
+  params.power = cl.adaptive_power;
+  params.time_budget = cl.adaptive_budget == "time";
+  params.cost_offset = cl.adaptive_cost_offset;
+  return params;
+}
+
+// The primary rays' march steps (and, for --view iterations, the loop counts)
+// after a frame: a warning for rays that ran out, the figures unless --quiet.
+void reportMarchSteps(const CommandLine& cl, uint32_t view, const RenderOutput& out, uint32_t max_steps) {
+  {
+    // A primary ray that used its whole step budget ran out of steps: it is
+    // drawn as a hit when it was still closing in, else as a miss; either way
+    // its pixel may be off, so say how many (issue 17).
+    const size_t pixels = size_t(out.albedo_steps.width) * out.albedo_steps.height;
+    const float budget = static_cast<float>(max_steps);
+    size_t exhausted = 0;
+    for (size_t i = 0; i < pixels; ++i) exhausted += out.albedo_steps.rgba[i * 4 + 3] >= budget;
+    if (exhausted > 0)
+      std::cerr << "sdfc: warning: " << exhausted << " of " << pixels
+                << " primary rays ran out of march steps (budget " << budget << ")\n";
+  }
+  if (!cl.quiet) {
+    // Primary-ray march steps (attachment 2, w): the cost figure bounds are judged by.
+    double sum = 0, peak = 0;
+    const size_t pixels = size_t(out.albedo_steps.width) * out.albedo_steps.height;
+    for (size_t i = 0; i < pixels; ++i) {
+      sum += out.albedo_steps.rgba[i * 4 + 3];
+      peak = std::max<double>(peak, out.albedo_steps.rgba[i * 4 + 3]);
+    }
+    std::cerr << "sdfc: primary ray steps: mean " << (pixels ? sum / pixels : 0) << ", max " << peak
+              << " (budget " << max_steps << ")\n";
+    if (view == gpu::kViewIterations) {
+      double total = 0, most = 0;
+      for (size_t i = 0; i < pixels; ++i) {
+        total += out.color.rgba[i * 4];
+        most = std::max<double>(most, out.color.rgba[i * 4]);
+      }
+      std::cerr << "sdfc: loop iterations" << (cl.count_evaluations ? " + primitive evaluations" : "")
+                << " per pixel: mean " << (pixels ? total / pixels : 0) << ", max " << most << "\n";
+      if (!cl.count_event.empty()) {
+        double events = 0;
+        for (size_t i = 0; i < pixels; ++i) events += out.color.rgba[i * 4 + 1];
+        std::cerr << "sdfc: " << cl.count_event << " per pixel: mean " << (pixels ? events / pixels : 0) << "\n";
+      }
+    }
+  }
+}
+
+}  // namespace
+
+int runRender(const CommandLine& cl) {
+  RenderOverrides o;
+  if (!renderOverridesFrom(cl, o)) return kExitUsage;
+  o.view = viewIdFromName(cl.view);
+  if (!checkLayersFlags(cl)) return kExitUsage;
+  if (cl.shards > 0 || cl.shard_index >= 0) {
+    if (!checkShardFlags(cl)) return kExitUsage;
+    return runRenderShard(cl, o);
+  }
+  // A still, or a sequence of frames at --fps.
+  std::vector<double> times = {cl.time};
+  std::vector<int> frame_numbers;  // empty: a still, written to -o as it is
+  if (!framesFrom(cl, times, frame_numbers)) return kExitUsage;
+  // The defaults (spp, denoiser, adaptive, the kernel's features) are decided in
+  // api/render_defaults.h; here from the command line alone, the scene is not read yet.
+  RenderRequest request;
+  if (o.spp) request.spp = *o.spp;
+  if (!cl.denoiser.empty()) request.denoiser = parseDenoiser(cl.denoiser);
+  request.view = o.view;
+  request.layers = cl.layers;
+  request.adaptive = cl.adaptive;
+  RenderChoice choice = chooseRenderSettings(request, nullptr);
   // Check the output's extension (a usage error) and directory before any work.
   if (!checkImageExtension(cl.output)) return kExitUsage;
   checkWritablePath(frame_numbers.empty() ? cl.output : farm::framePath(cl.output, frame_numbers[0]));
@@ -261,15 +340,9 @@ int runRender(const CommandLine& cl) {
       o.width && o.height && (o.spp || o.view != gpu::kViewBeauty) &&
       chooseQuickDriverCompile(uint64_t(*o.width) * uint64_t(*o.height) *
                                uint64_t(o.view == gpu::kViewBeauty ? *o.spp : 1) * times.size());
-  // A beauty render whose image nothing denoises (--denoise none, or 1 spp with
-  // a variance-guided denoiser) gets the kernel without features: smaller to
-  // compile (bench/results/fixed_costs.md). Decided from the command line: the
-  // scene's own spp is not read yet.
-  ImageOptions feature_probe;
-  feature_probe.denoiser = denoiser;
-  feature_probe.layers = cl.layers;
-  const bool features = cl.adaptive || imageReadsFeatures(o.view, o.spp ? uint32_t(*o.spp) : UINT32_MAX,
-                                                          feature_probe);
+  // A beauty render whose image nothing denoises gets the kernel without
+  // features: smaller to compile (bench/results/fixed_costs.md).
+  const bool features = choice.kernel_features;
   // Ctrl-C: until a frame has samples, the process ends at once (exit 130,
   // nothing written); then the render stops after its pass, the denoiser
   // between blocks of pixels, and what was sampled is written.
@@ -330,6 +403,8 @@ int runRender(const CommandLine& cl) {
               << std::lround(compiled.times.spirv * 1000)
               << (compiled.times.spirv_cached ? " from the cache" : "") << "), pipeline in "
               << std::lround(renderer.pipelineSeconds() * 1000) << " ms\n";
+  choice = chooseRenderSettings(request, &compiled.scene.render);
+  if (!quiet) std::cerr << "sdfc: settings: " << choice.reason << "\n";
   // The driver compiles the kernel at its first draw (lavapipe: LLVM, seconds
   // for scenes of instances): a stage of its own, before the passes and their ETA.
   if (!quiet) std::cerr << "sdfc: compiling the kernel (first draw)... " << std::flush;
@@ -346,9 +421,9 @@ int runRender(const CommandLine& cl) {
       if (info.samples_done > 0) noteSamplesTaken();  // worth writing from now on
       if (terminal) terminal(info);
     };
-    const bool adaptive = cl.adaptive && o.view == gpu::kViewBeauty;
+    const bool adaptive = choice.adaptive;
     ImageOptions image_options;
-    image_options.denoiser = denoiser;
+    image_options.denoiser = choice.denoiser;
     image_options.denoise_aovs = cl.denoise_aovs;
     image_options.denoise_select = cl.denoise_select;
     image_options.layers = cl.layers;
@@ -360,13 +435,7 @@ int runRender(const CommandLine& cl) {
       if (settings.spp % 2 == 1 && settings.spp >= 4)
         std::cerr << "sdfc: warning: --adaptive draws both halves alike: " << settings.spp - 1
                   << " spp mean instead of " << settings.spp << "\n";
-      params.estimate = *parseAdaptiveEstimate(cl.adaptive_estimate);
-      params.first_share = cl.adaptive_share;
-      params.cap = cl.adaptive_cap;
-      params.block = cl.adaptive_block;
-      params.power = cl.adaptive_power;
-      params.time_budget = cl.adaptive_budget == "time";
-      params.cost_offset = cl.adaptive_cost_offset;
+      params = adaptiveParamsFrom(cl);
       if (params.time_budget && cl.adaptive_cost == "iterations") {
         const auto cost_start = std::chrono::steady_clock::now();
         cost_code = iterationsCostPass(cl, context, o, settings, cameraFor(compiled.scene),
@@ -427,49 +496,13 @@ int runRender(const CommandLine& cl) {
       writeImage(path, image, tone);
     }
     timings.add("encoding and writing" + frame, secondsSince(encode_start));
-    {
-      // A primary ray that used its whole step budget ran out of steps: it is
-      // drawn as a hit when it was still closing in, else as a miss; either way
-      // its pixel may be off, so say how many (issue 17).
-      const size_t pixels = size_t(out.albedo_steps.width) * out.albedo_steps.height;
-      const float budget = static_cast<float>(compiled.emitted.limits.max_steps);
-      size_t exhausted = 0;
-      for (size_t i = 0; i < pixels; ++i) exhausted += out.albedo_steps.rgba[i * 4 + 3] >= budget;
-      if (exhausted > 0)
-        std::cerr << "sdfc: warning: " << exhausted << " of " << pixels
-                  << " primary rays ran out of march steps (budget " << budget << ")\n";
-    }
-    if (!quiet) {
-      // Primary-ray march steps (attachment 2, w): the cost figure bounds are judged by.
-      double sum = 0, peak = 0;
-      const size_t pixels = size_t(out.albedo_steps.width) * out.albedo_steps.height;
-      for (size_t i = 0; i < pixels; ++i) {
-        sum += out.albedo_steps.rgba[i * 4 + 3];
-        peak = std::max<double>(peak, out.albedo_steps.rgba[i * 4 + 3]);
-      }
-      std::cerr << "sdfc: primary ray steps: mean " << (pixels ? sum / pixels : 0) << ", max " << peak
-                << " (budget " << compiled.emitted.limits.max_steps << ")\n";
-      if (o.view == gpu::kViewIterations) {
-        double total = 0, most = 0;
-        for (size_t i = 0; i < pixels; ++i) {
-          total += out.color.rgba[i * 4];
-          most = std::max<double>(most, out.color.rgba[i * 4]);
-        }
-        std::cerr << "sdfc: loop iterations" << (cl.count_evaluations ? " + primitive evaluations" : "")
-                  << " per pixel: mean " << (pixels ? total / pixels : 0) << ", max " << most << "\n";
-        if (!cl.count_event.empty()) {
-          double events = 0;
-          for (size_t i = 0; i < pixels; ++i) events += out.color.rgba[i * 4 + 1];
-          std::cerr << "sdfc: " << cl.count_event << " per pixel: mean " << (pixels ? events / pixels : 0) << "\n";
-        }
-      }
-    }
+    reportMarchSteps(cl, o.view, out, uint32_t(compiled.emitted.limits.max_steps));
     if (!quiet) {
       // What was done to the samples, and how to have it undone (issue 29); after
       // the parenthesis, which scripts parse (bench/mitsuba_check.py).
       std::string treated;
       if (!denoised.empty())
-        treated += std::string(", denoised (") + denoiserName(*denoiser) + "; --denoise none for the raw mean)";
+        treated += std::string(", denoised (") + denoiserName(choice.denoiser) + "; --denoise none for the raw mean)";
       if (imageFormatFromPath(path) == ImageFormat::Png)
         treated += o.view == gpu::kViewBeauty ? std::string(", tone curve ") + toneCurveName(tone.curve)
                    : debugViewNeedsMapping(o.view) ? std::string(", mapped for display (raw values in .exr)")

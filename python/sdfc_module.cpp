@@ -26,6 +26,7 @@
 
 #include "api/evaluate.h"
 #include "api/option_limits.h"
+#include "api/render_defaults.h"
 #include "api/scene.h"
 #include "api/scene_render.h"
 #include "driver_compile_level.h"
@@ -233,6 +234,35 @@ class PyScene {
     return py::bytes(reinterpret_cast<const char*>(c.spirv.data()), c.spirv.size() * 4);
   }
 
+  // What `sdfc render` decides from the same options (api/render_defaults.h).
+  static RenderRequest renderRequest(const RenderOverrides& o, const std::optional<std::string>& denoise) {
+    RenderRequest request;
+    request.spp = o.spp;
+    request.view = o.view;
+    if (denoise) {
+      request.denoiser = parseDenoiser(*denoise);
+      if (!request.denoiser)
+        throw py::value_error("denoise must be one of nlr, none, bilateral, atrous, svgf, nlm; got '" + *denoise + "'");
+    }
+    return request;
+  }
+
+  // The settings render() would use with these options, and the line that says why.
+  py::dict renderSettings(const py::handle& spp, const std::string& view, std::optional<std::string> denoise) const {
+    kernelView(view);
+    RenderOverrides o;
+    if (!spp.is_none()) o.spp = int(checkedOption(api::Option::Spp, spp));
+    o.view = viewIdFromName(view);
+    const RenderChoice c = chooseRenderSettings(renderRequest(o, denoise), &scene_->compiled.scene.render);
+    py::dict d;
+    d["spp"] = c.spp;
+    d["denoiser"] = std::string(denoiserName(c.denoiser));
+    d["denoises"] = c.denoises;
+    d["adaptive"] = c.adaptive;
+    d["reason"] = c.reason;
+    return d;
+  }
+
   // As `sdfc render -o x.exr` with the same settings: the kernel for the device
   // (no bounding volumes on a CPU), the scene's settings overridden field by
   // field, the denoiser (nlr by default), the linear float image.
@@ -256,11 +286,7 @@ class PyScene {
     o.time = checkedOption(api::Option::Time, time);
     o.view = viewIdFromName(view);
     ImageOptions image;
-    if (denoise) {
-      const std::optional<Denoiser> d = parseDenoiser(*denoise);
-      if (!d) throw py::value_error("denoise must be one of nlr, none, bilateral, atrous, svgf, nlm; got '" + *denoise + "'");
-      image.denoiser = d;
-    }
+    image.denoiser = chooseRenderSettings(renderRequest(o, denoise), &scene_->compiled.scene.render).denoiser;
     const RenderSettings planned = renderSettingsFor(scene_->compiled, o);
     const uint64_t samples = uint64_t(planned.width) * planned.height * (o.view == gpu::kViewBeauty ? planned.spp : 1);
     // The device, the kernel and the render run on a worker that never takes the
@@ -479,6 +505,8 @@ PYBIND11_MODULE(_sdfc, m) {
            py::arg("what") = "distance")
       .def("glsl", &PyScene::glsl, py::arg("view") = "beauty")
       .def("spirv", &PyScene::spirv, py::arg("view") = "beauty")
+      .def("render_settings", &PyScene::renderSettings, py::arg("spp") = py::none(), py::arg("view") = "beauty",
+           py::arg("denoise") = py::none())
       .def("render", &PyScene::render, py::arg("size") = py::none(), py::arg("spp") = py::none(),
            py::arg("view") = "beauty", py::arg("denoise") = py::none(), py::arg("time") = 0.0,
            py::arg("seed") = 0, py::arg("bounces") = py::none(), py::arg("light_samples") = py::none(),

@@ -21,6 +21,7 @@
 #include "debug_view.h"
 #include "display_pass.h"
 #include "denoise.h"
+#include "render_defaults.h"
 #include "error_overlay.h"
 #include "file_watcher.h"
 #include "image_io.h"
@@ -433,9 +434,12 @@ bool Viewer::drawFrame() {
     acc_key_ = key;
     rate_.reset();
   }
-  const uint32_t target = view_ == gpu::kViewBeauty
-                              ? spp_override_.value_or(uint32_t(std::max(1, compiled.scene.render.spp)))
-                              : 1;
+  // The same samples as `sdfc render` (api/render_defaults.h); the denoiser is
+  // the viewer's own: atrous on a key, since it runs on every frame.
+  RenderRequest request;
+  if (spp_override_) request.spp = int(*spp_override_);
+  request.view = view_;
+  const uint32_t target = viewTargetSpp(request, compiled.scene.render);
   status_.target_spp = target;
   ++frames_still_;
   if (acc_->samples_done >= target && !reload_unpresented_ && !redisplay_) {

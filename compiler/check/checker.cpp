@@ -2374,6 +2374,7 @@ class Checker {
         }
       }
       whole(1, 1, kMaxSamples, r.spp);
+      if (args.values[1]) r.spp_given = true;
       whole(2, 0, kMaxBounces, r.bounces);
       whole(3, 0, 16, r.light_samples);
     } else if (e.name == "sky") {

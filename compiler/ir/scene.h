@@ -217,6 +217,7 @@ struct SphereLight {
 
 struct RenderSettings {
   int width = 640, height = 360, spp = 16, bounces = 3, light_samples = 1;
+  bool spp_given = false;  // render(spp: ...) in the file (api/render_defaults.h says which decided)
 };
 
 struct Scene {

@@ -142,6 +142,12 @@ class Scene:
         return self._native.render(size, spp, view, denoise, time, seed, bounces,
                                    light_samples, int(device), progress)
 
+    def render_settings(self, spp: int | None = None, view: str = "beauty", denoise: str | None = None) -> dict:
+        """What render() with these options would use, as `sdfc render` decides it
+        (api/render_defaults.h): {"spp", "denoiser", "denoises", "adaptive", "reason"};
+        "reason" is the line `sdfc render` prints after "sdfc: settings: "."""
+        return self._native.render_settings(spp, view, denoise)
+
     def mesh(self, resolution: int = 128, voxel_size: float | None = None, box=None, time: float = 0.0,
              threads: int = 0):
         """Dual-contoured mesh as `sdfc mesh` makes it: (vertices (V, 3) float64,
