@@ -68,7 +68,10 @@ uint32_t viewIdFromName(const std::string& v) {
 }
 
 void adaptCompileOptionsToDevice(CompileOptions& options, bool cpu_device, bool force_bounds) {
-  if (cpu_device && !force_bounds) options.emit.bounding_volumes = false;
+  if (cpu_device && !force_bounds) {
+    options.emit.bounding_volumes = false;
+    options.emit.planned_bounds = true;  // only the checks that pay here
+  }
 }
 
 bool imageReadsFeatures(uint32_t view, uint32_t spp, const ImageOptions& options) {

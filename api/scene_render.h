@@ -35,9 +35,10 @@ CameraDesc cameraFor(const ir::Scene& scene);
 // (anything else: beauty).
 uint32_t viewIdFromName(const std::string& name);
 
-// `options` for the device the kernel will run on: lavapipe masks both sides of
-// every branch instead of jumping, so a bounding-volume check only adds work
-// there (bench/RESULTS.md) and is left out unless `force_bounds`.
+// `options` for the device the kernel will run on: lavapipe runs lanes in
+// lockstep, so a bounding-volume check pays only where whole groups skip; on a
+// CPU device the compiler keeps those it plans to pay (passes/bounds_plan.cpp),
+// all of them with `force_bounds`.
 void adaptCompileOptionsToDevice(CompileOptions& options, bool cpu_device, bool force_bounds);
 
 // How a still image's samples are treated, beyond RenderSettings.

@@ -22,6 +22,7 @@ namespace sdfc {
 CompileOptions compileOptionsFrom(const CommandLine& cl) {
   CompileOptions o = api::LoadOptions::defaultCompileOptions();
   o.emit.bounding_volumes = !cl.no_bounds;
+  o.emit.planned_bounds = !cl.no_bounds;
   o.emit.line_directives = cl.line_directives;
   o.emit.sobol = !cl.white_noise;
   o.emit.march.paper_baseline = cl.paper_baseline;

@@ -66,8 +66,9 @@ LoadedScene compileForDevice(const CommandLine& cl, const VulkanContext& context
                              const RenderOverrides& o) {
   CompileOptions options = compileOptionsFrom(cl);
   if (o.height) options.emit.march.image_height = *o.height;
-  // Lavapipe masks both sides of every branch instead of jumping, so a
-  // bounding-volume check only adds work there (measured in bench/RESULTS.md).
+  // Lavapipe runs 8 lanes in lockstep: a bounding-volume check pays only where
+  // whole groups skip, so the compiler plans which to keep (planned_bounds,
+  // passes/bounds_plan.cpp; bench/results/bounds_plan.md).
   if (context.properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU && !cl.force_bounds)
     options.emit.bounding_volumes = false;
   Diagnostics diags;

@@ -77,6 +77,9 @@ void registerCommands(CLI::App& app, CommandLine& cl) {
                       "the view the kernel is specialised for: beauty | normal | steps | depth | "
                       "albedo | iterations | all (every view, chosen at run time); default beauty")
       ->check(CLI::IsMember({"beauty", "normal", "steps", "depth", "albedo", "iterations", "all"}));
+  compile->add_flag("--cpu", cl.for_cpu,
+                    "the kernel `render` builds for a CPU device such as lavapipe: bounding-volume "
+                    "checks only where the compiler's plan says they pay (--emit ir shows it)");
   compile->add_flag("--line-directives", cl.line_directives,
                     "emit #line so shader errors point at the .sdf");
   compile->add_option("--timings", cl.timings,
@@ -165,8 +168,8 @@ void registerCommands(CLI::App& app, CommandLine& cl) {
                    "print every fixed stage's time: process start, device, front end, glslang, "
                    "validation, pipeline, the first draw's kernel compile, passes, readback, encoding");
   render->add_flag("--bounds", cl.force_bounds,
-                   "keep bounding-volume checks on a CPU device (off there by default: lavapipe "
-                   "runs both sides of every branch, so skipping saves nothing)");
+                   "keep every bounding-volume check on a CPU device (by default there the compiler "
+                   "keeps only those it measures to pay on this scene: docs/large_scenes.md)");
   emit_flags(render);
 
   CLI::App* view = app.add_subcommand(
@@ -359,7 +362,9 @@ int runCompile(const CommandLine& cl) {
   if (!cl.output.empty()) checkWritablePath(cl.output);  // before the work, not after
   Diagnostics diags;
   const bool needs_spirv = cl.emit == "spv" || cl.emit == "spvasm";
-  LoadedScene loaded = loadScene(cl, diags, true, needs_spirv);
+  CompileOptions options = compileOptionsFrom(cl);
+  if (cl.for_cpu) options.emit.bounding_volumes = false;
+  LoadedScene loaded = loadScene(cl, diags, true, needs_spirv, options, true);
   if (loaded.exit_code != kExitOk) return loaded.exit_code;
   const CompiledScene& c = loaded.compiled;
   if (cl.timings > 0) printTimings(cl, c);

@@ -28,6 +28,7 @@ struct CommandLine {
   int timings = 0;  // compile: repeat the compilation this many times and print stage times
   bool no_bounds = false;
   int instance_threshold = 32;  // see passes/instancing.cpp; 0 = always inline
+  bool for_cpu = false;       // compile: the kernel for a CPU device (planned bounds)
   bool force_bounds = false;  // render: bounds even on a CPU device
   bool no_fuse = false;
   bool no_analytic_spheres = false;

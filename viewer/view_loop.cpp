@@ -298,7 +298,8 @@ void Viewer::open() {
     std::fprintf(stderr, "sdfc: timings (ms): display pass (the tone map on the device) %.1f\n",
                  msBetween(display_start, Clock::now()));
   compile.emit.march.image_height = int(height_);
-  // As `render`: lavapipe runs both sides of a branch, so bound checks only cost.
+  // As `render`: lavapipe runs lanes in lockstep, so a bound check pays only
+  // where whole groups skip; the compiler keeps the checks that do (planned_bounds).
   if (context_.properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU && !cl_.force_bounds)
     compile.emit.bounding_volumes = false;
   // SPIR-V is validated beside pipeline creation, off the save's critical path.

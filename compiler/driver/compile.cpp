@@ -154,6 +154,9 @@ CompiledScene compileSource(const std::string& path, std::string text, const Com
     rebaseToCamera(out.scene, quiet);
   }
   EmitOptions emit = options.emit;
+  // A CPU device: the bounding-volume checks that pay on this scene.
+  if (!emit.bounding_volumes && emit.planned_bounds && emit.with_kernel)
+    out.bounds_plan = planBoundChecks(out.scene, emit.march, emit.bound_cost_threshold);
   if (options.spirv_cache) emit.mesh_grid_cache_version = options.cache_version;
   out.emitted = emitGlsl(out.scene, emit);
   out.times.emit = secondsSince(t0);

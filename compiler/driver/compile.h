@@ -57,6 +57,7 @@ struct CompiledScene {
   std::vector<std::uint32_t> spirv;
   std::string spirv_cache_key;  // with CompileOptions::spirv_cache: the entry's key
   StageTimes times;
+  BoundsPlan bounds_plan;  // compileSource on a CPU device (EmitOptions::planned_bounds)
   bool ok = false;  // no errors and (if asked) SPIR-V produced
 };
 

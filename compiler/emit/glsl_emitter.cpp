@@ -1539,7 +1539,7 @@ class SceneWriter {
       //    cannot be the minimum: skip it (exact; within k when smooth);
       //  - a child whose box is farther than a margin contributes the box
       //    distance instead of its own (a lower bound; exact near surfaces).
-      const bool bound = options_.bounding_volumes && is_union &&
+      const bool bound = (options_.bounding_volumes || (options_.planned_bounds && c.box_check)) && is_union &&
                          c.cost >= options_.bound_cost_threshold && c.bounds.finite();
       std::string b;
       if (bound) {

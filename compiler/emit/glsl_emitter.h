@@ -29,6 +29,10 @@ const char* kernelViewName(KernelView view);
 struct EmitOptions {
   KernelView view = KernelView::All;
   bool bounding_volumes = true;   // skip subtrees by their bounds
+  // Without bounding_volumes (a CPU device): plan which checks pay and emit
+  // those (Node::box_check, passes/bounds_plan.cpp); false: none. The front
+  // ends turn it on where they adapt to a CPU device.
+  bool planned_bounds = false;
   bool line_directives = false;   // #line so glslang errors point at the .sdf
   bool sobol = true;              // low-discrepancy sampler (else PCG hash)
   bool with_kernel = true;        // false: scene code only (for tests and tools)

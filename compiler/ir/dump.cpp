@@ -1,5 +1,6 @@
 // The IR's text form: stable (fixed precision, fixed field order), so pass
 // tests compare text in with text out and `--emit ir` is readable.
+#include <cmath>
 #include <algorithm>
 #include <cstdio>
 #include <glm/gtc/matrix_access.hpp>
@@ -224,6 +225,9 @@ std::string dumpNode(const Node& n, int indent) {
   out << "  # line " << n.range.line();
   if (!n.exact) out << ", bound";
   if (n.lipschitz != 1.0) out << ", lipschitz " << num(n.lipschitz);
+  if (n.box_check_skips >= 0)
+    out << (n.box_check ? ", box check" : ", no box check") << " (skips " << num(std::round(n.box_check_skips * 100))
+        << "% of sampled steps)";
   if (n.bounds.finite())
     out << ", bounds " << vec(n.bounds.lo) << ".." << vec(n.bounds.hi);
   out << "\n";

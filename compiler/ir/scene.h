@@ -108,6 +108,11 @@ struct Node {
   bool exact = true;
   double lipschitz = 1.0;
   double cost = 0;
+  // Filled by passes/bounds_plan.cpp on a CPU device: the union above checks
+  // this child's box first (box_check), and the share of the sampled steps
+  // that would skip it (-1: not sampled).
+  bool box_check = false;
+  double box_check_skips = -1;
 };
 
 // A 2D profile (a profile primitive, or CSG and planar transforms of them):

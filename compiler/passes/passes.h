@@ -72,6 +72,17 @@ struct MarchPolicy {
 
 MarchLimits deriveMarchLimits(const ir::Scene& scene, const MarchPolicy& policy);
 
+// Which unions' children get a bounding-volume check on a device that runs
+// lanes in lockstep (passes/bounds_plan.cpp): marks Node::box_check where the
+// float64 march from the camera says it saves more than it costs. `budget`
+// caps the sampling work (in primitive evaluations).
+struct BoundsPlan {
+  int tiles = 0, candidates = 0, checks = 0;
+  double group_steps = 0, work = 0, saved = 0;
+};
+BoundsPlan planBoundChecks(ir::Scene& scene, const MarchPolicy& policy, double cost_threshold,
+                           double budget = 4e6);
+
 // How far a repeat node's child reaches from its cell centre along `axis`
 // (infinite when unbounded).
 double repeatReach(const ir::Node& repeat, int axis);
