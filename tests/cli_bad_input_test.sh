@@ -58,6 +58,25 @@ expect 4 "it is not a regular file" -- timeout 10 "$sdfc" check /dev/zero
 # A UTF-8 byte order mark before the first statement is not an error.
 printf '\xef\xbb\xbfscene { sphere(radius: 1) }\n' > "$work/bom.sdf"
 expect 0 "" -- "$sdfc" check "$work/bom.sdf"
+# Every file read through an import follows the scene file's rule, with the
+# import statement's file:line:col (issue 47 item 18: a 300 MB one-line
+# import ran to std::bad_alloc with no file or line). Sparse files: nothing
+# is read, the sizes are refused first.
+mkdir "$work/imp"
+truncate -s 300M "$work/imp/big.sdf"
+printf 'let a = 1\nimport "big.sdf" as b\nscene { sphere(radius: 1) }\n' >"$work/imp/one.sdf"
+expect 1 "one.sdf:2:8: error: cannot import '.*big.sdf': it is 300 MiB, more than a scene file's 256 MiB" -- "$sdfc" check "$work/imp/one.sdf"
+grep -q '^import "big.sdf" as b$' "$work/err" || fail "the import error does not show its line"
+# half1.sdf is one comment (read: 130 MiB of a sparse file's zeros after //).
+printf '//' >"$work/imp/half1.sdf"
+truncate -s 130M "$work/imp/half1.sdf"
+truncate -s 130M "$work/imp/half2.sdf"
+printf 'import "half1.sdf" as h\nimport "half2.sdf" as i\nscene { sphere(radius: 1) }\n' >"$work/imp/two.sdf"
+expect 1 "two.sdf:2:8: error: cannot import '.*half2.sdf': it is 130 MiB, and with the 130 MiB already read the scene and its imports would be more than 256 MiB" -- timeout 60 "$sdfc" check "$work/imp/two.sdf"
+mkfifo "$work/imp/pipe.sdf"
+printf 'import "pipe.sdf" as p\nimport "/dev/zero" as z\nscene { sphere(radius: 1) }\n' >"$work/imp/dev.sdf"
+expect 1 "dev.sdf:1:8: error: cannot import '.*pipe.sdf': it is not a regular file" -- timeout 10 "$sdfc" check "$work/imp/dev.sdf"
+grep -q "dev.sdf:2:8: error: cannot import '/dev/zero': it is not a regular file" "$work/err" || fail "/dev/zero as an import"
 # The output directory is checked before compiling or rendering.
 expect 4 "cannot write '$work/missing/x.png': the folder '$work/missing' does not exist" -- "$sdfc" render "$scene" -o "$work/missing/x.png"
 expect 4 "it is a directory" -- "$sdfc" compile "$scene" -o "$work"
