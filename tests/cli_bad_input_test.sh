@@ -157,5 +157,29 @@ else
   echo "skip: cannot mount a tmpfs here (full-disk writes are also covered by BadInputWrites.AFullDiskFailsEveryFormatAndKeepsThePreviousFile)"
 fi
 
+# Shards: -o names the folder that holds them. A file there, or a folder that
+# cannot be made, is an unwritable output (exit 4) in sdfc's words, before any
+# rendering (issue 47 item 18: "filesystem error: cannot create directories").
+printf 'x' >"$work/afile"
+expect 4 "sdfc: error: cannot write shards into '$work/afile': it is a file, not a folder" -- "$sdfc" render "$work/r.sdf" --shards 4 --shard-index 0 --size 8x8 --spp 64 -o "$work/afile"
+expect 4 "sdfc: error: cannot write shards into '$work/afile/sub': the folder cannot be made \(Not a directory\)" -- "$sdfc" render "$work/r.sdf" --shards 4 --shard-index 0 --size 8x8 --spp 64 -o "$work/afile/sub"
+if [ "$(id -u)" != 0 ]; then
+  mkdir "$work/readonly" && chmod a-w "$work/readonly"
+  expect 4 "sdfc: error: cannot write shards into '$work/readonly/s': the folder cannot be made \(Permission denied\)" -- "$sdfc" render "$work/r.sdf" --shards 4 --shard-index 0 --size 8x8 --spp 64 -o "$work/readonly/s"
+  expect 4 "sdfc: error: cannot write shards into '$work/readonly': the folder is not writable" -- "$sdfc" render "$work/r.sdf" --shards 4 --shard-index 0 --size 8x8 --spp 64 -o "$work/readonly"
+  chmod u+w "$work/readonly"
+fi
+grep -q "filesystem error" "$work/err" && fail "library text reached the user"
+# merge: a shard that is a link to itself is a damaged shard (exit 2), named,
+# whether found in a folder or given by name ("Too many levels of symbolic
+# links", exit 4, before).
+mkdir "$work/loop"
+ln -s shard_00000.exr "$work/loop/shard_00000.exr"
+expect 2 "sdfc: error: merge: $work/loop/shard_00000.exr: a symbolic link that loops" -- "$sdfc" merge "$work/loop" -o "$work/m.exr"
+expect 2 "sdfc: error: merge: $work/loop/shard_00000.exr: a symbolic link that loops" -- "$sdfc" merge "$work/loop/shard_00000.exr" -o "$work/m.exr"
+ln -s nothing.exr "$work/loop/shard_00001.exr"
+expect 2 "sdfc: error: merge: $work/loop/shard_00001.exr: a symbolic link to nothing" -- "$sdfc" merge "$work/loop/shard_00001.exr" -o "$work/m.exr"
+mkfifo "$work/loop/fifo.exr"
+expect 2 "sdfc: error: merge: $work/loop/fifo.exr: not a regular file" -- timeout 10 "$sdfc" merge "$work/loop/fifo.exr" -o "$work/m.exr"
 echo "$failures failure(s)"
 [ "$failures" -eq 0 ]
