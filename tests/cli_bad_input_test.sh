@@ -181,5 +181,9 @@ ln -s nothing.exr "$work/loop/shard_00001.exr"
 expect 2 "sdfc: error: merge: $work/loop/shard_00001.exr: a symbolic link to nothing" -- "$sdfc" merge "$work/loop/shard_00001.exr" -o "$work/m.exr"
 mkfifo "$work/loop/fifo.exr"
 expect 2 "sdfc: error: merge: $work/loop/fifo.exr: not a regular file" -- timeout 10 "$sdfc" merge "$work/loop/fifo.exr" -o "$work/m.exr"
+# --shards more than the passes: the message's arithmetic is what the
+# renderer does (32 spp at 18 a pass were "2 passes of 18 samples").
+expect 2 "32 spp are 2 passes \(18 \+ 14 samples\); a shard takes whole passes, so use at most 2 shards" -- "$sdfc" render "$work/r.sdf" --shards 3 --shard-index 0 --spp 32 --size 232x232 -o "$work/sh"
+
 echo "$failures failure(s)"
 [ "$failures" -eq 0 ]
