@@ -29,7 +29,7 @@ class LineIndex {
 };
 
 // The largest document the server analyses. An analysis holds about 270
-// bytes per byte of text (tokens, three syntax trees, the IR, the index): a
+// bytes per byte of text (tokens, syntax trees, the IR, the index): a
 // 28 MB document took 7.7 GB and then aborted. A larger document is kept (so
 // its edits still apply) but not analysed: its diagnostics are one error
 // saying so, and requests on it fail with RequestFailed.

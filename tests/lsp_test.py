@@ -151,6 +151,14 @@ r = c.request("textDocument/definition", {**pdoc, "position": pos(ptext, "parts.
 check("definition across files", r and r["uri"].endswith("/parts.sdf") and "%20" in r["uri"] and
       r["range"]["start"] == {"line": 0, "character": 4}, r)
 
+# Hover on a call of an imported definition: its signature and text (it was
+# null; issue 47 item 19).
+h = c.request("textDocument/hover", {**pdoc, "position": pos(ptext, "parts.post", delta=7)})["result"]
+value = h["contents"]["value"] if h else ""
+check("hover an imported definition's call",
+      "parts.post(h: a number, r: a number = 0.2)" in value and "parts.sdf" in value and
+      "cylinder(radius: r, height: h)" in value, value)
+
 # A document over the server's size limit is kept, not analysed: one error
 # diagnostic says so, requests on it fail, and it is analysed again once
 # an edit brings it under (a 28 MB document took 7.7 GB, then the server aborted).
