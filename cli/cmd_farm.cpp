@@ -162,8 +162,8 @@ int submitJob(const CommandLine& cl) {
   slurm.max_running = cl.max_running;
   const auto array = farm::arrayCommand(slurm, dir, missing);
   std::cerr << "sdfc: farm: " << job.plan.taskCount() << " shards (" << job.plan.frameCount()
-            << (job.plan.animation() ? " frames" : " image") << " x " << job.plan.slices << ", passes of "
-            << job.plan.samples_per_pass << " samples), " << job.plan.taskCount() - missing.size()
+            << (job.plan.animation() ? " frames" : " image") << " x " << job.plan.slices << "; "
+            << job.plan.spp << " spp are " << farm::passesText(job.plan.spp, job.plan.samples_per_pass) << "), " << job.plan.taskCount() - missing.size()
             << " already complete\n";
   try {
     std::string array_id;

@@ -1,8 +1,12 @@
 // `sdfc render --shards K --shard-index I -o DIR`: one task of a farm job. Renders
 // its frame's sample range with the whole image's pass split and writes
 // DIR/shard_IIIII.exr (farm/shard_file.h); an existing matching shard is kept.
+#include <unistd.h>
+
+#include <cerrno>
 #include <chrono>
 #include <csignal>
+#include <cstring>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -27,6 +31,33 @@ bool faultArmed(uint32_t index) {
   return true;
 }
 
+// -o DIR is the folder the shards go in, made when missing (a farm's tasks
+// share it). Before any work: an -o that is a file, or a folder that cannot
+// be made or written into, is an unwritable output (exit 4), said in our
+// words ("filesystem error: cannot create directories" reached the user).
+bool prepareShardFolder(const std::string& dir) {
+  auto refuse = [&](const std::string& why) {
+    std::cerr << "sdfc: error: cannot write shards into '" << dir << "': " << why << "\n";
+    return false;
+  };
+  std::error_code error;
+  const std::filesystem::file_status status = std::filesystem::status(dir, error);
+  if (std::filesystem::exists(status) && !std::filesystem::is_directory(status))
+    return refuse("it is a file, not a folder (with --shards, -o names the folder that holds the shards)");
+  if (!std::filesystem::exists(status)) {
+    // status() fails with ENOENT (nothing there) or ENOTDIR (a file on the way);
+    // anything else (a link that loops, no permission to look) is said as it is.
+    if (error && error != std::errc::no_such_file_or_directory && error != std::errc::not_a_directory)
+      return refuse("cannot look at it (" + error.message() + ")");
+    error.clear();
+    std::filesystem::create_directories(dir, error);
+    if (error) return refuse("the folder cannot be made (" + error.message() + ")");
+  }
+  if (::access(dir.c_str(), W_OK | X_OK) != 0)
+    return refuse(std::string("the folder is not writable (") + std::strerror(errno) + ")");
+  return true;
+}
+
 }  // namespace
 
 int runRenderShard(const CommandLine& cl, const RenderOverrides& o) {
@@ -38,6 +69,7 @@ int runRenderShard(const CommandLine& cl, const RenderOverrides& o) {
     std::cerr << "sdfc: error: with --shards, --frames takes frame numbers A-B (time = frame / --fps)\n";
     return kExitUsage;
   }
+  if (!prepareShardFolder(cl.output)) return kExitIo;
   ContextOptions context_options;
   context_options.device_index = cl.device;
   ScopedContext scoped_context(context_options);
@@ -57,7 +89,6 @@ int runRenderShard(const CommandLine& cl, const RenderOverrides& o) {
   }
   header.device = deviceText(context);
   header.driver = driverText(context);
-  std::filesystem::create_directories(cl.output);
   const std::string path = (std::filesystem::path(cl.output) / farm::shardFileName(cl.shard_index)).string();
   if (shardComplete(path, header, true)) {
     if (!cl.quiet) std::cerr << "sdfc: " << path << " is complete; skipped\n";

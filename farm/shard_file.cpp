@@ -125,9 +125,31 @@ struct HeaderGuard {
   }
 };
 
+}  // namespace
+
+std::string notAShard(const std::string& path) {
+  namespace fs = std::filesystem;
+  std::error_code error;
+  const fs::file_status link = fs::symlink_status(path, error);
+  if (!fs::exists(link)) return "no such file";
+  const fs::file_status status = fs::status(path, error);
+  if (error == std::errc::too_many_symbolic_link_levels)
+    return "a symbolic link that loops (it leads back to itself), not a shard file";
+  if (!fs::exists(status)) {
+    if (fs::is_symlink(link)) return "a symbolic link to nothing (no such file)";
+    return "cannot be read (" + error.message() + ")";
+  }
+  if (fs::is_directory(status)) return "a directory, not a shard file";
+  if (!fs::is_regular_file(status)) return "not a regular file (a FIFO, device or socket), not a shard file";
+  if (::access(path.c_str(), R_OK) != 0) return std::string("cannot be read (") + std::strerror(errno) + ")";
+  return "";
+}
+
+namespace {
+
 void parseHeader(const std::string& path, HeaderGuard& g) {
   EXRVersion version;
-  if (!std::filesystem::exists(path)) throw FarmError(path + ": no such file");
+  if (const std::string why = notAShard(path); !why.empty()) throw FarmError(path + ": " + why);
   if (ParseEXRVersionFromFile(&version, path.c_str()) != TINYEXR_SUCCESS)
     throw FarmError(path + ": not an EXR file");
   const char* err = nullptr;

@@ -69,6 +69,9 @@ struct ShardImage {
 
 // Writes through "<path>.tmp" and a rename: a killed shard leaves no shard file.
 void writeShard(const std::string& path, const ShardImage& shard);
+// Why `path` is no file to read a shard from ("" when it may be read), in
+// words: missing, a link to nothing or one that loops, a directory, a FIFO...
+std::string notAShard(const std::string& path);
 // Throws FarmError naming the file when it is not a readable sdfc shard.
 ShardHeader readShardHeader(const std::string& path);
 ShardImage readShard(const std::string& path);

@@ -10,16 +10,28 @@ namespace fs = std::filesystem;
 std::vector<std::string> findShards(const std::vector<std::string>& inputs) {
   std::vector<std::string> paths;
   for (const std::string& input : inputs) {
-    if (!fs::is_directory(input)) {
-      paths.push_back(input);
+    // Every look at the file system reports in our words, naming the path (a
+    // link that loops once printed the library's "Too many levels of symbolic
+    // links" and exited 4).
+    std::error_code error;
+    if (!fs::is_directory(fs::status(input, error))) {
+      paths.push_back(input);  // readShardHeader says what is wrong with it
       continue;
     }
     std::vector<std::string> found;
-    for (const auto& entry : fs::directory_iterator(input)) {
+    fs::directory_iterator it(input, error);
+    if (error) throw FarmError(input + ": cannot list this directory (" + error.message() + ")");
+    for (; it != fs::directory_iterator(); it.increment(error)) {
+      const fs::directory_entry& entry = *it;
       const std::string name = entry.path().filename().string();
-      if (entry.is_regular_file() && name.rfind("shard_", 0) == 0 && entry.path().extension() == ".exr")
-        found.push_back(entry.path().string());
+      if (name.rfind("shard_", 0) != 0 || entry.path().extension() != ".exr") continue;
+      // A shard's name on something that is no regular file (a folder, a
+      // link to nothing or to itself) is a damaged shard, refused by name.
+      std::error_code entry_error;
+      if (!entry.is_regular_file(entry_error)) throw FarmError(entry.path().string() + ": " + notAShard(entry.path().string()));
+      found.push_back(entry.path().string());
     }
+    if (error) throw FarmError(input + ": cannot list this directory (" + error.message() + ")");
     if (found.empty()) throw FarmError(input + ": no shard_*.exr files in this directory");
     std::sort(found.begin(), found.end());
     paths.insert(paths.end(), found.begin(), found.end());

@@ -1,18 +1,30 @@
 #include "shard_plan.h"
 
+#include <algorithm>
 #include <cstdio>
 
 namespace sdfc::farm {
+
+std::string passesText(uint32_t spp, uint32_t samples_per_pass) {
+  const uint64_t per = std::max<uint32_t>(samples_per_pass, 1);
+  const uint64_t passes = (uint64_t(spp) + per - 1) / per;
+  const uint64_t last = spp - (passes - 1) * per;
+  const std::string n = std::to_string(passes) + (passes == 1 ? " pass" : " passes");
+  if (last == per) return n + " of " + std::to_string(per) + " samples";
+  // The last pass is short: 32 spp at 18 a pass are 18 + 14, not "2 of 18".
+  if (passes == 2) return n + " (" + std::to_string(per) + " + " + std::to_string(last) + " samples)";
+  return n + " (" + std::to_string(passes - 1) + " of " + std::to_string(per) + " samples and a last of " +
+         std::to_string(last) + ")";
+}
 
 std::vector<SampleRange> splitSamples(uint32_t spp, uint32_t samples_per_pass, uint32_t slices) {
   if (spp == 0 || samples_per_pass == 0 || slices == 0)
     throw FarmError("spp, samples per pass and shards must be positive");
   const uint64_t passes = (uint64_t(spp) + samples_per_pass - 1) / samples_per_pass;
   if (slices > passes)
-    throw FarmError(std::to_string(spp) + " spp are " + std::to_string(passes) + " pass" +
-                    (passes == 1 ? "" : "es") + " of " + std::to_string(samples_per_pass) +
-                    " samples; a shard takes whole passes, so use at most " +
-                    std::to_string(passes) + " shards per image (or more spp)");
+    throw FarmError(std::to_string(spp) + " spp are " + passesText(spp, samples_per_pass) +
+                    "; a shard takes whole passes, so use at most " + std::to_string(passes) +
+                    " shards per image (or more spp)");
   std::vector<SampleRange> ranges(slices);
   for (uint32_t k = 0; k < slices; ++k) {
     const uint64_t first_pass = passes * k / slices, end_pass = passes * (k + 1) / slices;

@@ -25,6 +25,11 @@ struct SampleRange {
   uint32_t count() const { return end - begin; }
 };
 
+// How `spp` samples fall into passes of at most `samples_per_pass`, as the
+// renderer draws them: "4 passes of 8 samples", "2 passes (18 + 14 samples)",
+// "6 passes (5 of 18 samples and a last of 10)".
+std::string passesText(uint32_t spp, uint32_t samples_per_pass);
+
 // `slices` contiguous ranges covering [0, spp), each a whole number of passes of
 // samples_per_pass (the last pass of the image may be short), sizes differing by at
 // most one pass. Throws FarmError when there are fewer passes than slices.

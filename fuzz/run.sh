@@ -9,11 +9,14 @@
 #   sdfc_image_file_fuzz  PNG, .hdr, EXR           (corpus-image)
 #   sdfc_point_file_fuzz  CSV point lists          (corpus-points)
 #   sdfc_lsp_frame_fuzz   the server's framing     (corpus-lsp)
+#   sdfc_import_fuzz      a scene and its imports  (corpus-import: parts cut at NUL bytes)
+#   sdfc_lsp_dispatch_fuzz  the server's handling of messages, one body a line
+#                                                  (corpus-lsp-dispatch)
 #
 #   fuzz/run.sh [seconds]          fuzz the scene targets for `seconds` in all
 #                                  (default 60: a third on sdfc_fuzz, the rest on
 #                                  sdfc_compile_fuzz), then each reader for a third
-#                                  of it: 30 takes 70 s of fuzzing
+#                                  of it: 30 takes 90 s of fuzzing
 #   fuzz/run.sh --replay [files]   run .sdf inputs once through both scene targets
 #                                  (default: fuzz/regressions/*.sdf), and each
 #                                  reader's seeds (its regressions among them) once
@@ -43,7 +46,7 @@ if [ ! -f "$build/build.ninja" ]; then
     -DCMAKE_BUILD_TYPE=Fuzz -DCMAKE_CXX_FLAGS_FUZZ="-O1 -gline-tables-only" \
     -DCMAKE_C_FLAGS_FUZZ="-O1" "${hook[@]}" >"$log" 2>&1 || { cat "$log" >&2; exit 2; }
 fi
-readers="mesh_file:mesh image_file:image point_file:points lsp_frame:lsp"
+readers="mesh_file:mesh image_file:image point_file:points lsp_frame:lsp import:import lsp_dispatch:lsp-dispatch"
 reader_targets=()
 for r in $readers; do reader_targets+=("sdfc_${r%%:*}_fuzz"); done
 ninja -C "$build" -j "$jobs" sdfc_fuzz sdfc_compile_fuzz "${reader_targets[@]}" >"$log" 2>&1 ||
@@ -90,9 +93,15 @@ reader_seconds=$(( seconds / 3 > 0 ? seconds / 3 : 1 ))
 for r in $readers; do
   target=sdfc_${r%%:*}_fuzz kind=${r#*:}
   mkdir -p "$build/corpus-$kind"
+  # Words of the input's language: the scene language's for imports, JSON-RPC's for dispatch.
+  dict=()
+  case $kind in
+    import) dict=(-dict="$root/fuzz/sdf.dict") ;;
+    lsp-dispatch) dict=(-dict="$root/fuzz/lsp-dispatch.dict") ;;
+  esac
   # tinyexr's own leaks on bad pixel blocks (fuzz/lsan.supp) would end every image run.
   LSAN_OPTIONS=suppressions=$root/fuzz/lsan.supp \
-  "$build/fuzz/$target" "$build/corpus-$kind" "$root/fuzz/corpus-$kind" -max_total_time="$reader_seconds" \
+  "$build/fuzz/$target" "$build/corpus-$kind" "$root/fuzz/corpus-$kind" "${dict[@]}" -max_total_time="$reader_seconds" \
     -max_len=16384 -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
     -artifact_prefix="$build/artifacts/$kind-" || status=$?
 done

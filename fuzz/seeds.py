@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Writes the reader fuzz targets' seeds (fuzz/corpus-mesh, -image, -points,
--lsp): small files at the formats' odd but valid corners, so the fuzzers start
+-lsp, -import, -lsp-dispatch): small files at the formats' odd but valid corners, so the fuzzers start
 inside each format rather than at its magic number (tests/fuzz_seeds_test.cpp
 reads each with its reader). Files named *_refused.* are refused with a
 reason; regression_* are inputs the fuzzers once broke a reader with. Run it
@@ -179,8 +179,92 @@ def lsp():
     put("lsp", "batch_and_unicode.txt", frame([init, {"jsonrpc": "2.0", "id": "\u00e9", "method": "shutdown"}]))
 
 
+def imports():
+    # A scene and the files it imports, cut at NUL bytes: main.sdf, 1.sdf, 2.sdf...
+    def files(*parts):
+        return b"\0".join(p.encode() for p in parts)
+    put("import", "diamond_aliases.sdf", files(
+        'import "1.sdf" as a\nimport "2.sdf" as b\nscene { a.post b.leg(2) }\n',
+        'import "2.sdf" as b\nlet post = b.leg(h: 1)\n',
+        'let leg(h, w: 0.2) = box(size: [w, h, w])\n'))
+    put("import", "no_alias_numbers_materials.sdf", files(
+        'import "1.sdf"\nscene { sphere(radius: r, material: red) }\n',
+        'let r = 1.5\nlet red = diffuse(albedo: [0.8, 0.1, 0.1])\n'))
+    put("import", "nested_three_deep.sdf", files(
+        'import "1.sdf" as one\nscene { one.ball }\n',
+        'import "2.sdf" as two\nlet ball = two.ball\n',
+        'import "3.sdf" as three\nlet ball = translate([0, 1, 0]) { three.ball }\n',
+        'let ball = sphere(radius: 0.5)\n'))
+    put("import", "same_file_twice.sdf", files(
+        'import "1.sdf" as x\nimport "1.sdf" as y\nimport "./1.sdf" as z\nscene { x.s y.s z.s }\n',
+        '// a comment\nlet s = torus(major: 1, minor: 0.25)\n'))
+    put("import", "cycle_refused.sdf", files(
+        'import "1.sdf" as a\nscene { sphere(radius: 1) }\n',
+        'import "2.sdf" as b\n',
+        'import "1.sdf" as c\n'))
+    put("import", "missing_and_statement_refused.sdf", files(
+        'import "1.sdf" as a\nimport "9.sdf" as n\nscene { a.p }\n',
+        'let p = sphere(radius: 1)\nscene { p }\n'))
+
+
+def lsp_dispatch():
+    # Message bodies, one a line, sent after initialize and the opening of
+    # file:///sdfc_lsp_fuzz/s.sdf holding (lines from 0):
+    #   let r = 1
+    #   let f(x, y: 2) = sphere(radius: x * y)
+    #   scene { f(r) box(size: 1) }
+    uri = "file:///sdfc_lsp_fuzz/s.sdf"
+
+    def request(i, method, **params):
+        return json.dumps({"jsonrpc": "2.0", "id": i, "method": method,
+                           "params": {"textDocument": {"uri": uri}, **params}})
+
+    def at(line, character):
+        return {"line": line, "character": character}
+    put("lsp-dispatch", "every_request.txt", "\n".join([
+        request(1, "textDocument/hover", position=at(2, 8)),
+        request(2, "textDocument/hover", position=at(1, 26)),
+        request(3, "textDocument/definition", position=at(2, 10)),
+        request(4, "textDocument/references", position=at(0, 4), context={"includeDeclaration": True}),
+        request(5, "textDocument/documentHighlight", position=at(1, 6)),
+        request(6, "textDocument/prepareRename", position=at(0, 4)),
+        request(7, "textDocument/rename", position=at(0, 4), newName="radius2"),
+        request(8, "textDocument/completion", position=at(2, 26)),
+        request(9, "textDocument/signatureHelp", position=at(2, 10)),
+        request(10, "textDocument/documentSymbol"),
+        request(11, "textDocument/formatting", options={"tabSize": 2, "insertSpaces": True}),
+    ]) + "\n")
+    change = {"jsonrpc": "2.0", "method": "textDocument/didChange",
+              "params": {"textDocument": {"uri": uri, "version": 2},
+                         "contentChanges": [{"range": {"start": at(0, 8), "end": at(0, 9)}, "text": "2.5"},
+                                            {"range": {"start": at(2, 27), "end": at(2, 27)},
+                                             "text": " torus(major: r, minor: 0.2)"}]}}
+    put("lsp-dispatch", "edits_then_requests.txt", "\n".join([
+        json.dumps(change),
+        request(1, "textDocument/hover", position=at(2, 30)),
+        request(2, "textDocument/completion", position=at(2, 40)),
+        json.dumps({"jsonrpc": "2.0", "method": "textDocument/didChange",
+                    "params": {"textDocument": {"uri": uri, "version": 3},
+                               "contentChanges": [{"text": "scene { sphère(radius: 1) }\n"}]}}),
+        request(3, "textDocument/documentSymbol"),
+        request("four", "textDocument/formatting", options={}),
+    ]) + "\n")
+    put("lsp-dispatch", "second_document_and_close.txt", "\n".join([
+        json.dumps({"jsonrpc": "2.0", "method": "textDocument/didOpen",
+                    "params": {"textDocument": {"uri": "untitled:two", "languageId": "sdf", "version": 1,
+                                                "text": 'import "lib.sdf" as l\nscene { l.x }\n'}}}),
+        json.dumps({"jsonrpc": "2.0", "id": 1, "method": "textDocument/hover",
+                    "params": {"textDocument": {"uri": "untitled:two"}, "position": at(1, 9)}}),
+        json.dumps({"jsonrpc": "2.0", "method": "textDocument/didClose", "params": {"textDocument": {"uri": "untitled:two"}}}),
+        request(2, "textDocument/references", position=at(1, 7), context={"includeDeclaration": False}),
+        json.dumps({"jsonrpc": "2.0", "method": "$/cancelRequest", "params": {"id": 99}}),
+    ]) + "\n")
+
+
 if __name__ == "__main__":
     meshes()
     images()
     points()
     lsp()
+    imports()
+    lsp_dispatch()

@@ -49,8 +49,10 @@ void indexExpr(Analysis& a, const ast::Expr& e, const ast::Statement* scope) {
   for (const ast::ExprPtr& c : e.children) indexExpr(a, *c, scope);
 }
 
-CalleeDoc definitionDoc(const Analysis& a, const ast::Statement& s) {
-  CalleeDoc c{s.name, CalleeKind::Definition, "defined in this file", {}, true};
+// `text`: the text of the file `s` is in (its ranges index it).
+CalleeDoc definitionDoc(const std::string& text, const ast::Statement& s, const std::string& name,
+                        const std::string& where) {
+  CalleeDoc c{name, CalleeKind::Definition, where, {}, true};
   const std::vector<ParamUsage> uses = inferParameterUses(s);
   for (size_t i = 0; i < s.params.size(); ++i) {
     ParamDoc p;
@@ -58,7 +60,7 @@ CalleeDoc definitionDoc(const Analysis& a, const ast::Statement& s) {
     p.type = paramUseName(uses[i].use);
     if (s.params[i].default_value) {
       const SourceRange& r = s.params[i].default_value->range;
-      p.fallback = a.text().substr(r.begin, r.end - r.begin);
+      p.fallback = r.begin <= r.end && r.end <= text.size() ? text.substr(r.begin, r.end - r.begin) : "";
     }
     p.required = !s.params[i].default_value;
     c.params.push_back(p);
@@ -74,10 +76,14 @@ void indexNodes(Analysis& a, const ir::Node& n, std::set<const ir::Node*>& seen)
 
 }  // namespace
 
+std::string Analysis::importedKey(const std::string& name) const {
+  if (imported.count(name)) return name;
+  if (import_aliases.empty()) return "";
+  return resolveImportedKey(import_aliases, name, 0, [&](const std::string& k) { return imported.count(k) > 0; });
+}
+
 const SourceRange* Analysis::importedAt(const std::string& name) const {
-  auto it = imported.find(name);
-  if (it == imported.end() && !import_aliases.empty())
-    it = imported.find(resolveImportedKey(import_aliases, name, 0, [&](const std::string& k) { return imported.count(k) > 0; }));
+  auto it = imported.find(importedKey(name));
   return it != imported.end() ? &it->second : nullptr;
 }
 
@@ -95,25 +101,35 @@ std::shared_ptr<const Analysis> analyzeDocument(const Document& doc, bool utf8) 
   std::unique_ptr<api::Scene> scene = api::loadString(doc.text, path, load);
   a->compiled = std::move(scene->compiled);
   a->diagnostics = std::move(scene->diagnostics);
-  // Imported definitions, by the names this file uses (files imported by
-  // imported files are reached under their prefixes the same way).
-  {
-    Diagnostics quiet;
-    const ast::File main = parse(*a->compiled.source, quiet);
-    const ImportSet imports = loadImports(main, *a->compiled.source, quiet);
-    a->import_aliases = imports.aliases;
-    for (const ImportedDefinition& d : imports.definitions) {
-      // The checker's files are the ones the ranges must point into.
-      for (const auto& f : a->compiled.scene.imported_sources)
-        if (f->path == d.statement->name_range.file->path)
-          a->imported.emplace(d.prefix + d.statement->name,
-                              SourceRange{f.get(), d.statement->name_range.begin, d.statement->name_range.end});
-    }
-  }
   Diagnostics again;  // the same syntax errors a second time: not reported twice
   a->tree = parse(*a->compiled.source, again, &a->comments);
   a->tokens = lex(*a->compiled.source, again);
   a->lines = LineIndex(a->compiled.source->text, utf8);
+  // Imported definitions, by the names this file uses (files imported by
+  // imported files are reached under their prefixes the same way).
+  {
+    Diagnostics quiet;  // the checker has reported them (a->tree, not a parse of its own: one tree less)
+    const ImportSet imports = loadImports(a->tree, *a->compiled.source, quiet);
+    a->import_aliases = imports.aliases;
+    for (const ImportedDefinition& d : imports.definitions) {
+      // The checker's files are the ones the ranges must point into.
+      const std::string key = d.prefix + d.statement->name;
+      for (const auto& f : a->compiled.scene.imported_sources)
+        if (f->path == d.statement->name_range.file->path)
+          a->imported.emplace(key, SourceRange{f.get(), d.statement->name_range.begin, d.statement->name_range.end});
+      // For hover, from this read of the file (its ranges index this text).
+      const std::string& text = d.statement->name_range.file->text;
+      const SourceRange& r = d.statement->range;
+      Analysis::ImportedDoc info;
+      info.file = d.statement->name_range.file->path;
+      if (r.begin <= r.end && r.end <= text.size()) info.text = text.substr(r.begin, r.end - r.begin);
+      if (info.text.size() > 400) info.text = info.text.substr(0, 400) + " ...";
+      info.parametric = d.statement->has_params;
+      if (info.parametric)
+        info.callee = definitionDoc(text, *d.statement, key, "defined in '" + info.file + "'");
+      a->imported_docs.emplace(key, std::move(info));
+    }
+  }
   for (const ast::Statement& s : a->tree.statements)
     if (s.is_let && !a->lets.count(s.name)) a->lets[s.name] = &s;
   for (const ast::Statement& s : a->tree.statements) {
@@ -124,7 +140,7 @@ std::shared_ptr<const Analysis> analyzeDocument(const Document& doc, bool utf8) 
       if (p.default_value) indexExpr(*a, *p.default_value, scope);
     }
     if (s.value) indexExpr(*a, *s.value, scope);
-    if (scope) a->definitions.emplace(s.name, definitionDoc(*a, s));
+    if (scope) a->definitions.emplace(s.name, definitionDoc(a->text(), s, s.name, "defined in this file"));
   }
   std::sort(a->uses.begin(), a->uses.end(),
             [](const NameUse& x, const NameUse& y) { return x.range.begin < y.range.begin; });

@@ -44,6 +44,15 @@ struct Analysis {
   // first reached by; another name for it goes through these (check/imports.h).
   std::map<std::string, SourceRange> imported;
   std::map<std::string, std::vector<std::string>> import_aliases;
+  // What hover shows for an imported definition, by the same key as
+  // `imported`: its text, and for a parametric one its signature.
+  struct ImportedDoc {
+    std::string text;
+    std::string file;  // the file it is defined in, as the import named it
+    bool parametric = false;
+    CalleeDoc callee;
+  };
+  std::map<std::string, ImportedDoc> imported_docs;
   bool utf8 = false;
 
   const std::string& text() const { return compiled.source->text; }
@@ -58,6 +67,9 @@ struct Analysis {
   json location(const SourceRange& r) const;
   // Where the imported definition this file calls `name` is defined, or null.
   const SourceRange* importedAt(const std::string& name) const;
+  // The key `imported` holds the definition this file calls `name` under
+  // (through aliases), or "" when it is not imported.
+  std::string importedKey(const std::string& name) const;
   // The IR node a `let` shape compiles to, if any.
   const ir::Node* definitionNode(const std::string& name) const;
 };

@@ -1,6 +1,7 @@
 #include "lsp/documents.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <stdexcept>
 
 namespace sdfc::lsp {
@@ -53,6 +54,17 @@ json LineIndex::positionOf(size_t offset) const {
 
 json LineIndex::rangeOf(size_t begin, size_t end) const {
   return {{"start", positionOf(begin)}, {"end", positionOf(end)}};
+}
+
+std::string documentTooLarge(size_t bytes) {
+  if (bytes <= kMaxDocumentBytes) return "";
+  const auto mib = [](size_t n) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.1f MiB", double(n) / double(1 << 20));
+    return std::string(text);
+  };
+  return "this document is " + mib(bytes) + "; the language server analyses documents up to " +
+         mib(kMaxDocumentBytes) + " (run `sdfc check` on the file, which reads up to 256 MiB)";
 }
 
 void DocumentStore::open(const std::string& uri, int version, std::string text) {

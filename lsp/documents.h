@@ -28,6 +28,14 @@ class LineIndex {
   bool utf8_ = false;
 };
 
+// The largest document the server analyses. An analysis holds about 270
+// bytes per byte of text (tokens, syntax trees, the IR, the index): a
+// 28 MB document took 7.7 GB and then aborted. A larger document is kept (so
+// its edits still apply) but not analysed: its diagnostics are one error
+// saying so, and requests on it fail with RequestFailed.
+inline constexpr size_t kMaxDocumentBytes = size_t(4) << 20;
+std::string documentTooLarge(size_t bytes);  // "" when `bytes` may be analysed
+
 struct Document {
   std::string uri;
   int version = 0;

@@ -107,7 +107,18 @@ json hover(const Analysis& a, size_t offset) {
                                            (p.required ? ", required" : ", default " + p.fallback) + "\n");
       return nullptr;
     }
-    if (!a.lets.count(use->name)) return nullptr;  // imported: go to its definition instead
+    if (!a.lets.count(use->name)) {
+      // Imported: its definition as its own file has it (hover was null here).
+      const auto it = a.imported_docs.find(a.importedKey(use->name));
+      if (it == a.imported_docs.end()) return nullptr;
+      const Analysis::ImportedDoc& d = it->second;
+      CalleeDoc callee = d.callee;
+      callee.name = use->name;  // as this file calls it ("l.tower")
+      std::string md = d.parametric ? callee.markdown() + "\n" : std::string();
+      md += "```sdf\n" + d.text + "\n```\n";
+      if (!d.parametric) md += "imported from '" + d.file + "'\n";
+      return result(a, use->range, md);
+    }
     const ast::Statement* s = a.lets.at(use->name);
     std::string value = a.text().substr(s->range.begin, s->range.end - s->range.begin);
     if (value.size() > 400) value = value.substr(0, 400) + " ...";

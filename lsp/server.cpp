@@ -304,6 +304,7 @@ class Server {
   // ---- analyses and diagnostics ---------------------------------------------
 
   std::shared_ptr<const Analysis> analysisOf(const Document& doc) {
+    if (const std::string why = documentTooLarge(doc.text.size()); !why.empty()) throw RpcError(kRequestFailed, why);
     {
       std::lock_guard<std::mutex> lock(cache_mutex_);
       auto it = cache_.find(doc.uri);
@@ -345,6 +346,14 @@ class Server {
           // A newer version arrived meanwhile: skip this one, the next batch has it.
           std::shared_ptr<const Document> now = documents_.get(uri);
           if (!now || now->version != doc->version || now->text != doc->text) continue;
+          if (const std::string why = documentTooLarge(doc->text.size()); !why.empty()) {
+            const json start = {{"line", 0}, {"character", 0}};
+            notify("textDocument/publishDiagnostics",
+                   {{"uri", uri}, {"version", doc->version},
+                    {"diagnostics", json::array({{{"range", {{"start", start}, {"end", start}}},
+                                                  {"severity", 1}, {"source", "sdfc"}, {"message", why}}})}});
+            continue;
+          }
           notify("textDocument/publishDiagnostics", publishDiagnostics(*analysisOf(*doc)));
         } catch (const std::exception& e) {
           notify("window/logMessage", {{"type", 1}, {"message", std::string("diagnostics: ") + e.what()}});

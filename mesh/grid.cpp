@@ -75,7 +75,7 @@ GridPlanResult planGrid(const ir::Scene& scene, const MeshOptions& options) {
     region = *options.box;
     pad = 0;  // the user's box is the region, exactly
     if (region.empty() || !region.finite() || region.lo == region.hi) {
-      out.error = "--box must have x0 < x1, y0 < y1 and z0 < z1";
+      out.error = options.names.box + " must have x0 < x1, y0 < y1 and z0 < z1";
       return out;
     }
   } else {
@@ -86,7 +86,7 @@ GridPlanResult planGrid(const ir::Scene& scene, const MeshOptions& options) {
     }
     if (!region.finite()) {
       out.error = "the scene is unbounded (" + describeUnbounded(*scene.root) +
-                  "); give --box x0,y0,z0,x1,y1,z1";
+                  "); give " + options.names.box_form;
       return out;
     }
   }
@@ -95,7 +95,7 @@ GridPlanResult planGrid(const ir::Scene& scene, const MeshOptions& options) {
   double voxel = options.voxel_size > 0 ? options.voxel_size
                                         : longest / std::max(1, options.resolution);
   if (!(voxel > 0) || !std::isfinite(voxel)) {
-    out.error = "the scene's bounds have no extent; give --box or --voxel-size";
+    out.error = "the scene's bounds have no extent; give " + options.names.box + " or " + options.names.voxel_size;
     return out;
   }
   // The limit counts the region's cells, not the padding around it, so every
@@ -106,8 +106,8 @@ GridPlanResult planGrid(const ir::Scene& scene, const MeshOptions& options) {
   if (total > static_cast<double>(kMaxMeshCells)) {
     std::ostringstream msg;
     msg << "the grid would have " << region_cells.x << " x " << region_cells.y << " x "
-        << region_cells.z << " cells, more than the limit of 1024^3; raise --voxel-size or "
-        << "lower --resolution";
+        << region_cells.z << " cells, more than the limit of 1024^3; raise " << options.names.voxel_size
+        << " or lower " << options.names.resolution;
     out.error = msg.str();
     return out;
   }

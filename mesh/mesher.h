@@ -47,6 +47,15 @@ struct MeshOptions {
   // the mesh is what a reader merging by position sees. false = as contoured.
   bool weld = true;
   int threads = 0;  // 0 = all cores
+  // How the front end spells the options its messages name: the command
+  // line's flags by default; the Python module gives its keywords (a Python
+  // user was told to "give --box").
+  struct Names {
+    std::string box = "--box";
+    std::string box_form = "--box x0,y0,z0,x1,y1,z1";
+    std::string voxel_size = "--voxel-size";
+    std::string resolution = "--resolution";
+  } names;
   // (stage, fraction done); called from worker threads, serialised.
   std::function<void(const char*, double)> progress;
   const std::atomic<bool>* interrupt = nullptr;

@@ -377,6 +377,7 @@ class PyScene {
   py::tuple mesh(const py::handle& resolution, const py::handle& voxel_size, std::optional<std::vector<double>> box,
                  const py::handle& time, const py::handle& threads) const {
     MeshOptions options;
+    options.names = {"box", "box=[x0, y0, z0, x1, y1, z1]", "voxel_size", "resolution"};
     options.resolution = int(checkedOption(api::Option::Resolution, resolution));
     if (!voxel_size.is_none()) options.voxel_size = checkedOption(api::Option::VoxelSize, voxel_size);
     options.time = checkedOption(api::Option::Time, time);

@@ -58,6 +58,25 @@ expect 4 "it is not a regular file" -- timeout 10 "$sdfc" check /dev/zero
 # A UTF-8 byte order mark before the first statement is not an error.
 printf '\xef\xbb\xbfscene { sphere(radius: 1) }\n' > "$work/bom.sdf"
 expect 0 "" -- "$sdfc" check "$work/bom.sdf"
+# Every file read through an import follows the scene file's rule, with the
+# import statement's file:line:col (issue 47 item 18: a 300 MB one-line
+# import ran to std::bad_alloc with no file or line). Sparse files: nothing
+# is read, the sizes are refused first.
+mkdir "$work/imp"
+truncate -s 300M "$work/imp/big.sdf"
+printf 'let a = 1\nimport "big.sdf" as b\nscene { sphere(radius: 1) }\n' >"$work/imp/one.sdf"
+expect 1 "one.sdf:2:8: error: cannot import '.*big.sdf': it is 300 MiB, more than a scene file's 256 MiB" -- "$sdfc" check "$work/imp/one.sdf"
+grep -q '^import "big.sdf" as b$' "$work/err" || fail "the import error does not show its line"
+# half1.sdf is one comment (read: 130 MiB of a sparse file's zeros after //).
+printf '//' >"$work/imp/half1.sdf"
+truncate -s 130M "$work/imp/half1.sdf"
+truncate -s 130M "$work/imp/half2.sdf"
+printf 'import "half1.sdf" as h\nimport "half2.sdf" as i\nscene { sphere(radius: 1) }\n' >"$work/imp/two.sdf"
+expect 1 "two.sdf:2:8: error: cannot import '.*half2.sdf': it is 130 MiB, and with the 130 MiB already read the scene and its imports would be more than 256 MiB" -- timeout 60 "$sdfc" check "$work/imp/two.sdf"
+mkfifo "$work/imp/pipe.sdf"
+printf 'import "pipe.sdf" as p\nimport "/dev/zero" as z\nscene { sphere(radius: 1) }\n' >"$work/imp/dev.sdf"
+expect 1 "dev.sdf:1:8: error: cannot import '.*pipe.sdf': it is not a regular file" -- timeout 10 "$sdfc" check "$work/imp/dev.sdf"
+grep -q "dev.sdf:2:8: error: cannot import '/dev/zero': it is not a regular file" "$work/err" || fail "/dev/zero as an import"
 # The output directory is checked before compiling or rendering.
 expect 4 "cannot write '$work/missing/x.png': the folder '$work/missing' does not exist" -- "$sdfc" render "$scene" -o "$work/missing/x.png"
 expect 4 "it is a directory" -- "$sdfc" compile "$scene" -o "$work"
@@ -137,6 +156,34 @@ if mount -t tmpfs -o size=64k tmpfs "$full" 2>/dev/null; then
 else
   echo "skip: cannot mount a tmpfs here (full-disk writes are also covered by BadInputWrites.AFullDiskFailsEveryFormatAndKeepsThePreviousFile)"
 fi
+
+# Shards: -o names the folder that holds them. A file there, or a folder that
+# cannot be made, is an unwritable output (exit 4) in sdfc's words, before any
+# rendering (issue 47 item 18: "filesystem error: cannot create directories").
+printf 'x' >"$work/afile"
+expect 4 "sdfc: error: cannot write shards into '$work/afile': it is a file, not a folder" -- "$sdfc" render "$work/r.sdf" --shards 4 --shard-index 0 --size 8x8 --spp 64 -o "$work/afile"
+expect 4 "sdfc: error: cannot write shards into '$work/afile/sub': the folder cannot be made \(Not a directory\)" -- "$sdfc" render "$work/r.sdf" --shards 4 --shard-index 0 --size 8x8 --spp 64 -o "$work/afile/sub"
+if [ "$(id -u)" != 0 ]; then
+  mkdir "$work/readonly" && chmod a-w "$work/readonly"
+  expect 4 "sdfc: error: cannot write shards into '$work/readonly/s': the folder cannot be made \(Permission denied\)" -- "$sdfc" render "$work/r.sdf" --shards 4 --shard-index 0 --size 8x8 --spp 64 -o "$work/readonly/s"
+  expect 4 "sdfc: error: cannot write shards into '$work/readonly': the folder is not writable" -- "$sdfc" render "$work/r.sdf" --shards 4 --shard-index 0 --size 8x8 --spp 64 -o "$work/readonly"
+  chmod u+w "$work/readonly"
+fi
+grep -q "filesystem error" "$work/err" && fail "library text reached the user"
+# merge: a shard that is a link to itself is a damaged shard (exit 2), named,
+# whether found in a folder or given by name ("Too many levels of symbolic
+# links", exit 4, before).
+mkdir "$work/loop"
+ln -s shard_00000.exr "$work/loop/shard_00000.exr"
+expect 2 "sdfc: error: merge: $work/loop/shard_00000.exr: a symbolic link that loops" -- "$sdfc" merge "$work/loop" -o "$work/m.exr"
+expect 2 "sdfc: error: merge: $work/loop/shard_00000.exr: a symbolic link that loops" -- "$sdfc" merge "$work/loop/shard_00000.exr" -o "$work/m.exr"
+ln -s nothing.exr "$work/loop/shard_00001.exr"
+expect 2 "sdfc: error: merge: $work/loop/shard_00001.exr: a symbolic link to nothing" -- "$sdfc" merge "$work/loop/shard_00001.exr" -o "$work/m.exr"
+mkfifo "$work/loop/fifo.exr"
+expect 2 "sdfc: error: merge: $work/loop/fifo.exr: not a regular file" -- timeout 10 "$sdfc" merge "$work/loop/fifo.exr" -o "$work/m.exr"
+# --shards more than the passes: the message's arithmetic is what the
+# renderer does (32 spp at 18 a pass were "2 passes of 18 samples").
+expect 2 "32 spp are 2 passes \(18 \+ 14 samples\); a shard takes whole passes, so use at most 2 shards" -- "$sdfc" render "$work/r.sdf" --shards 3 --shard-index 0 --spp 32 --size 232x232 -o "$work/sh"
 
 echo "$failures failure(s)"
 [ "$failures" -eq 0 ]

@@ -174,10 +174,10 @@ TEST_F(Imports, Diagnostics) {
   // Not a regular file (a device would never end, a directory is no scene).
   write("device.sdf", "import \"/dev/zero\"\nimport \"lib\"\nscene { sphere(radius: 1) }\n");
   fs::create_directories(dir_ / "lib");
-  expectDiagnostics("device.sdf", "DIR/device.sdf:1:8: error: '/dev/zero' is not a regular file\n"
+  expectDiagnostics("device.sdf", "DIR/device.sdf:1:8: error: cannot import '/dev/zero': it is not a regular file (a FIFO, device or socket)\n"
                 "import \"/dev/zero\"\n"
                 "       ^~~~~~~~~~~\n"
-                "DIR/device.sdf:2:8: error: 'DIR/lib' is not a regular file\n"
+                "DIR/device.sdf:2:8: error: cannot import 'DIR/lib': it is a directory, not a scene file\n"
                 "import \"lib\"\n"
                 "       ^~~~~\n");
   // An imported file sees its own names and its imports', not its importer's or a sibling's.

@@ -151,6 +151,35 @@ r = c.request("textDocument/definition", {**pdoc, "position": pos(ptext, "parts.
 check("definition across files", r and r["uri"].endswith("/parts.sdf") and "%20" in r["uri"] and
       r["range"]["start"] == {"line": 0, "character": 4}, r)
 
+# Hover on a call of an imported definition: its signature and text (it was
+# null; issue 47 item 19).
+h = c.request("textDocument/hover", {**pdoc, "position": pos(ptext, "parts.post", delta=7)})["result"]
+value = h["contents"]["value"] if h else ""
+check("hover an imported definition's call",
+      "parts.post(h: a number, r: a number = 0.2)" in value and "parts.sdf" in value and
+      "cylinder(radius: r, height: h)" in value, value)
+
+# A document over the server's size limit is kept, not analysed: one error
+# diagnostic says so, requests on it fail, and it is analysed again once
+# an edit brings it under (a 28 MB document took 7.7 GB, then the server aborted).
+buri = "file:///tmp/lsp_test/big.sdf"
+big = "scene { sphere(radius: 1) }\n" + "// padding\n" * 400000
+c.notify("textDocument/didOpen", {"textDocument": {"uri": buri, "languageId": "sdf", "version": 1, "text": big}})
+_, d = c.wait_notification("textDocument/publishDiagnostics", lambda m: m["params"]["uri"] == buri)
+diags = d["params"]["diagnostics"]
+check("a document over the limit: one error saying so", len(diags) == 1 and diags[0]["severity"] == 1 and
+      "the language server analyses documents up to 4.0 MiB" in diags[0]["message"], diags)
+r = c.request("textDocument/hover", {"textDocument": {"uri": buri}, "position": {"line": 0, "character": 9}})
+check("a request on a document over the limit fails", r.get("error", {}).get("code") == -32803 and
+      "4.0 MiB" in r["error"]["message"], str(r)[:300])
+c.notify("textDocument/didChange", {"textDocument": {"uri": buri, "version": 2}, "contentChanges": [
+    {"range": {"start": {"line": 1, "character": 0}, "end": {"line": 400001, "character": 0}}, "text": ""}]})
+_, d = c.wait_notification("textDocument/publishDiagnostics",
+                           lambda m: m["params"]["uri"] == buri and m["params"].get("version") == 2)
+check("under the limit again: analysed", d["params"]["diagnostics"] == [], d["params"]["diagnostics"])
+r = c.request("textDocument/hover", {"textDocument": {"uri": buri}, "position": {"line": 0, "character": 9}})
+check("under the limit again: hover answers", r.get("result") is not None, str(r)[:300])
+
 # An import diamond (each file importing the next twice, `as x` and `as y`):
 # the server answered nothing (3.5 GB) at 30 files; each file is bound once now,
 # and a name through the second alias still goes to its definition.

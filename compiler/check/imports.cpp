@@ -34,7 +34,10 @@ class Loader {
       if (s.is_import) importOne(s, source, prefix);
   }
 
-  void enter(const SourceFile& main) { stack_.push_back({identity(main.path), main.path, nullptr}); }
+  void enter(const SourceFile& main) {
+    stack_.push_back({identity(main.path), main.path, nullptr});
+    bytes_ = main.text.size();
+  }
 
  private:
   struct Frame {
@@ -47,6 +50,7 @@ class Loader {
   std::map<std::string, std::shared_ptr<SourceFile>> sources_;
   std::map<std::string, const ast::File*> trees_;
   std::map<std::string, std::string> bound_;  // file -> the prefix its definitions are bound under
+  std::uintmax_t bytes_ = 0;                  // the scene's and its imports' text read so far
 
   std::string chain(const std::string& last) const {
     std::string c;
@@ -99,10 +103,25 @@ class Loader {
   // Reads and parses a file once, however often it is imported.
   const ast::File* parsed(const ast::Statement& s, const std::string& path, const std::string& id) {
     if (auto it = trees_.find(id); it != trees_.end()) return it->second;
-    // Only regular files: a FIFO or a device (/dev/zero) would block or never end.
+    // The scene file's own rule (diag/source.h), before a byte is read: only
+    // regular files (a FIFO or a device such as /dev/zero would block or never
+    // end), none over kMaxSourceBytes, and the scene and everything it imports
+    // together within kMaxSourceBytes too (a 300 MB import ran out of memory
+    // with no file or line).
+    const std::string problem = sourceFileProblem(path);
+    if (!problem.empty()) {
+      diags_.error(s.import_path_range, "cannot import '" + path + "': " + problem);
+      trees_[id] = nullptr;
+      return nullptr;
+    }
     std::error_code ec;
-    if (std::filesystem::exists(path, ec) && !std::filesystem::is_regular_file(path, ec)) {
-      diags_.error(s.import_path_range, "'" + path + "' is not a regular file");
+    const std::uintmax_t size = std::filesystem::file_size(path, ec);
+    if (!ec && size > kMaxSourceBytes - std::min(bytes_, kMaxSourceBytes)) {
+      diags_.error(s.import_path_range,
+                   "cannot import '" + path + "': it is " + std::to_string(size >> 20) +
+                       " MiB, and with the " + std::to_string(bytes_ >> 20) +
+                       " MiB already read the scene and its imports would be more than " +
+                       std::to_string(kMaxSourceBytes >> 20) + " MiB");
       trees_[id] = nullptr;
       return nullptr;
     }
@@ -112,6 +131,7 @@ class Loader {
       trees_[id] = nullptr;
       return nullptr;
     }
+    bytes_ += file->text.size();
     std::shared_ptr<SourceFile> shared(std::move(file));
     sources_[id] = shared;
     out_.files.push_back(shared);

@@ -204,10 +204,25 @@ def plane(normal=(0, 1, 0), offset: float = 0) -> Shape:
     return Shape("plane", {"normal": _vector(normal), "offset": _number(offset)})
 
 
+def _setting_value(name: str, key: str, v) -> str:
+    if isinstance(v, str):
+        # A file name (sky's map): one line, no quotes, as the language's strings.
+        if '"' in v or "\n" in v or "\r" in v:
+            raise ValueError(f"{name}[{key!r}]: a file name cannot hold a quote or a line break: {v!r}")
+        return '"' + v + '"'
+    if isinstance(v, (int, float)):
+        return _number(v)
+    return _vector(v)
+
+
 def scene_text(shape: Shape, camera: dict | None = None, sun: dict | None = None,
-               size: Sequence[int] | None = None, spp: int | None = None) -> str:
-    """A whole .sdf file: optional render, camera and sun settings, then the scene block.
-    camera={"position": [...], "target": [...]}, sun={"direction": [...]}."""
+               size: Sequence[int] | None = None, spp: int | None = None,
+               sky: dict | None = None) -> str:
+    """A whole .sdf file: optional render, camera, sun and sky settings, then the scene block.
+    camera={"position": [...], "target": [...]}, sun={"direction": [...]},
+    sky={"color": [...]} or {"top": [...], "bottom": [...]} or
+    {"map": "studio.exr", "rotation": 30, "strength": 1} (the parameters of the
+    language's camera(...), sun(...) and sky(...), docs/language.md)."""
     lines = []
     render = []
     if size is not None:
@@ -216,10 +231,11 @@ def scene_text(shape: Shape, camera: dict | None = None, sun: dict | None = None
         render.append(f"spp: {int(spp)}")
     if render:
         lines.append("render(" + ", ".join(render) + ")")
-    for name, values in (("camera", camera), ("sun", sun)):
+    for name, values in (("camera", camera), ("sun", sun), ("sky", sky)):
         if values:
+            if not isinstance(values, dict):
+                raise TypeError(f"{name} must be a dict of {name}(...)'s parameters, got {type(values).__name__}")
             lines.append(name + "(" + ", ".join(
-                f"{k}: {_vector(v) if not isinstance(v, (int, float)) else _number(v)}"
-                for k, v in values.items()) + ")")
+                f"{k}: {_setting_value(name, k, v)}" for k, v in values.items()) + ")")
     lines.append("scene {\n" + _shape(shape).sdf(1) + "\n}")
     return "\n".join(lines) + "\n"

@@ -293,6 +293,18 @@ def test_mesh(scene, tmp_path):
     assert len(f2) > 0
 
 
+def test_mesh_errors_name_python_arguments(scene):
+    # A Python user was told to "give --box" (the command line's flag).
+    with pytest.raises(ValueError, match=r"give box=\[x0, y0, z0, x1, y1, z1\]") as e:
+        scene.mesh(resolution=16)
+    assert "--" not in str(e.value)
+    with pytest.raises(ValueError, match=r"^box must have x0 < x1") as e:
+        scene.mesh(resolution=16, box=[[1, 0, 0], [0, 1, 1]])
+    with pytest.raises(ValueError, match=r"raise voxel_size or lower resolution") as e:
+        scene.mesh(voxel_size=1e-4, box=[[-2, -0.5, -2], [2, 2.5, 2]])
+    assert "--" not in str(e.value)
+
+
 # -- the builder
 
 def test_builder_text_checks(tmp_path):
@@ -308,6 +320,25 @@ def test_builder_text_checks(tmp_path):
     scene = s.scene()
     d = scene.eval(np.array([[0.0, 0.6, 0.0], [0.0, 0.0, 0.0]]))
     assert d[0] < 0 and abs(d[1] - 0.3) < 1e-12  # in the solid; on the hole's axis
+
+
+def test_builder_sky(tmp_path):
+    # scene_text and Shape.scene take the language's sky(...) as they take
+    # camera and sun (there was no way to give one).
+    s = sdfc.sphere(1)
+    text = sdfc.scene_text(s, sky={"top": [0.45, 0.6, 0.9], "bottom": [0.9, 0.9, 0.9]})
+    assert "sky(top: [0.45, 0.6, 0.9], bottom: [0.9, 0.9, 0.9])" in text
+    path = tmp_path / "sky.sdf"
+    path.write_text(text)
+    assert run("check", str(path)).returncode == 0, text
+    dark = s.scene(sky={"color": [0, 0, 0]}, size=(16, 16)).render(spp=1)
+    bright = s.scene(sky={"color": [1, 1, 1]}, size=(16, 16)).render(spp=1)
+    assert dark[0, 0].max() < 0.05 and bright[0, 0].min() > 0.5  # a corner sees the sky
+    assert 'sky(map: "studio.exr", rotation: 30)' in sdfc.scene_text(s, sky={"map": "studio.exr", "rotation": 30})
+    with pytest.raises(ValueError, match="quote"):
+        sdfc.scene_text(s, sky={"map": 'a"b.exr'})
+    with pytest.raises(TypeError, match="dict"):
+        sdfc.scene_text(s, sky=[0, 0, 0])
 
 
 def test_builder_distances():
