@@ -111,7 +111,10 @@ class GrazingGpu : public ::testing::Test {
 
   struct Verdict {
     int pixels = 0, sky = 0, off = 0, out_of_steps = 0;
-    double worst = 0;
+    // Hits whose float64 field is beyond the hit band (a quarter pixel), and of
+    // those the ones the float64 march passes (a false hit at a silhouette).
+    int beyond_band = 0, false_hits = 0;
+    double worst = 0, worst_band = 0;
   };
 
   // The subject in the room, seen from `cameras` at w x h; every pixel
@@ -177,12 +180,22 @@ class GrazingGpu : public ::testing::Test {
           const double fp = footprint(depth), field = std::fabs(eval.distance(ro + rd * depth));
           v.worst = std::max(v.worst, field / fp);
           v.off += field > fp;
+          const double band = 0.25 * fp;
+          v.worst_band = std::max(v.worst_band, field / band);
+          if (field > band) {
+            ++v.beyond_band;
+            const bool passed = !hit64 || t64 > depth + fp;
+            v.false_hits += passed;
+            if (v.beyond_band <= 3 && std::getenv("SDFC_DEBUG_PIXELS"))
+              std::printf("beyond the band: pixel %u,%u of %s: depth %.6g field %.3g (%.3g bands), float64 %s at %.6g\n",
+                          x, y, subject.name.c_str(), depth, field, field / band, hit64 ? "hit" : "miss", t64);
+          }
         }
     }
     std::printf("[ grazing  ] %s at %ux%u: %d pixels, %d sky where float64 hits, %d off the surface (worst %.3g "
-                "footprints), %d out of steps (budget %d)\n",
-                subject.name.c_str(), w, h, v.pixels, v.sky, v.off, v.worst, v.out_of_steps,
-                int(c.emitted.limits.max_steps));
+                "footprints), %d beyond the hit band (worst %.3g bands), %d false hits, %d out of steps (budget %d)\n",
+                subject.name.c_str(), w, h, v.pixels, v.sky, v.off, v.worst, v.beyond_band, v.worst_band,
+                v.false_hits, v.out_of_steps, int(c.emitted.limits.max_steps));
     return v;
   }
 };
@@ -206,18 +219,111 @@ TEST_F(GrazingGpu, NoSkyBehindGrazedSilhouettesAt640x360) {
   for (const Subject& s : subjects()) {
     if (s.name != "ellipsoid" && s.name != "capsule" && s.name != "instances" && s.name.find("mesh") == std::string::npos)
       continue;
-    // Debian's Mesa 22.3.6 ends a shader's loops after 65,535 iterations:
-    // exact mesh traversals over 760 steps at 640x360 run past it there
-    // (1,292 pixels off), as docs/lavapipe.md says long loops may.
-    if (context_->loop_cap && s.name == "torus mesh (exact)") {
-      std::printf("[ grazing  ] %s at 640x360: skipped, the driver caps loops\n", s.name.c_str());
-      continue;
-    }
     std::vector<dvec3> cameras = {kCameras[0]};
     if (s.name == "torus mesh (grid)") cameras.push_back({3.2, 0.05, 0.4});
     const Verdict v = check(s, cameras, 640, 360);
     EXPECT_EQ(v.sky, 0) << s.name;
     EXPECT_EQ(v.off, 0) << s.name;
+  }
+}
+
+// Issue 49: the exact mesh mode is the nearest triangle's distance, so its
+// hits lie within the hit band (a quarter pixel) of the float64 surface, and
+// no ray that the float64 march passes by a silhouette hits it. A 5k-triangle
+// torus and icosphere at 640x360, from cameras near and far, level with the
+// torus's plane and through its hole. On a driver that caps loops the search
+// is rationed to a few visits per evaluation (9 here): out of visits it was
+// the grid's value, within the grid's bound, and with these cameras and two
+// more 76,967 and 8,163 hits lay beyond the band (up to 131 bands); now it is
+// a lower bound march() never stops on, and a visit descends to a leaf, so
+// the search ends in budget. (The grid mode, within its stated bound, not the
+// band, is not tested here: from those 7 cameras 66,558 of its torus hits are
+// beyond the band, up to 5.6 bands.)
+TEST_F(GrazingGpu, ExactMeshHitsLieWithinTheHitBand) {
+  const std::string ico = scratchDir() + "/ico4.stl";
+  std::ofstream(ico, std::ios::binary) << test::binaryStl(test::icosphere(4, 0.9));
+  const std::string torus = scratchDir() + "/torus.obj";
+  std::ofstream(torus, std::ios::binary) << test::obj(torusMesh(0.8, 0.3, 72, 36));
+  const std::vector<Subject> meshes = {
+      {"torus mesh (exact)", "mesh(file: \"" + torus + "\")", MeshMode::Exact},
+      {"icosphere mesh (exact)", "mesh(file: \"" + ico + "\")", MeshMode::Exact},
+  };
+  const std::vector<dvec3> cameras = {{3, 1, 3}, {3.2, 0.05, 0.4}, {0.3, 2.2, 0.2}, {1.3, 0.31, 0}, {0.2, -1.4, 1.1}};
+  const uint32_t w = 640, h = 360;
+  for (const Subject& subject : meshes) {
+    const std::string text = "camera(position: [3, 1, 3], target: [0, 0, 0], fov: 40)\nscene {\n  union {\n    " +
+                             subject.shape + "\n    subtract { sphere(radius: 9) sphere(radius: 8) }\n  }\n}\n";
+    CompileOptions options;
+    options.emit.march.image_height = h;
+    options.check.mesh_mode = subject.mesh_mode;
+    Diagnostics diags;
+    const CompiledScene c = compileSource(scratchDir() + "/band.sdf", text, options, diags);
+    ASSERT_TRUE(c.ok) << subject.name << "\n" << diags.format();
+    const Evaluator eval(c.scene);
+    Renderer r(*context_, c);
+    RenderOverrides o;
+    o.width = int(w);
+    o.height = int(h);
+    o.spp = 1;
+    o.view = gpu::kViewDepth;
+    const RenderSettings settings = renderSettingsFor(c, o);
+    int hits = 0, beyond = 0, false_hits = 0, bound_only_sky = 0;
+    double worst = 0;
+    for (const dvec3& position : cameras) {
+      CameraDesc camera = cameraFor(c.scene);
+      camera.position = glm::vec3(position);
+      const RenderOutput out = r.render(camera, settings);
+      const gpu::FrameParams f = makeFrameParams(camera, w, h, 0);
+      const dvec3 ro(f.cam_origin), right(f.cam_right), up(f.cam_up), forward(f.cam_forward);
+      const double tan_half = f.cam_origin.w, aspect = double(w) / h;
+      for (uint32_t y = 0; y < h; ++y)
+        for (uint32_t x = 0; x < w; ++x) {
+          const double nx = 2.0 * (x + 0.5) / w - 1, ny = 1 - 2.0 * (y + 0.5) / h;
+          const dvec3 rd = glm::normalize(forward + (nx * aspect * tan_half) * right + (ny * tan_half) * up);
+          const double depth = out.normal_depth.at(x, y)[3];
+          if (depth < 0) {
+            ++bound_only_sky;  // the room is behind every ray
+            continue;
+          }
+          if (glm::length(ro + rd * depth) > 7) continue;  // the room
+          ++hits;
+          // The kernel's band: a quarter pixel at t (hitEps; float's is far below).
+          const double band = depth * c.emitted.limits.pixel_cone, field = std::fabs(eval.distance(ro + rd * depth));
+          worst = std::max(worst, field / band);
+          if (field <= band) continue;
+          ++beyond;
+          // A false hit: the float64 march (stop within a band, confirmed by
+          // going clearly inside within 8 bands) passes this point.
+          double t = 0;
+          bool hit = false;
+          for (int i = 0; i < 20000 && t < depth + 4 * band && !hit; ++i) {
+            const double d = eval.distance(ro + rd * t), b = std::max(t, 1e-3) * c.emitted.limits.pixel_cone;
+            if (d >= b) {
+              t += d;
+              continue;
+            }
+            for (int j = 0; j <= 16 && !hit; ++j) hit = eval.distance(ro + rd * (t + 0.5 * j * b)) < -b;
+            if (!hit) t += std::max(d, b);
+          }
+          const bool passed = !hit || t > depth + 4 * band;
+          false_hits += passed;
+          if (beyond <= 4 && std::getenv("SDFC_DEBUG_PIXELS"))
+            std::printf("beyond the band: %s from %g %g %g, pixel %u,%u: depth %.6g, field %.3g (%.3g bands), float64 "
+                        "%s at %.6g\n",
+                        subject.name.c_str(), position.x, position.y, position.z, x, y, depth, field, field / band,
+                        hit ? "hit" : "miss", t);
+        }
+    }
+    RenderSettings on_driver = settings;
+    on_driver.loop_cap = context_->loop_cap;
+    std::printf("[ grazing  ] %s at %ux%u, %zu cameras: %d hits, %d beyond the hit band (worst %.3g bands), %d false "
+                "hits, %d sky (visits per evaluation %u)\n",
+                subject.name.c_str(), w, h, cameras.size(), hits, beyond, worst, false_hits, bound_only_sky,
+                traversalVisitsFor(on_driver, 1));
+    EXPECT_GT(hits, 100000) << subject.name;
+    EXPECT_EQ(beyond, 0) << subject.name;
+    EXPECT_EQ(false_hits, 0) << subject.name;
+    EXPECT_EQ(bound_only_sky, 0) << subject.name;
   }
 }
 

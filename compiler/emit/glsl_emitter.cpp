@@ -475,6 +475,7 @@ class SceneWriter {
  public:
   std::vector<float> takeData() { return std::move(data_); }
   int instanceSets() const { return static_cast<int>(instance_layouts_.size()); }
+  bool hasExactMesh() const { return exact_mesh_; }
   // The root point cloud of one material when its fixed-slot grid has no
   // crowded cell: its lookups and sphere normals never walk the hierarchy nor
   // loop over a list (sdSceneMaterial is sdScene's distance and a constant),
@@ -1462,6 +1463,7 @@ class SceneWriter {
       std::string call = "sdMeshGrid(%, " + std::to_string(grid) + ")";
       if (m.mode == MeshMode::Exact) {
         needHelper("sdMeshTriangle2", meshExactHelperGlsl());
+        exact_mesh_ = true;
         const MeshExactData at = appendMeshExactData(*m.distance, data_);
         const std::string name = "sdMeshExact" + std::to_string(mesh_bases_.size());
         const bool kernel = options_.with_kernel;
@@ -1482,6 +1484,7 @@ class SceneWriter {
     return d;
   }
   std::map<const MeshShape*, std::string> mesh_bases_;  // the call, % for the point
+  bool exact_mesh_ = false;  // a mesh in the exact mode: its search may end as a bound
 
   // The Menger sponge, unrolled: `level` is a compile-time constant, and a
   // loop here would count against lavapipe's loop cap at every march step.
@@ -1897,8 +1900,9 @@ EmitResult emitGlsl(const ir::Scene& scene, const EmitOptions& options) {
   if (options.with_kernel && countEventFromName(options.count_event, count_kind, count_quantity))
     result.stats.features.insert("SDFC_COUNT_EVENTS");
   result.stats.instance_sets = writer.instanceSets();
-  // Traversals that may run out of visits where the driver caps loops.
-  if (options.with_kernel && result.stats.instance_sets > 0) result.stats.features.insert("SDFC_HAS_BOUND_ONLY");
+  // Traversals (instance sets, exact meshes) that may run out of visits where the driver caps loops.
+  if (options.with_kernel && (result.stats.instance_sets > 0 || writer.hasExactMesh()))
+    result.stats.features.insert("SDFC_HAS_BOUND_ONLY");
   result.stats.traversals_per_evaluation =
       scene.root ? traversalsPerEvaluation(*scene.root, writer.traversalFreeSet()) : 0;
   result.scene_data = writer.takeData();

@@ -199,7 +199,7 @@ std::string dumpNode(const Node& n, int indent) {
         if (m.mode == MeshMode::Exact)
           std::snprintf(buf, sizeof buf,
                         "exact (%s): the nearest triangle within %g of the surface, signed by the grid where "
-                        "|grid| > %g, else by the nearest face; farther, the grid less %g; grid ",
+                        "|grid| > %g, else by the nearest feature's pseudo-normal; farther, the grid less %g; grid ",
                         m.mode_reason.c_str(), kMeshExactNear * g.errorBound(), g.errorBound(), g.errorBound());
         else
           std::snprintf(buf, sizeof buf, "grid (%s) ", m.mode_reason.c_str());
