@@ -247,6 +247,65 @@ def test_device_that_cannot_be_created(scene):
     assert isinstance(sdfc.DeviceError("x"), RuntimeError)
 
 
+def cli_driver():
+    """`sdfc devices`' driver line and its devices' driver texts (e.g. "Mesa 25.0.7"),
+    in the environment this process started with (os.environ: not the loader's
+    variables the module's driver selection set in the C environment since)."""
+    out = subprocess.run([SDFC, "devices"], capture_output=True, text=True, env=dict(os.environ))
+    assert out.returncode == 0, out.stderr
+    lines = out.stdout.splitlines()
+    assert lines[0].startswith("driver: "), out.stdout
+    return lines[0][len("driver: "):], [line.rsplit(", ", 1)[1].rstrip(")") for line in lines[1:]]
+
+
+def python_driver(**env):
+    """sdfc.driver() in a fresh process with `env` added (None removes a variable)."""
+    child_env = dict(os.environ, PYTHONPATH=os.pathsep.join(sys.path))
+    for key, value in env.items():
+        child_env.pop(key, None) if value is None else child_env.__setitem__(key, value)
+    out = subprocess.run([sys.executable, "-c", "import sdfc, json; print(json.dumps(sdfc.driver()))"],
+                         capture_output=True, text=True, env=child_env)
+    return out
+
+
+def test_driver_is_the_command_lines():
+    # The package renders on the driver `sdfc render` uses, so their images are the
+    # same bits (test_render_bit_equal_to_cli): an installed wheel carries the
+    # bundled lavapipe when it was built beside one (docs/python.md).
+    info = sdfc.driver()
+    assert info["choice"] in ("auto", "system", "bundled") and info["reason"]
+    reason, drivers = cli_driver()
+    assert info["bundled"] == reason.startswith("bundled lavapipe"), (info, reason)
+    assert [d["driver"] for d in info["devices"]] == drivers, (info, drivers)
+    if info["bundled"]:
+        assert info["manifest"].endswith("lvp_icd.x86_64.json") and os.path.isfile(info["manifest"])
+        assert any(d.startswith("Mesa 25.") for d in drivers), drivers
+        if os.environ.get("SDFC_EXPECT_WHEEL_DRIVER") == "1":  # tools/python_wheel_check.sh
+            package = os.path.dirname(os.path.realpath(sdfc.__file__))
+            assert info["manifest"] == os.path.join(package, "lavapipe-25", "lvp_icd.x86_64.json"), info
+    else:
+        assert info["manifest"] == ""
+
+
+def test_driver_chosen_by_the_environment():
+    system = python_driver(SDFC_DRIVER="system", SDFC_LAVAPIPE=None)
+    assert system.returncode == 0, system.stderr
+    assert '"bundled": false' in system.stdout and "--driver system" in system.stdout
+    missing = python_driver(SDFC_DRIVER=None, SDFC_LAVAPIPE="/nonexistent/lavapipe")
+    assert missing.returncode != 0
+    assert "DeviceError" in missing.stderr and "SDFC_LAVAPIPE=/nonexistent/lavapipe" in missing.stderr
+    info = sdfc.driver()
+    if info["bundled"]:
+        # SDFC_LAVAPIPE names a folder (the one in use here) or its manifest.
+        folder = os.path.dirname(info["manifest"])
+        for named in (folder, info["manifest"]):
+            chosen = python_driver(SDFC_DRIVER=None, SDFC_LAVAPIPE=named, VK_DRIVER_FILES=None,
+                                   VK_ICD_FILENAMES=None)
+            assert chosen.returncode == 0, chosen.stderr
+            assert '"bundled": true' in chosen.stdout and "SDFC_LAVAPIPE" in chosen.stdout
+            assert "Mesa 25." in chosen.stdout
+
+
 def test_ctrl_c_raises_keyboard_interrupt(scene_file):
     # A render of many passes in a child; SIGINT after its first pass must end it
     # with KeyboardInterrupt within about a pass.
