@@ -1,7 +1,9 @@
 """The Python package against the command line: every function, its error paths,
 and the bit-for-bit equalities (eval, render, glsl, spirv). SDFC names the
 command-line binary (CTest sets it; default build/cli/sdfc)."""
+import json
 import os
+import shutil
 import signal
 import subprocess
 import sys
@@ -304,6 +306,49 @@ def test_driver_chosen_by_the_environment():
             assert chosen.returncode == 0, chosen.stderr
             assert '"bundled": true' in chosen.stdout and "SDFC_LAVAPIPE" in chosen.stdout
             assert "Mesa 25." in chosen.stdout
+
+
+def test_package_renders_with_the_lavapipe_beside_it(scene_file, tmp_path):
+    # The layout a wheel installs (python/CMakeLists.txt): sdfc/lavapipe-25/ with the
+    # driver, its libdrm and a manifest naming "./libvulkan_lvp.so". A copy of this
+    # package laid out so, in a fresh process, must render with that copy of the
+    # driver (not the build tree's) and give the command line's bits.
+    info = sdfc.driver()
+    if not info["bundled"]:
+        pytest.skip("no bundled lavapipe")
+    with open(info["manifest"]) as f:
+        manifest = json.load(f)
+    library = os.path.join(os.path.dirname(info["manifest"]), manifest["ICD"]["library_path"])
+    package = tmp_path / "site" / "sdfc"
+    shutil.copytree(os.path.dirname(os.path.realpath(sdfc.__file__)), package,
+                    ignore=shutil.ignore_patterns("lavapipe-25", "__pycache__"))
+    lvp = package / "lavapipe-25"
+    lvp.mkdir()
+    shutil.copy(library, lvp / "libvulkan_lvp.so")
+    shutil.copy(os.path.realpath(os.path.join(os.path.dirname(library), "libdrm.so.2")), lvp / "libdrm.so.2")
+    manifest["ICD"]["library_path"] = "./libvulkan_lvp.so"
+    (lvp / "lvp_icd.x86_64.json").write_text(json.dumps(manifest))
+    child = textwrap.dedent(f"""\
+        import json, sys, numpy as np, sdfc
+        image = sdfc.load({scene_file!r}).render()
+        np.save(sys.argv[1], image)
+        mapped = sorted({{l.split()[-1] for l in open("/proc/self/maps") if "libvulkan_lvp" in l}})
+        print(json.dumps(dict(sdfc.driver(), mapped=mapped)))
+        """)
+    env = {k: v for k, v in os.environ.items()
+           if k not in ("SDFC_DRIVER", "SDFC_LAVAPIPE", "VK_DRIVER_FILES", "VK_ICD_FILENAMES")}
+    env["PYTHONPATH"] = str(tmp_path / "site")
+    out = subprocess.run([sys.executable, "-c", child, str(tmp_path / "image.npy")],
+                         capture_output=True, text=True, env=env, cwd=tmp_path)
+    assert out.returncode == 0, out.stderr
+    got = json.loads(out.stdout.splitlines()[-1])
+    assert got["bundled"] and got["manifest"] == str(lvp / "lvp_icd.x86_64.json"), got
+    assert got["mapped"] == [str(lvp / "libvulkan_lvp.so")], got
+    exr = tmp_path / "cli.exr"
+    cli = subprocess.run([SDFC, "render", scene_file, "-o", str(exr), "--quiet"], capture_output=True, env=env)
+    assert cli.returncode == 0, cli.stderr
+    image = np.load(tmp_path / "image.npy")
+    assert np.array_equal(image.view(np.uint32), sdfc.read_image(str(exr)).view(np.uint32))
 
 
 def test_ctrl_c_raises_keyboard_interrupt(scene_file):
