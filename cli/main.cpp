@@ -25,8 +25,13 @@ int main(int argc, char** argv) {
   // The version line also names the Vulkan driver a render would use by default
   // (SDFC_DRIVER or auto; --driver on the same command line is not seen here).
   app.set_version_flag("--version", [] {
-    return std::string("sdfc ") + kSdfcVersion + "\ncommit: " + kSdfcRevision +
-           "\ndriver: " + selectedDriver().reason;
+    std::string driver;
+    try {
+      driver = selectedDriver().reason;
+    } catch (const RuntimeError& e) {  // SDFC_LAVAPIPE naming nothing
+      driver = std::string("error: ") + e.what();
+    }
+    return std::string("sdfc ") + kSdfcVersion + "\ncommit: " + kSdfcRevision + "\ndriver: " + driver;
   });
   app.require_subcommand(1);
   // Accepted before or after the subcommand (fallthrough hands it up to here).

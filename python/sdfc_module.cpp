@@ -36,6 +36,7 @@
 #include "spirv/glsl_to_spirv.h"
 #include "spirv/spirv_cache.h"
 #include "vk_check.h"
+#include "vulkan_context.h"
 
 namespace py = pybind11;
 using namespace sdfc;
@@ -515,6 +516,30 @@ PYBIND11_MODULE(_sdfc, m) {
       .def("mesh", &PyScene::mesh, py::arg("resolution") = 128, py::arg("voxel_size") = py::none(),
            py::arg("box") = py::none(), py::arg("time") = 0.0, py::arg("threads") = 0);
 
+  m.def(
+      "driver",
+      [] {
+        // The same selection as the command line's (runtime/driver_select.h), made
+        // now if no render has made it yet; listing the devices loads the driver.
+        const DriverSelection& s = selectedDriver();
+        py::dict d;
+        d["choice"] = driverChoiceName(s.requested);
+        d["bundled"] = s.bundled;
+        d["manifest"] = s.icd;
+        d["reason"] = s.reason;
+        py::list devices;
+        for (const DeviceInfo& info : listDevices()) {
+          py::dict dev;
+          dev["index"] = info.index;
+          dev["name"] = info.name;
+          dev["type"] = deviceTypeName(info.type);
+          dev["driver"] = info.driver;
+          devices.append(dev);
+        }
+        d["devices"] = devices;
+        return d;
+      },
+      "The Vulkan driver this process renders with, as `sdfc devices` reports it");
   m.def(
       "option_limits",
       [] {

@@ -32,6 +32,19 @@ std::string executableDir() {
   return parentDir(std::string(buffer, static_cast<size_t>(n)));
 }
 
+// The folder of the file this code was loaded from when it is not the
+// executable: the Python module (site-packages/sdfc/_sdfc*.so), beside which
+// a wheel carries its lavapipe-25/ ("" for the executable itself).
+std::string sharedObjectDir() {
+  Dl_info info{};
+  if (!dladdr(reinterpret_cast<void*>(&sharedObjectDir), &info) || !info.dli_fname) return "";
+  char resolved[PATH_MAX];
+  if (!realpath(info.dli_fname, resolved)) return "";
+  char exe[PATH_MAX];
+  if (realpath("/proc/self/exe", exe) && std::string(exe) == resolved) return "";
+  return parentDir(resolved);
+}
+
 // The manifest's "library_path", resolved against the manifest's folder the way
 // the loader does for a relative path ("" when unreadable).
 std::string manifestLibrary(const std::string& manifest) {
@@ -103,16 +116,24 @@ DriverSelection apply(DriverChoice choice) {
     s.reason = "system drivers (--driver system)";
     return s;
   }
-  if (choice == DriverChoice::Auto && user_set) {
+  // SDFC_LAVAPIPE names the driver to use: its absence is an error, not a
+  // silent fall back to the system's (whose images may differ).
+  const char* user_env = std::getenv("SDFC_LAVAPIPE");
+  const std::string user_dir = user_env ? user_env : "";
+  if (choice == DriverChoice::Auto && user_set && user_dir.empty()) {
     s.reason = "VK_DRIVER_FILES / VK_ICD_FILENAMES set by the user";
     return s;
   }
+  const bool must = choice == DriverChoice::Bundled || !user_dir.empty();
+  const std::string who = user_dir.empty() ? "--driver bundled" : "SDFC_LAVAPIPE=" + user_dir;
   const std::string manifest = bundledDriverManifest();
   const std::string library = manifest.empty() ? "" : manifestLibrary(manifest);
   if (!fileExists(library)) {
-    if (choice == DriverChoice::Bundled)
-      throw RuntimeError("--driver bundled: no bundled lavapipe (run tools/lavapipe25.sh fetch)");
-    s.reason = "system drivers (no bundled lavapipe; tools/lavapipe25.sh fetch adds it)";
+    if (!user_dir.empty())
+      throw RuntimeError(who + ": no lavapipe there (a folder holding " + kManifestName +
+                         " and the library it names, such as a checkout's build/lavapipe-25, or that file)");
+    if (must) throw RuntimeError(who + ": no bundled lavapipe (run tools/lavapipe25.sh fetch)");
+    s.reason = "system drivers (no bundled lavapipe; tools/lavapipe25.sh fetch adds it, SDFC_LAVAPIPE names one)";
     return s;
   }
   // The bundled driver links libdrm >= 2.4.121 (the system has 2.4.114): loaded
@@ -120,8 +141,7 @@ DriverSelection apply(DriverChoice choice) {
   // is read only at process start, so setting it here would be too late).
   const std::string libdrm = parentDir(library) + "/libdrm.so.2";
   if (!dlopen(libdrm.c_str(), RTLD_NOW | RTLD_GLOBAL)) {
-    if (choice == DriverChoice::Bundled)
-      throw RuntimeError("--driver bundled: cannot load " + libdrm);
+    if (must) throw RuntimeError(who + ": cannot load " + libdrm);
     s.reason = "system drivers (bundled lavapipe's libdrm failed to load)";
     return s;
   }
@@ -133,6 +153,7 @@ DriverSelection apply(DriverChoice choice) {
   s.icd = manifest;
   s.reason = choice == DriverChoice::Bundled ? "bundled lavapipe (--driver bundled)"
                                              : "bundled lavapipe (default when present)";
+  if (!user_dir.empty()) s.reason.insert(s.reason.size() - 1, ", SDFC_LAVAPIPE");
   return s;
 }
 
@@ -162,12 +183,22 @@ DriverChoice driverChoiceFromEnv() {
 }
 
 std::string bundledDriverManifest() {
-  const std::string exe_dir = executableDir();
   std::vector<std::string> candidates;
-  if (!exe_dir.empty()) candidates.push_back(exe_dir + "/../lavapipe-25/" + kManifestName);
+  const char* user = std::getenv("SDFC_LAVAPIPE");
+  if (user && *user) {
+    // The user's folder (or manifest) and nothing else.
+    const std::string u = user;
+    const bool is_manifest = u.size() > 5 && u.compare(u.size() - 5, 5, ".json") == 0;
+    candidates.push_back(is_manifest ? u : u + "/" + kManifestName);
+  } else {
+    const std::string module_dir = sharedObjectDir();
+    if (!module_dir.empty()) candidates.push_back(module_dir + "/lavapipe-25/" + kManifestName);
+    const std::string exe_dir = executableDir();
+    if (!exe_dir.empty()) candidates.push_back(exe_dir + "/../lavapipe-25/" + kManifestName);
 #ifdef SDFC_BUNDLED_DRIVER_DIR
-  candidates.push_back(std::string(SDFC_BUNDLED_DRIVER_DIR) + "/" + kManifestName);
+    candidates.push_back(std::string(SDFC_BUNDLED_DRIVER_DIR) + "/" + kManifestName);
 #endif
+  }
   for (const std::string& c : candidates) {
     if (!fileExists(c)) continue;
     char resolved[PATH_MAX];

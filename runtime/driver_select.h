@@ -27,8 +27,11 @@ const char* driverChoiceName(DriverChoice choice);
 // The choice from env SDFC_DRIVER (auto when unset or unknown).
 DriverChoice driverChoiceFromEnv();
 
-// The bundled manifest next to this executable's build tree ("" when absent):
-// <exe dir>/../lavapipe-25/lvp_icd.x86_64.json, then the configured build dir.
+// The bundled manifest ("" when absent): env SDFC_LAVAPIPE's folder (or the
+// manifest it names) alone when set; otherwise, in order, lavapipe-25/ beside
+// the Python module (an installed wheel carries one there), <exe
+// dir>/../lavapipe-25/, then the configured build tree's (not in a wheel).
+// Each is a folder holding lvp_icd.x86_64.json.
 std::string bundledDriverManifest();
 
 // Whether `dev` (normally /dev) has a node a GPU driver opens: a DRM render
@@ -38,7 +41,8 @@ bool hasGpuDeviceNode(const std::string& dev = "/dev");
 
 // Applies `choice` once per process (later calls return the first result):
 // sets or clears VK_DRIVER_FILES / VK_ICD_FILENAMES and preloads the bundled
-// libdrm. Throws RuntimeError when Bundled is asked for and absent. Must run
+// libdrm. Throws RuntimeError when Bundled is asked for and absent, or when
+// SDFC_LAVAPIPE is set and names no manifest (System excepted). Must run
 // before the first Vulkan call; createContext() and listDevices() call
 // selectedDriver() themselves.
 const DriverSelection& selectDriver(DriverChoice choice);

@@ -5,6 +5,7 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <sys/wait.h>
 #include <unistd.h>
 #include <string>
 
@@ -95,6 +96,37 @@ TEST(DriverSelect, CommandLineReportsAndOverrides) {
   }
   runCommand(env + kSdfc + " --driver mesa25 devices 2>/dev/null", status);
   EXPECT_NE(status, 0);
+}
+
+// SDFC_LAVAPIPE names the lavapipe to use (a folder or its manifest), as an
+// installed Python package does; a name that holds none is an error, never a
+// silent fall back to the system's driver.
+TEST(DriverSelect, SdfcLavapipeNamesTheDriver) {
+  int status = 0;
+  const std::string env = "env -u VK_DRIVER_FILES -u VK_ICD_FILENAMES -u SDFC_DRIVER ";
+  const std::string missing =
+      runCommand(env + "SDFC_LAVAPIPE=/nonexistent/lvp " + kSdfc + " devices 2>&1", status);
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 3) << status << missing;  // kExitDevice
+  EXPECT_NE(missing.find("SDFC_LAVAPIPE=/nonexistent/lvp: no lavapipe there"), std::string::npos)
+      << missing;
+  const std::string version =
+      runCommand(env + "SDFC_LAVAPIPE=/nonexistent/lvp " + kSdfc + " --version", status);
+  EXPECT_EQ(status, 0);
+  EXPECT_NE(version.find("driver: error: SDFC_LAVAPIPE"), std::string::npos) << version;
+  // --driver system wins: the variable names where a bundled driver is, not which to use.
+  runCommand(env + "SDFC_LAVAPIPE=/nonexistent/lvp " + kSdfc + " --driver system devices", status);
+  EXPECT_EQ(status, 0);
+  const std::string manifest = bundledDriverManifest();
+  if (manifest.empty()) GTEST_SKIP() << "no bundled lavapipe";
+  const std::string folder = manifest.substr(0, manifest.rfind('/'));
+  for (const std::string& named : {folder, manifest}) {
+    const std::string out =
+        runCommand(env + "SDFC_LAVAPIPE='" + named + "' " + kSdfc + " devices", status);
+    EXPECT_EQ(status, 0);
+    EXPECT_NE(out.find("bundled lavapipe (default when present, SDFC_LAVAPIPE)"), std::string::npos)
+        << out;
+    EXPECT_NE(out.find("Mesa 25."), std::string::npos) << out;
+  }
 }
 
 // A machine without a GPU device node lists the bundled lavapipe alone: the

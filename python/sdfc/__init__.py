@@ -23,7 +23,7 @@ from .builder import (Material, Shape, box, capsule, cone, cylinder, diffuse, em
 __version__ = _sdfc.__version__
 
 __all__ = [
-    "load", "parse", "Scene", "SceneError", "Diagnostic", "DeviceError", "read_image",
+    "load", "parse", "driver", "Scene", "SceneError", "Diagnostic", "DeviceError", "read_image",
     "Shape", "Material", "sphere", "box", "torus", "cylinder", "cone", "capsule", "plane",
     "union", "intersect", "subtract", "diffuse", "mirror", "glass", "metal", "emissive", "scene_text",
 ]
@@ -202,6 +202,17 @@ def parse(text: str, name: str = "<string>", defines: Mapping[str, float] | None
     """Checks .sdf `text`; `name` is what diagnostics call it (imports resolve from
     its folder). Raises SceneError with the diagnostics."""
     return _checked(_sdfc.parse(str(text), name, _defines(defines), list(disabled_warnings), werror))
+
+
+def driver() -> dict:
+    """The Vulkan driver this process renders with, chosen once per process as
+    `sdfc render` chooses it (docs/python.md): `bundled` is True for the Mesa 25
+    lavapipe a wheel carries (or SDFC_LAVAPIPE names), `manifest` its ICD file,
+    `reason` the line `sdfc devices` prints after "driver: ", `choice` SDFC_DRIVER's
+    value (auto, system, bundled), `devices` the devices it lists (index, name,
+    type, driver: e.g. "Mesa 25.0.7"). Set SDFC_DRIVER or SDFC_LAVAPIPE in the
+    environment before the first render or call of this function to choose."""
+    return _sdfc.driver()
 
 
 def png_bytes(image) -> bytes:

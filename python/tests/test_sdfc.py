@@ -1,7 +1,9 @@
 """The Python package against the command line: every function, its error paths,
 and the bit-for-bit equalities (eval, render, glsl, spirv). SDFC names the
 command-line binary (CTest sets it; default build/cli/sdfc)."""
+import json
 import os
+import shutil
 import signal
 import subprocess
 import sys
@@ -245,6 +247,108 @@ def test_device_that_cannot_be_created(scene):
     with pytest.raises(sdfc.DeviceError):
         scene.render(size=(8, 8), spp=1, device=99)
     assert isinstance(sdfc.DeviceError("x"), RuntimeError)
+
+
+def cli_driver():
+    """`sdfc devices`' driver line and its devices' driver texts (e.g. "Mesa 25.0.7"),
+    in the environment this process started with (os.environ: not the loader's
+    variables the module's driver selection set in the C environment since)."""
+    out = subprocess.run([SDFC, "devices"], capture_output=True, text=True, env=dict(os.environ))
+    assert out.returncode == 0, out.stderr
+    lines = out.stdout.splitlines()
+    assert lines[0].startswith("driver: "), out.stdout
+    return lines[0][len("driver: "):], [line.rsplit(", ", 1)[1].rstrip(")") for line in lines[1:]]
+
+
+def python_driver(**env):
+    """sdfc.driver() in a fresh process with `env` added (None removes a variable)."""
+    child_env = dict(os.environ, PYTHONPATH=os.pathsep.join(sys.path))
+    for key, value in env.items():
+        child_env.pop(key, None) if value is None else child_env.__setitem__(key, value)
+    out = subprocess.run([sys.executable, "-c", "import sdfc, json; print(json.dumps(sdfc.driver()))"],
+                         capture_output=True, text=True, env=child_env)
+    return out
+
+
+def test_driver_is_the_command_lines():
+    # The package renders on the driver `sdfc render` uses, so their images are the
+    # same bits (test_render_bit_equal_to_cli): an installed wheel carries the
+    # bundled lavapipe when it was built beside one (docs/python.md).
+    info = sdfc.driver()
+    assert info["choice"] in ("auto", "system", "bundled") and info["reason"]
+    reason, drivers = cli_driver()
+    assert info["bundled"] == reason.startswith("bundled lavapipe"), (info, reason)
+    assert [d["driver"] for d in info["devices"]] == drivers, (info, drivers)
+    if info["bundled"]:
+        assert info["manifest"].endswith("lvp_icd.x86_64.json") and os.path.isfile(info["manifest"])
+        assert any(d.startswith("Mesa 25.") for d in drivers), drivers
+        if os.environ.get("SDFC_EXPECT_WHEEL_DRIVER") == "1":  # tools/python_wheel_check.sh
+            package = os.path.dirname(os.path.realpath(sdfc.__file__))
+            assert info["manifest"] == os.path.join(package, "lavapipe-25", "lvp_icd.x86_64.json"), info
+    else:
+        assert info["manifest"] == ""
+
+
+def test_driver_chosen_by_the_environment():
+    system = python_driver(SDFC_DRIVER="system", SDFC_LAVAPIPE=None)
+    assert system.returncode == 0, system.stderr
+    assert '"bundled": false' in system.stdout and "--driver system" in system.stdout
+    missing = python_driver(SDFC_DRIVER=None, SDFC_LAVAPIPE="/nonexistent/lavapipe")
+    assert missing.returncode != 0
+    assert "DeviceError" in missing.stderr and "SDFC_LAVAPIPE=/nonexistent/lavapipe" in missing.stderr
+    info = sdfc.driver()
+    if info["bundled"]:
+        # SDFC_LAVAPIPE names a folder (the one in use here) or its manifest.
+        folder = os.path.dirname(info["manifest"])
+        for named in (folder, info["manifest"]):
+            chosen = python_driver(SDFC_DRIVER=None, SDFC_LAVAPIPE=named, VK_DRIVER_FILES=None,
+                                   VK_ICD_FILENAMES=None)
+            assert chosen.returncode == 0, chosen.stderr
+            assert '"bundled": true' in chosen.stdout and "SDFC_LAVAPIPE" in chosen.stdout
+            assert "Mesa 25." in chosen.stdout
+
+
+def test_package_renders_with_the_lavapipe_beside_it(scene_file, tmp_path):
+    # The layout a wheel installs (python/CMakeLists.txt): sdfc/lavapipe-25/ with the
+    # driver, its libdrm and a manifest naming "./libvulkan_lvp.so". A copy of this
+    # package laid out so, in a fresh process, must render with that copy of the
+    # driver (not the build tree's) and give the command line's bits.
+    info = sdfc.driver()
+    if not info["bundled"]:
+        pytest.skip("no bundled lavapipe")
+    with open(info["manifest"]) as f:
+        manifest = json.load(f)
+    library = os.path.join(os.path.dirname(info["manifest"]), manifest["ICD"]["library_path"])
+    package = tmp_path / "site" / "sdfc"
+    shutil.copytree(os.path.dirname(os.path.realpath(sdfc.__file__)), package,
+                    ignore=shutil.ignore_patterns("lavapipe-25", "__pycache__"))
+    lvp = package / "lavapipe-25"
+    lvp.mkdir()
+    shutil.copy(library, lvp / "libvulkan_lvp.so")
+    shutil.copy(os.path.realpath(os.path.join(os.path.dirname(library), "libdrm.so.2")), lvp / "libdrm.so.2")
+    manifest["ICD"]["library_path"] = "./libvulkan_lvp.so"
+    (lvp / "lvp_icd.x86_64.json").write_text(json.dumps(manifest))
+    child = textwrap.dedent(f"""\
+        import json, sys, numpy as np, sdfc
+        image = sdfc.load({scene_file!r}).render()
+        np.save(sys.argv[1], image)
+        mapped = sorted({{l.split()[-1] for l in open("/proc/self/maps") if "libvulkan_lvp" in l}})
+        print(json.dumps(dict(sdfc.driver(), mapped=mapped)))
+        """)
+    env = {k: v for k, v in os.environ.items()
+           if k not in ("SDFC_DRIVER", "SDFC_LAVAPIPE", "VK_DRIVER_FILES", "VK_ICD_FILENAMES")}
+    env["PYTHONPATH"] = str(tmp_path / "site")
+    out = subprocess.run([sys.executable, "-c", child, str(tmp_path / "image.npy")],
+                         capture_output=True, text=True, env=env, cwd=tmp_path)
+    assert out.returncode == 0, out.stderr
+    got = json.loads(out.stdout.splitlines()[-1])
+    assert got["bundled"] and got["manifest"] == str(lvp / "lvp_icd.x86_64.json"), got
+    assert got["mapped"] == [str(lvp / "libvulkan_lvp.so")], got
+    exr = tmp_path / "cli.exr"
+    cli = subprocess.run([SDFC, "render", scene_file, "-o", str(exr), "--quiet"], capture_output=True, env=env)
+    assert cli.returncode == 0, cli.stderr
+    image = np.load(tmp_path / "image.npy")
+    assert np.array_equal(image.view(np.uint32), sdfc.read_image(str(exr)).view(np.uint32))
 
 
 def test_ctrl_c_raises_keyboard_interrupt(scene_file):
