@@ -271,6 +271,25 @@ def many_parts_headline():
     return lines + [""]
 
 
+def bounds_plan_headline():
+    """The headline of bench/bounds_plan.py's last run (results/bounds_plan.csv):
+    the planned bounding-volume checks against none and all, per scene."""
+    path = os.path.join(HERE, "results", "bounds_plan.csv")
+    if not os.path.exists(path):
+        return []
+    with open(path) as f:
+        rows = list(csv.DictReader(f))
+    lines = ["## Bounding-volume checks on lavapipe (headline of results/bounds_plan.md)", "",
+             "CPU seconds of a render with no checks over those of the compiler's plan (the default) "
+             "and of every check (`--bounds`); run `bench/bounds_plan.py` to refresh.", "",
+             "| scene | checks kept | planned | all |", "|---|---|---|---|"]
+    for r in rows:
+        none = float(r["none_cpu_s"])
+        lines.append(f"| {r['scene']} | {r['checks_planned']} of {r['checks_all']} | "
+                     f"{none / float(r['planned_cpu_s']):.2f}x | {none / float(r['all_cpu_s']):.2f}x |")
+    return lines + [""]
+
+
 def write_report(args, info, conv_rows, speedups, geo_rows, plots, elapsed, mitsuba=None):
     rel = lambda p: os.path.relpath(p, os.path.dirname(args.report))
     lines = ["# sdfc benchmark results", "",
@@ -289,9 +308,10 @@ def write_report(args, info, conv_rows, speedups, geo_rows, plots, elapsed, mits
              "for denoised configurations, their extra process time over `derived`; compile and "
              "pipeline creation are timed separately (columns `compile_ms`, `pipeline_ms`).",
              "",
-             "**lavapipe executes both sides of every `if` under a lane mask**: skipping a subtree "
-             "by its bounding volume saves no time here (it would on a GPU), only loops exit early "
-             "when all 8 lanes are done. So besides time we report logical work: primary-ray "
+             "**lavapipe executes both sides of every `if` under a lane mask** unless all 8 lanes "
+             "agree: skipping a subtree by its bounding volume pays only where whole groups skip "
+             "(results/bounds_plan.md), and loops exit early only when all 8 lanes are done. "
+             "So besides time we report logical work: primary-ray "
              "steps and loop iterations per pixel (`--view iterations`: one sdScene evaluation per "
              "march or normal iteration). Neither counts the nodes a bound skips inside one "
              "evaluation, so the benefit of bounds is not visible in these numbers either.", ""]
@@ -333,6 +353,7 @@ def write_report(args, info, conv_rows, speedups, geo_rows, plots, elapsed, mits
             lines.append(f"![{os.path.basename(p)}]({rel(p)})")
         lines.append("")
     lines += many_parts_headline()
+    lines += bounds_plan_headline()
     if geo_rows:
         lines += ["## Primary-ray geometry (hit distance against float64 roots)", "",
                   "Depth AOV (1 spp, unjittered pixel-centre ray) against the first sign change "
