@@ -336,7 +336,7 @@ float sd_sector(vec3 p) {
 }
 float sdScene(vec3 p) {
   float d0 = 1e30;  // line 12 union
-  float b1 = sdBound(p, vec3(0.0, 0.85, 0.0), vec3(0.926)) * 0.230263158;
+  float b1 = sdBound(p, vec3(0.0, 0.85, 0.0), vec3(0.926));
   if (subgroupAny(b1 < d0)) {
    if (b1 > 0.160387905) {
     d0 = min(d0, b1);
@@ -344,45 +344,17 @@ float sdScene(vec3 p) {
   vec3 p2 = p + vec3(0.0, -0.85, 0.0);  // line 14 transform
   float d3 = sdSphere(p2, 0.8);  // line 15 sphere
   vec3 p4 = p2 * 2.5;  // line 15 displace
-  float d5 = (d3 + 0.12 * (sdGradientNoise(p4) + 0.5 * sdGradientNoise(2.0 * p4) + 0.25 * sdGradientNoise(4.0 * p4)) * 0.571428571) * 0.230263158;
+  float d5 = (d3 + 0.12 * (sdGradientNoise(p4) + 0.5 * sdGradientNoise(2.0 * p4) + 0.25 * sdGradientNoise(4.0 * p4)) * 0.571428571) * 0.266371882;
+  float b6 = sdBound(p2, vec3(0.0), vec3(0.926));
+  d5 = b6 > 0.0 ? max(d5, b6) : d5;
   d0 = min(d0, d5);
    }
   }
-  float b6 = sdBound(p, vec3(0.0, 0.35, 0.0), vec3(3.74589342, 0.35, 3.74589342)) * 0.828864513;
-  if (subgroupAny(b6 < d0)) {
-   if (b6 > 0.530904276) {
-    d0 = min(d0, b6);
-   } else {
-  float i7 = round(atan(p.z, p.x) / 1.25663706);  // line 17 repeat_polar
-  float a9 = (i7 - 1.0) * 1.25663706;
-  vec3 p10 = vec3(cos(a9) * p.x + sin(a9) * p.z, p.y, cos(a9) * p.z - sin(a9) * p.x);
-  float d8 = sd_sector(p10);
-  float a11 = (i7) * 1.25663706;
-  vec3 p12 = vec3(cos(a11) * p.x + sin(a11) * p.z, p.y, cos(a11) * p.z - sin(a11) * p.x);
-  float r13 = sd_sector(p12);
-  d8 = min(d8, r13);
-  float a14 = (i7 + 1.0) * 1.25663706;
-  vec3 p15 = vec3(cos(a14) * p.x + sin(a14) * p.z, p.y, cos(a14) * p.z - sin(a14) * p.x);
-  float r16 = sd_sector(p15);
-  d8 = min(d8, r16);
-  d0 = min(d0, d8);
-   }
-  }
-  return d0;
-}
-vec2 sdSceneMaterial(vec3 p) {
-  vec2 d0 = vec2(1e30, -1.0);  // line 12 union
-  float b1 = sdBound(p, vec3(0.0, 0.85, 0.0), vec3(0.926)) * 0.230263158;
-  if (subgroupAny(b1 < d0.x)) {
-  vec3 p2 = p + vec3(0.0, -0.85, 0.0);  // line 14 transform
-  float d3 = sdSphere(p2, 0.8);  // line 15 sphere
-  vec3 p4 = p2 * 2.5;  // line 15 displace
-  float d5 = (d3 + 0.12 * (sdGradientNoise(p4) + 0.5 * sdGradientNoise(2.0 * p4) + 0.25 * sdGradientNoise(4.0 * p4)) * 0.571428571) * 0.230263158;
-  vec2 m6 = vec2(d5, 0.0);
-  d0 = vec2(min(d0.x, m6.x), m6.x < d0.x ? m6.y : d0.y);
-  }
   float b7 = sdBound(p, vec3(0.0, 0.35, 0.0), vec3(3.74589342, 0.35, 3.74589342)) * 0.828864513;
-  if (subgroupAny(b7 < d0.x)) {
+  if (subgroupAny(b7 < d0)) {
+   if (b7 > 0.530904276) {
+    d0 = min(d0, b7);
+   } else {
   float i8 = round(atan(p.z, p.x) / 1.25663706);  // line 17 repeat_polar
   float a10 = (i8 - 1.0) * 1.25663706;
   vec3 p11 = vec3(cos(a10) * p.x + sin(a10) * p.z, p.y, cos(a10) * p.z - sin(a10) * p.x);
@@ -395,8 +367,40 @@ vec2 sdSceneMaterial(vec3 p) {
   vec3 p16 = vec3(cos(a15) * p.x + sin(a15) * p.z, p.y, cos(a15) * p.z - sin(a15) * p.x);
   float r17 = sd_sector(p16);
   d9 = min(d9, r17);
-  vec2 m18 = vec2(d9, 1.0);
-  d0 = vec2(min(d0.x, m18.x), m18.x < d0.x ? m18.y : d0.y);
+  d0 = min(d0, d9);
+   }
+  }
+  return d0;
+}
+vec2 sdSceneMaterial(vec3 p) {
+  vec2 d0 = vec2(1e30, -1.0);  // line 12 union
+  float b1 = sdBound(p, vec3(0.0, 0.85, 0.0), vec3(0.926));
+  if (subgroupAny(b1 < d0.x)) {
+  vec3 p2 = p + vec3(0.0, -0.85, 0.0);  // line 14 transform
+  float d3 = sdSphere(p2, 0.8);  // line 15 sphere
+  vec3 p4 = p2 * 2.5;  // line 15 displace
+  float d5 = (d3 + 0.12 * (sdGradientNoise(p4) + 0.5 * sdGradientNoise(2.0 * p4) + 0.25 * sdGradientNoise(4.0 * p4)) * 0.571428571) * 0.266371882;
+  float b6 = sdBound(p2, vec3(0.0), vec3(0.926));
+  d5 = b6 > 0.0 ? max(d5, b6) : d5;
+  vec2 m7 = vec2(d5, 0.0);
+  d0 = vec2(min(d0.x, m7.x), m7.x < d0.x ? m7.y : d0.y);
+  }
+  float b8 = sdBound(p, vec3(0.0, 0.35, 0.0), vec3(3.74589342, 0.35, 3.74589342)) * 0.828864513;
+  if (subgroupAny(b8 < d0.x)) {
+  float i9 = round(atan(p.z, p.x) / 1.25663706);  // line 17 repeat_polar
+  float a11 = (i9 - 1.0) * 1.25663706;
+  vec3 p12 = vec3(cos(a11) * p.x + sin(a11) * p.z, p.y, cos(a11) * p.z - sin(a11) * p.x);
+  float d10 = sd_sector(p12);
+  float a13 = (i9) * 1.25663706;
+  vec3 p14 = vec3(cos(a13) * p.x + sin(a13) * p.z, p.y, cos(a13) * p.z - sin(a13) * p.x);
+  float r15 = sd_sector(p14);
+  d10 = min(d10, r15);
+  float a16 = (i9 + 1.0) * 1.25663706;
+  vec3 p17 = vec3(cos(a16) * p.x + sin(a16) * p.z, p.y, cos(a16) * p.z - sin(a16) * p.x);
+  float r18 = sd_sector(p17);
+  d10 = min(d10, r18);
+  vec2 m19 = vec2(d10, 1.0);
+  d0 = vec2(min(d0.x, m19.x), m19.x < d0.x ? m19.y : d0.y);
   }
   return d0;
 }

@@ -104,6 +104,9 @@ float sdBound(vec3 p, vec3 center, vec3 half_size) {
 double stretchBelow(const ir::Node& n) {
   double below = 1;
   for (const ir::NodeRef& c : n.children) below = std::max(below, stretchBelow(*c));
+  // A bounded displace is no less than the distance to its own box outside
+  // it, whatever is below it: a box holding it needs no division.
+  if (n.kind == ir::NodeKind::Displace && n.bounds.finite()) return 1;
   const bool divides = n.kind == ir::NodeKind::Twist || n.kind == ir::NodeKind::Bend || n.kind == ir::NodeKind::Displace;
   return divides ? below * n.deform_lipschitz : below;
 }
@@ -632,6 +635,14 @@ class SceneWriter {
         f.code << "  float " << d << " = (" << (mat ? c + ".x" : c) << " + " << n.amount.glsl() << " * ("
                << sum << ")" << (n.count.x > 1 ? " * " + glslFloat(1 / weight) : std::string()) << ") * "
                << glslFloat(1 / n.deform_lipschitz) << ";\n";
+        if (n.bounds.finite()) {
+          // As the evaluator: outside its box, no less than the box's distance.
+          needHelper("sdBound", kAabbHelper);
+          const std::string b = var(f, "b");
+          f.code << "  float " << b << " = sdBound(" << p << ", " << vec3Literal(n.bounds.center()) << ", "
+                 << vec3Literal(n.bounds.halfSize()) << ");\n";
+          f.code << "  " << d << " = " << b << " > 0.0 ? max(" << d << ", " << b << ") : " << d << ";\n";
+        }
         return mat ? "vec2(" + d + ", " + c + ".y)" : d;
       }
       case ir::NodeKind::RepeatPolar: {

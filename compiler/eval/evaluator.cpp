@@ -320,8 +320,16 @@ EvalResult Evaluator::evalNode(const ir::Node& n, const dvec3& p, int inherited)
       return e;
     }
     case ir::NodeKind::Displace: {
+      // The displaced field over its stretch, and outside the box that holds
+      // the displaced shape (its own bounds) no less than the distance to
+      // that box: both are lower bounds on the distance there, the box's
+      // 1-Lipschitz and not divided (docs/language.md, displace).
       EvalResult e = child(0, p);
       e.distance = (e.distance + n.amount.at(t) * fractalNoise(p * n.vec.x.at(t), n.count.x)) / n.deform_lipschitz;
+      if (n.bounds.finite()) {
+        const double box = glm::length(glm::max(glm::abs(p - n.bounds.center()) - n.bounds.halfSize(), dvec3(0)));
+        if (box > 0) e.distance = std::max(e.distance, box);
+      }
       return e;
     }
     case ir::NodeKind::RepeatPolar: {

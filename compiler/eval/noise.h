@@ -14,6 +14,7 @@
 // sum_{i<n} 0.5^i noise(2^i p) / sum_{i<n} 0.5^i.
 #pragma once
 #include <cstdint>
+#include <vector>
 #include <glm/glm.hpp>
 
 namespace sdfc {
@@ -32,6 +33,22 @@ namespace sdfc {
 // two largest |f - o_k| components), at most 1.0364 on the grid.
 constexpr double kNoiseGradientBound = 6.5;
 constexpr double kNoiseRangeBound = 1.05;
+
+// The fractal sum's gradient, o octaves: grad N(p) = sum_i grad n(2^i p) / W
+// (octave i weighs 0.5^i at frequency 2^i, W = 2 - 2^(1 - o)), so |grad N(p)|
+// <= sum_i B(frac(2^i p)) / W. Octave i + 1 sits at frac(2 f_i): the octaves
+// cannot all be at the cell's centre, where B peaks (at the centre of one
+// octave the next is at a lattice corner, B = sqrt 3). Over a grid of n^3
+// cells, with B's largest value over each cell (every factor of B is
+// non-negative, so each is taken at its largest over the cell), the most the
+// sum reaches along a chain of cells c_0 -> c_1 -> ..., c_(i+1) among the
+// 2 x 2 x 2 cells that doubling maps c_i onto, is a bound for every p:
+// fractalGradientBoundsByCells(8, n)[o - 1]. kFractalGradientBound is it at
+// n = 128, rounded up (tests/lipschitz_test.cpp recomputes it);
+// fractalGradientBound takes the least of it and o kNoiseGradientBound / W.
+constexpr double kFractalGradientBound[8] = {6.7384, 7.0574, 9.1805, 10.9679, 13.1788, 15.4095, 17.7219, 20.0686};
+std::vector<double> fractalGradientBoundsByCells(int octaves, int cells);
+double fractalGradientBound(int octaves);
 
 uint32_t noiseHash(int32_t x, int32_t y, int32_t z);
 double gradientNoise(const glm::dvec3& p);

@@ -325,8 +325,9 @@ class Analyzer {
   }
 
   // displace: g = d(p) + a N(s p), N the fractal noise. |grad N(s p)| <= s
-  // G_o with G_o = o G / (2 - 2^(1 - o)) for o octaves (octave i weighs 0.5^i
-  // at frequency 2^i, over the weights' sum), G = kNoiseGradientBound. So g is
+  // G_o with G_o = fractalGradientBound(o) for o octaves (eval/noise.h: at
+  // most o G / (2 - 2^(1 - o)), G = kNoiseGradientBound, and less where the
+  // octaves cannot peak together). So g is
   // (L_child + |a| s G_o)-Lipschitz everywhere; dividing by 1 + |a| s G_o keeps
   // it under L_child (>= 1, which the root's step scale covers). N stays within
   // kNoiseRangeBound, so the surface moves at most |a| times that.
@@ -335,7 +336,7 @@ class Analyzer {
     const ir::Interval a = n.amount.range(), s = n.vec.x.range();
     const double amp = std::max(std::fabs(a.lo), std::fabs(a.hi)), scale = std::max(std::fabs(s.lo), std::fabs(s.hi));
     const int o = n.count.x;
-    const double g_octaves = o * kNoiseGradientBound / (2 - std::pow(2.0, 1 - o));
+    const double g_octaves = fractalGradientBound(o);
     n.deform_lipschitz = 1 + amp * scale * g_octaves;
     n.exact = false;
     n.bounds = c.bounds.finite() ? c.bounds.grow(amp * kNoiseRangeBound) : c.bounds;
