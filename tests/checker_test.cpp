@@ -102,6 +102,10 @@ TEST(Checker, ParametersAndTypes) {
        "t.sdf:1:16: error: 'sphere' has no parameter 'radus'; did you mean 'radius'?\n"
        "scene { sphere(radus: 1) }\n"
        "               ^~~~~\n"},
+      {"scene { rotate(axis: [0, 1, 0], angle: 90) { sphere(1) } }\n",
+       "t.sdf:1:33: error: 'rotate' has no parameter 'angle'; did you mean 'degrees'?\n"
+       "scene { rotate(axis: [0, 1, 0], angle: 90) { sphere(1) } }\n"
+       "                                ^~~~~\n"},
       {"scene { sphere() }\n",
        "t.sdf:1:9: error: 'sphere' needs 'radius'\n"
        "scene { sphere() }\n"

@@ -1102,7 +1102,15 @@ class Checker {
         for (const ArgSpec& s : specs) names.push_back(s.name);
         if (allow_material) names.push_back("material");
         std::string message = "'" + e.name + "' has no parameter '" + a.name + "'";
-        const std::string near = nearestName(a.name, names);
+        std::string near = nearestName(a.name, names);
+        // Other tools' names for the same parameter (a new user's chess set
+        // wrote rotate(angle: 90)), where spelling distance finds nothing.
+        static const std::pair<const char*, const char*> kOtherNames[] = {
+            {"angle", "degrees"}, {"degree", "degrees"}, {"deg", "degrees"}, {"r", "radius"},
+            {"dims", "size"},     {"extent", "size"},    {"extents", "size"}, {"color", "albedo"},
+            {"colour", "albedo"}};
+        for (const auto& [other, ours] : kOtherNames)
+          if (near.empty() && a.name == other && std::find(names.begin(), names.end(), ours) != names.end()) near = ours;
         if (!near.empty()) message += "; did you mean '" + near + "'?";
         diags_->error(a.name_range, message);
         out.ok = false;

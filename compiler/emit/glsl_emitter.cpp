@@ -99,18 +99,6 @@ float sdBound(vec3 p, vec3 center, vec3 half_size) {
 }
 )";
 
-// The most a subtree's field is divided by on its way down (twist, bend and
-// displace divide theirs by their stretch; passes/analyze.cpp).
-double stretchBelow(const ir::Node& n) {
-  double below = 1;
-  for (const ir::NodeRef& c : n.children) below = std::max(below, stretchBelow(*c));
-  // A bounded displace is no less than the distance to its own box outside
-  // it, whatever is below it: a box holding it needs no division.
-  if (n.kind == ir::NodeKind::Displace && n.bounds.finite()) return 1;
-  const bool divides = n.kind == ir::NodeKind::Twist || n.kind == ir::NodeKind::Bend || n.kind == ir::NodeKind::Displace;
-  return divides ? below * n.deform_lipschitz : below;
-}
-
 // Which single material a subtree's surfaces carry, given the inherited one;
 // kMixed when they differ.
 constexpr int kMixed = -2;

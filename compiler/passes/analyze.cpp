@@ -724,4 +724,14 @@ MarchLimits deriveMarchLimits(const ir::Scene& scene, const MarchPolicy& policy)
   return m;
 }
 
+double stretchBelow(const ir::Node& n) {
+  double below = 1;
+  for (const ir::NodeRef& c : n.children) below = std::max(below, stretchBelow(*c));
+  // A bounded displace is no less than the distance to its own box outside
+  // it, whatever is below it: a box holding it needs no division.
+  if (n.kind == ir::NodeKind::Displace && n.bounds.finite()) return 1;
+  const bool divides = n.kind == ir::NodeKind::Twist || n.kind == ir::NodeKind::Bend || n.kind == ir::NodeKind::Displace;
+  return divides ? below * n.deform_lipschitz : below;
+}
+
 }  // namespace sdfc

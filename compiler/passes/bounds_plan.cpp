@@ -61,14 +61,6 @@ double boxDistance(const Aabb& b, const dvec3& p) {
   return glm::length(d);
 }
 
-// As the emitter's stretchBelow: the check's distance is divided by it.
-double stretchBelow(const ir::Node& n) {
-  double below = 1;
-  for (const ir::NodeRef& c : n.children) below = std::max(below, stretchBelow(*c));
-  const bool divides = n.kind == ir::NodeKind::Twist || n.kind == ir::NodeKind::Bend || n.kind == ir::NodeKind::Displace;
-  return divides ? below * n.deform_lipschitz : below;
-}
-
 bool isPlane(const ir::Node& n) {
   return n.kind == ir::NodeKind::Primitive && n.primitive == PrimitiveKind::Plane;
 }

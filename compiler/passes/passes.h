@@ -47,6 +47,10 @@ Aabb transformBox(const Aabb& b, const glm::dmat3& m, const glm::dvec3& t);
 Aabb instanceLocalBounds(const ir::InstanceSet& set, size_t i, const ir::Node& n);
 Aabb instanceBounds(const ir::InstanceSet& set, size_t i, const ir::Node& n);
 void analyze(ir::Scene& scene, Diagnostics& diags);
+// The most a subtree's field is divided by on its way down (twist, bend and
+// displace divide theirs by their stretch): a bounding-volume check's box
+// distance is divided by it too (the emitter, passes/bounds_plan.cpp).
+double stretchBelow(const ir::Node& n);
 // A scene far from the world origin, seen from near by, is moved to the
 // camera's frame (passes/rebase.cpp): scene.origin says where that frame is.
 // How far the scene lies from its camera: the distance to the nearest surface
