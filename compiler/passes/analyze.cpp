@@ -340,7 +340,11 @@ class Analyzer {
     n.deform_lipschitz = 1 + amp * scale * g_octaves;
     n.exact = false;
     n.bounds = c.bounds.finite() ? c.bounds.grow(amp * kNoiseRangeBound) : c.bounds;
-    n.cost += 1.5 * o;
+    // An octave of gradient noise hashes and dots 8 lattice gradients and
+    // blends them: about as much work as 6 primitives. (At 1.5 the bounds
+    // plan saw too little to save: examples/deformations.sdf runs 1.46x with
+    // its displaced sphere's box check, bench/results/bounds_plan.md.)
+    n.cost += 6 * o;
   }
 
   // repeat_polar(count): the copies in the sectors polarSectors() names
