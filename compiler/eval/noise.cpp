@@ -5,7 +5,6 @@
 #include <vector>
 
 namespace sdfc {
-namespace {
 
 uint32_t mix32(uint32_t h) {
   h ^= h >> 16;
@@ -15,6 +14,8 @@ uint32_t mix32(uint32_t h) {
   h ^= h >> 16;
   return h;
 }
+
+namespace {
 
 const glm::dvec3 kGradients[12] = {{1, 1, 0},  {-1, 1, 0},  {1, -1, 0}, {-1, -1, 0},
                                    {1, 0, 1},  {-1, 0, 1},  {1, 0, -1}, {-1, 0, -1},

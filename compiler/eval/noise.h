@@ -19,6 +19,10 @@
 
 namespace sdfc {
 
+// H above, the "lowbias32" mix: also a cheap deterministic hash for the
+// compiler's own sampling (passes/bounds_plan.cpp).
+uint32_t mix32(uint32_t h);
+
 // Bounds on the noise and its gradient, for displace (passes/analyze.cpp).
 // Write n = sum_k w_k c_k, c_k = g_k . (f - o_k), w_k the fade weights. Along
 // x (t = f.x, u = fade(t)), at each (y, z) corner the two x corners give

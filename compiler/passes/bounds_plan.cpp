@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "eval/evaluator.h"
+#include "eval/noise.h"
 #include "passes.h"
 
 namespace sdfc {
@@ -167,15 +168,8 @@ class Planner {
   double work_ = 0;
 };
 
-// A small deterministic hash for the bounce directions (no global state).
-double unitHash(uint32_t x) {
-  x ^= x >> 16;
-  x *= 0x7feb352dU;
-  x ^= x >> 15;
-  x *= 0x846ca68bU;
-  x ^= x >> 16;
-  return (x >> 8) * (1.0 / 16777216.0);
-}
+// A deterministic number in [0, 1) for the bounce directions.
+double unitHash(uint32_t x) { return (mix32(x) >> 8) * (1.0 / 16777216.0); }
 
 // Whether the walk can reach a union child the emitter could check.
 bool hasCandidate(const ir::Node& n, double threshold) {
