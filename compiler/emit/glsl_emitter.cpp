@@ -1542,14 +1542,14 @@ class SceneWriter {
       //  - a child whose box is farther than a margin contributes the box
       //    distance instead of its own (a lower bound; exact near surfaces).
       const bool bound = (options_.bounding_volumes || (options_.planned_bounds && c.box_check)) && is_union &&
-                         c.cost >= options_.bound_cost_threshold && c.bounds.finite();
+                         boxCheckCandidate(c, options_.bound_cost_threshold);
       std::string b;
       if (bound) {
         needHelper("sdBound", kAabbHelper);
         ++bounded_;
         b = var(f, "b");
         const dvec3 half = c.bounds.halfSize();
-        const double margin = 0.1 * glm::length(half);
+        const double margin = boxCheckMargin(c);
         // Under a deformation the child's field is its raw field (at least the
         // box distance) over the stretch: so is the box distance used for it.
         const double stretch = stretchBelow(c);

@@ -56,14 +56,6 @@ dvec3 Evaluator::gradient(const dvec3& p, double h) const {
   return g;
 }
 
-namespace {
-
-double boxDistance(const Aabb& b, const dvec3& p) {
-  return glm::length(glm::max(glm::max(b.lo - p, p - b.hi), dvec3(0)));
-}
-
-}  // namespace
-
 EvalResult Evaluator::evalInstance(const ir::Node& n, size_t i, const dvec3& p, int inherited) const {
   const ir::InstanceSet& set = *n.instances;
   const ir::Instance& inst = set.instances[i];
@@ -100,7 +92,7 @@ EvalResult Evaluator::evalInstances(const ir::Node& n, const dvec3& p, int inher
   };
   std::vector<Entry> stack;
   stack.reserve(2 * set.depth + 2);
-  stack.push_back({0, boxDistance(set.nodes[0].box, p)});
+  stack.push_back({0, set.nodes[0].box.distance(p)});
   while (!stack.empty()) {
     const Entry e = stack.back();
     stack.pop_back();
@@ -108,7 +100,7 @@ EvalResult Evaluator::evalInstances(const ir::Node& n, const dvec3& p, int inher
     const ir::BvhNode& node = set.nodes[e.node];
     if (node.count == 0) {
       const std::uint32_t l = e.node + 1, r = node.first;
-      const double dl = boxDistance(set.nodes[l].box, p), dr = boxDistance(set.nodes[r].box, p);
+      const double dl = set.nodes[l].box.distance(p), dr = set.nodes[r].box.distance(p);
       if (dl < dr) {
         stack.push_back({r, dr});
         stack.push_back({l, dl});
@@ -161,7 +153,7 @@ EvalResult Evaluator::evalBlend(const ir::Node& n, const dvec3& p, int inherited
       const ir::BvhNode& node = set.nodes[stack.back()];
       const std::uint32_t ni = stack.back();
       stack.pop_back();
-      if (boxDistance(node.box, p) >= m + k) continue;
+      if (node.box.distance(p) >= m + k) continue;
       if (node.count == 0) {
         stack.push_back(node.first);
         stack.push_back(ni + 1);

@@ -41,7 +41,7 @@ constexpr int kLanes = 8;
 // steps +10%, the chess set's +19%) and splits the code the driver schedules.
 // Measured in CPU time at 320x180, 16 spp (bench/results/bounds_plan.md): at
 // 3 the castle keeps 4 checks and runs 0.94x, at 5 it keeps 3 (0.98x), at 8
-// none; the chess set keeps 6 checks at 8 and runs 2.5x (all 62 checks: 2.7x),
+// none; the chess set keeps 5 checks at 8 and runs 2.55x (all 62: 2.67x),
 // and a flat union of 32 cheap pieces that loses 19% with its checks keeps none.
 constexpr double kCheckCost = 8;
 // Fewer group steps than this at a union tell too little: no check there.
@@ -56,11 +56,6 @@ struct Group {
 struct ChildStats {
   double visits = 0, evaluations = 0;
 };
-
-double boxDistance(const Aabb& b, const dvec3& p) {
-  const dvec3 d = glm::max(glm::max(b.lo - p, p - b.hi), dvec3(0));
-  return glm::length(d);
-}
 
 bool isPlane(const ir::Node& n) {
   return n.kind == ir::NodeKind::Primitive && n.primitive == PrimitiveKind::Plane;
@@ -124,17 +119,17 @@ class Planner {
       const ir::Node& c = *cref;
       if (skip_planes && isPlane(c)) continue;
       std::array<double, kLanes> v{};
-      if (c.cost >= threshold_ && c.bounds.finite()) {
+      if (boxCheckCandidate(c, threshold_)) {
         const double stretch = stretchBelow(c);
         // As the emitter: the group skips the child when no lane is nearer its
         // box than the union so far (+ k), or when every lane that is lies
         // beyond the margin, where the box distance stands in for the child.
-        const double margin = 0.1 * glm::length(c.bounds.halfSize()) + k;
+        const double margin = boxCheckMargin(c) + k;
         std::array<double, kLanes> b{};
         bool near = false, inner = false;
         for (int l = 0; l < kLanes; ++l) {
           if (!g.on[l]) continue;
-          b[l] = boxDistance(c.bounds, g.p[l]) / stretch;
+          b[l] = c.bounds.distance(g.p[l]) / stretch;
           near = near || b[l] < acc[l] + k;
           inner = inner || b[l] <= margin;
         }
@@ -176,7 +171,7 @@ bool hasCandidate(const ir::Node& n, double threshold) {
   switch (n.kind) {
     case ir::NodeKind::Union:
       for (const ir::NodeRef& c : n.children)
-        if ((c->cost >= threshold && c->bounds.finite()) || hasCandidate(*c, threshold)) return true;
+        if (boxCheckCandidate(*c, threshold) || hasCandidate(*c, threshold)) return true;
       return false;
     case ir::NodeKind::Intersect:
     case ir::NodeKind::Subtract:
@@ -232,7 +227,7 @@ BoundsPlan planBoundChecks(ir::Scene& scene, const MarchPolicy& policy, double c
       std::array<double, kLanes> d{};
       for (int l = 0; l < kLanes; ++l) {
         if (!g.on[l]) continue;
-        const double to_box = boxDistance(box, g.p[l]);
+        const double to_box = box.distance(g.p[l]);
         inside.on[l] = to_box <= 0;
         // Outside the box: a step into it, never a hit on its face.
         d[l] = inside.on[l] ? 1e30 : to_box + 2 * epsilon(t[l]);

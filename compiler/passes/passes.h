@@ -51,6 +51,12 @@ void analyze(ir::Scene& scene, Diagnostics& diags);
 // displace divide theirs by their stretch): a bounding-volume check's box
 // distance is divided by it too (the emitter, passes/bounds_plan.cpp).
 double stretchBelow(const ir::Node& n);
+// Whether a union may guard child c with its box (emitter, bounds plan), and
+// the margin beyond which the box distance stands in for the child's own.
+inline bool boxCheckCandidate(const ir::Node& c, double cost_threshold) {
+  return c.cost >= cost_threshold && c.bounds.finite();
+}
+inline double boxCheckMargin(const ir::Node& c) { return 0.1 * glm::length(c.bounds.halfSize()); }
 // A scene far from the world origin, seen from near by, is moved to the
 // camera's frame (passes/rebase.cpp): scene.origin says where that frame is.
 // How far the scene lies from its camera: the distance to the nearest surface

@@ -18,6 +18,8 @@ struct Aabb {
   Aabb unite(const Aabb& o) const { return {glm::min(lo, o.lo), glm::max(hi, o.hi)}; }
   Aabb intersect(const Aabb& o) const { return {glm::max(lo, o.lo), glm::min(hi, o.hi)}; }
   Aabb grow(double r) const { return {lo - r, hi + r}; }
+  // From p to the box (0 inside): a lower bound on the distance to anything in it.
+  double distance(const glm::dvec3& p) const { return glm::length(glm::max(glm::max(lo - p, p - hi), glm::dvec3(0))); }
 };
 
 // Vector2: a 2-vector [x, y] (profiles); Points: a constant list of them
