@@ -21,8 +21,9 @@ Per family and count:
   - spp/s at --size and --spp with no denoiser (median of --repeats, the
     binaries interleaved when --before is given), and CPU ms per sample: the
     process's CPU seconds at --spp less those of a 1 spp render of the same
-    scene (run beside it), over --spp - 1, so compiles, pipeline creation and
-    the first draw's kernel compile are not counted; "process CPU ms/spp" is
+    scene (run beside it, both after a warm-up render fills Mesa's shader
+    cache), over --spp - 1, so compiles, pipeline creation and the first
+    draw's kernel compile are not counted; "process CPU ms/spp" is
     the whole process's CPU over --spp, the figure of the pages before
     2026-12-06 (at 10 parts it was mostly start-up);
   - primary steps per pixel (`--view steps`' mean);
@@ -255,6 +256,13 @@ def main():
                 per = {name: {"spp": [], "cpu": [], "process": []} for name, _ in binaries}
                 refused = {}
                 todo = [(name, exe) for name, exe in binaries if (fam, n, name) not in done]
+                # Warm Mesa's shader cache, so that neither of a repeat's two
+                # renders pays the kernel's LLVM compile the other does not.
+                for name, exe in todo:
+                    try:
+                        sb.render(exe, scene, os.path.join(dir_, "w.pfm"), ["--size", args.size, "--spp", "1", "-Wno-bound"])
+                    except RuntimeError:
+                        pass  # refused: the repeats below say why
                 for _ in range(args.repeats):
                     for name, exe in todo:
                         if name in refused:
