@@ -231,6 +231,8 @@ def main():
     emit("CPU ms/sample is the sampling's alone (the process's CPU at the given spp less a 1 spp run's, over "
          "spp - 1; since 2026-12-06); process CPU ms/spp, the figure before, also counts the compile, the "
          "pipeline and the first draw's kernel compile, which at 10 parts were most of it.")
+    emit("The last page of the old measure (legacy framing, whole-process CPU, 2026-12-05) is "
+         "bench/results/many_parts_legacy_framing.md.")
     emit()
     if args.framing == "sphere":
         emit("Framing: each family's bounding sphere spans the same share of the view at every count "
