@@ -5,16 +5,31 @@ part count, written to bench/results/many_parts.md (and .json).
   bench/many_parts.py [--sdfc build/cli/sdfc] [--before OLD_SDFC]
                       [--families molecule,kitbash,tree,holes,city,chess]
                       [--counts 10,100,1000] [--smooth 0.05] [--repeats 3]
-                      [--size 320x180] [--spp 8] [--mesh-counts 1000] [--quick]
+                      [--size 320x180] [--spp 8] [--mesh-counts 1000]
+                      [--framing sphere|legacy]
 
-Families come from bench/many_parts_scenes.py. Per family and count:
+Families come from bench/many_parts_scenes.py, framed (--framing sphere, the
+default) so that the family's bounding sphere spans the same share of the view
+at every count; --framing legacy is the camera of the pages before 2026-12-06,
+which stood back from a small clump (kitbash: 853 hit pixels of 14,400 at 10
+parts, 3,775 at 1,000), so part of their cost growth was coverage.
+Per family and count:
   - compile: `sdfc compile --emit spv` wall seconds (SPIR-V cache off);
   - first image: `sdfc render` at 64x36, 1 spp, lavapipe's shader cache off:
     pipeline creation and the whole process (its first draw compiles the
     kernel with LLVM); peak RSS of that process (/usr/bin/time);
   - spp/s at --size and --spp with no denoiser (median of --repeats, the
-    binaries interleaved when --before is given), and CPU ms per sample;
+    binaries interleaved when --before is given), and CPU ms per sample: the
+    process's CPU seconds at --spp less those of a 1 spp render of the same
+    scene (run beside it, both after a warm-up render fills Mesa's shader
+    cache), over --spp - 1, so compiles, pipeline creation and the first
+    draw's kernel compile are not counted; "process CPU ms/spp" is
+    the whole process's CPU over --spp, the figure of the pages before
+    2026-12-06 (at 10 parts it was mostly start-up);
   - primary steps per pixel (`--view steps`' mean);
+  - hit pixels of a 160x90 depth render, and the CPU time per sample divided
+    by them (us per hit pixel, scaled to --size) and by the primary steps (ns
+    per primary step): how much of the growth is coverage, how much a step's;
   - pixels off: a 160x90 depth render checked against `sdfc eval` (float64):
     a hit must lie within a pixel's footprint of the surface and no surface
     may lie clearly before it on the ray (the check of tests/many_parts_test.cpp);
@@ -74,8 +89,10 @@ def compile_s(sdfc, scene):
 
 
 def sampling(sdfc, scene, out, size, spp):
+    """spp/s, the process's CPU seconds, and those of a 1 spp render."""
     info = sb.render(sdfc, scene, out, ["--size", size, "--spp", str(spp), "-Wno-bound"])
-    return info["spp_per_s"], info["cpu_s"]
+    one = sb.render(sdfc, scene, out, ["--size", size, "--spp", "1", "-Wno-bound"])
+    return info["spp_per_s"], info["cpu_s"], one["cpu_s"]
 
 
 def primary_steps(sdfc, scene, dir_, size):
@@ -85,7 +102,27 @@ def primary_steps(sdfc, scene, dir_, size):
     return float(np.mean(np.rint(sb.read_pfm(path)[..., 0])))
 
 
-def pixels_off(sdfc, scene, dir_, width=160, height=90):
+CHECK_W, CHECK_H = 160, 90
+
+
+def hit_pixels(sdfc, scene, dir_, width=CHECK_W, height=CHECK_H):
+    """Pixels of a primary depth render that hit a surface."""
+    path = os.path.join(dir_, "depth.pfm")
+    sb.render(sdfc, scene, path, ["--size", f"{width}x{height}", "--spp", "1", "--view", "depth", "-q"])
+    return int((sb.read_pfm(path)[..., 0] >= 0).sum())
+
+
+def per_work(row, size):
+    """CPU us per sample per hit pixel (hits scaled to --size), ns per primary step."""
+    w, h = (int(x) for x in size.split("x"))
+    hits = row.get("hits", 0) * (w * h) / (CHECK_W * CHECK_H)
+    us_hit = 1000 * row["cpu_ms_per_sample"] / hits if hits else float("nan")
+    steps = row["primary_steps"] * w * h
+    ns_step = 1e6 * row["cpu_ms_per_sample"] / steps if steps else float("nan")
+    return us_hit, ns_step
+
+
+def pixels_off(sdfc, scene, dir_, width=CHECK_W, height=CHECK_H):
     """(hit pixels, off the surface, a surface clearly before, missed) against float64."""
     path = os.path.join(dir_, "depth.pfm")
     sb.render(sdfc, scene, path, ["--size", f"{width}x{height}", "--spp", "1", "--view", "depth", "-q"])
@@ -140,6 +177,17 @@ def mesh_s(sdfc, scene, dir_):
     return wall, rss
 
 
+def row_line(r, size):
+    if "refused" in r:
+        return f"| {r['family']} | {r['parts']} | {r['binary']} | refused: {r['refused']} |"
+    us_hit, ns_step = per_work(r, size)
+    return (f"| {r['family']} | {r['parts']} | {r['binary']} | {r['compile_s']:.2f} | {r['first_image_s']:.2f} | "
+            f"{r['pipeline_ms']:.0f} | {r['peak_mib']:.0f} | {r['spp_per_s']:.2f} | "
+            f"{r.get('process_cpu_ms_per_spp', r['cpu_ms_per_sample']):.0f} | "
+            f"{r['cpu_ms_per_sample'] if 'process_cpu_ms_per_spp' in r else float('nan'):.0f} | {r['primary_steps']:.1f} | {r.get('hits', '-')} | "
+            f"{us_hit:.1f} | {ns_step:.0f} | {r.get('off', '-')} | {r.get('early', '-')} | {r.get('missed', '-')} |")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--sdfc", default=os.path.join(ROOT, "build", "cli", "sdfc"))
@@ -147,6 +195,8 @@ def main():
     ap.add_argument("--families", default="molecule,kitbash,tree,holes,city,chess")
     ap.add_argument("--counts", default="10,100,1000")
     ap.add_argument("--smooth", type=float, default=0.05)
+    ap.add_argument("--framing", choices=mps.FRAMINGS, default="sphere",
+                    help="sphere: the same share of the view at every count; legacy: the old camera")
     ap.add_argument("--repeats", type=int, default=3)
     ap.add_argument("--size", default="320x180")
     ap.add_argument("--spp", type=int, default=8)
@@ -163,7 +213,9 @@ def main():
     json_path = os.path.splitext(args.out)[0] + ".json"
     if args.resume and os.path.exists(json_path):
         with open(json_path) as f:
-            rows = json.load(f)
+            # Rows of another framing are another benchmark, and rows from
+            # before 2026-12-06 (no framing recorded) timed the whole process.
+            rows = [r for r in json.load(f) if r.get("framing") == args.framing]
     done = {(r["family"], r["parts"], r["binary"]) for r in rows}
 
     def emit(line=""):
@@ -176,7 +228,23 @@ def main():
     emit(f"Machine: {machine['cpu']}, {machine['cores']} cores, {machine['device']}, {machine['driver']}. Size {args.size}, {args.spp} spp, no denoiser, "
          f"smooth {args.smooth} where the family blends; medians of {args.repeats}.")
     emit()
-    head = "| family | parts | binary | compile s | first image s | pipeline ms | peak MiB | spp/s | CPU ms/sample | primary steps | hit px | off | before | missed |"
+    emit("CPU ms/sample is the sampling's alone (the process's CPU at the given spp less a 1 spp run's, over "
+         "spp - 1; since 2026-12-06); process CPU ms/spp, the figure before, also counts the compile, the "
+         "pipeline and the first draw's kernel compile, which at 10 parts were most of it.")
+    emit("The last page of the old measure (legacy framing, whole-process CPU, 2026-12-05) is "
+         "bench/results/many_parts_legacy_framing.md.")
+    emit()
+    if args.framing == "sphere":
+        emit("Framing: each family's bounding sphere spans the same share of the view at every count "
+             "(`--framing sphere`, since 2026-12-06). Before, the camera stood back from small clumps "
+             "(`--framing legacy`), so most of a small count's pixels were sky and part of the growth "
+             "was coverage; the per hit pixel and per primary step columns separate the two.")
+    else:
+        emit("Framing: legacy (the camera of the pages before 2026-12-06: small clumps seen from farther "
+             "away, so coverage grows with the count).")
+    emit()
+    head = ("| family | parts | binary | compile s | first image s | pipeline ms | peak MiB | spp/s "
+            "| process CPU ms/spp | CPU ms/sample | primary steps | hit px | CPU us/hit px | CPU ns/primary step | off | before | missed |")
     emit(head)
     emit("|" + "---|" * head.count("|")[:-1] if False else "|" + "|".join(["---"] * (head.count("|") - 1)) + "|")
     with tempfile.TemporaryDirectory(prefix="many_parts_") as dir_:
@@ -186,23 +254,32 @@ def main():
                 smooth = args.smooth if fam in ("molecule", "kitbash") else 0.0
                 scene = os.path.join(dir_, f"{fam}_{n}.sdf")
                 with open(scene, "w") as f:
-                    f.write(mps.scene(fam, n, smooth))
-                per = {name: {"spp": [], "cpu": []} for name, _ in binaries}
+                    f.write(mps.scene(fam, n, smooth, framing=args.framing))
+                per = {name: {"spp": [], "cpu": [], "process": []} for name, _ in binaries}
                 refused = {}
                 todo = [(name, exe) for name, exe in binaries if (fam, n, name) not in done]
+                # Warm Mesa's shader cache, so that neither of a repeat's two
+                # renders pays the kernel's LLVM compile the other does not.
+                for name, exe in todo:
+                    try:
+                        sb.render(exe, scene, os.path.join(dir_, "w.pfm"), ["--size", args.size, "--spp", "1", "-Wno-bound"])
+                    except RuntimeError:
+                        pass  # refused: the repeats below say why
                 for _ in range(args.repeats):
                     for name, exe in todo:
                         if name in refused:
                             continue
                         try:
-                            spp_s, cpu = sampling(exe, scene, os.path.join(dir_, "b.pfm"), args.size, args.spp)
+                            spp_s, cpu, cpu_one = sampling(exe, scene, os.path.join(dir_, "b.pfm"), args.size,
+                                                           args.spp)
                         except RuntimeError as e:  # e.g. an older binary's limit
                             refused[name] = str(e).splitlines()[1][:160] if len(str(e).splitlines()) > 1 else str(e)
                             continue
                         per[name]["spp"].append(spp_s)
-                        per[name]["cpu"].append(1000 * cpu / args.spp)
+                        per[name]["cpu"].append(1000 * (cpu - cpu_one) / (args.spp - 1))
+                        per[name]["process"].append(1000 * cpu / args.spp)
                 for name, exe in todo:
-                    row = dict(family=fam, parts=n, binary=name, smooth=smooth)
+                    row = dict(family=fam, parts=n, binary=name, smooth=smooth, framing=args.framing)
                     if name in refused:
                         row["refused"] = refused[name]
                         rows.append(row)
@@ -213,15 +290,14 @@ def main():
                         exe, scene, os.path.join(dir_, "f.png"))
                     row["spp_per_s"] = statistics.median(per[name]["spp"])
                     row["cpu_ms_per_sample"] = statistics.median(per[name]["cpu"])
+                    row["process_cpu_ms_per_spp"] = statistics.median(per[name]["process"])
                     row["primary_steps"] = primary_steps(exe, scene, dir_, args.size)
                     if not args.no_check:
                         row["hits"], row["off"], row["early"], row["missed"] = pixels_off(exe, scene, dir_)
+                    else:
+                        row["hits"] = hit_pixels(exe, scene, dir_)
                     rows.append(row)
-                    emit(f"| {fam} | {n} | {name} | {row['compile_s']:.2f} | {row['first_image_s']:.2f} | "
-                         f"{row['pipeline_ms']:.0f} | {row['peak_mib']:.0f} | {row['spp_per_s']:.2f} | "
-                         f"{row['cpu_ms_per_sample']:.0f} | {row['primary_steps']:.1f} | "
-                         f"{row.get('hits', '-')} | {row.get('off', '-')} | {row.get('early', '-')} | "
-                         f"{row.get('missed', '-')} |")
+                    emit(row_line(row, args.size))
         if args.mesh_counts:
             emit()
             emit("| mesh: molecule parts | binary | `sdfc mesh --resolution 128` s | peak MiB |")
@@ -239,13 +315,7 @@ def main():
     body = []
     for r in sorted((r for r in rows if "mesh_s" not in r),
                     key=lambda r: (families.index(r["family"]) if r["family"] in families else 99, r["parts"], r["binary"] != "after")):
-        if "refused" in r:
-            body.append(f"| {r['family']} | {r['parts']} | {r['binary']} | refused: {r['refused']} |")
-            continue
-        body.append(f"| {r['family']} | {r['parts']} | {r['binary']} | {r['compile_s']:.2f} | {r['first_image_s']:.2f} | "
-                    f"{r['pipeline_ms']:.0f} | {r['peak_mib']:.0f} | {r['spp_per_s']:.2f} | "
-                    f"{r['cpu_ms_per_sample']:.0f} | {r['primary_steps']:.1f} | {r.get('hits', '-')} | "
-                    f"{r.get('off', '-')} | {r.get('early', '-')} | {r.get('missed', '-')} |")
+        body.append(row_line(r, args.size))
     end = head_at + 2
     while end < len(lines) and lines[end].startswith("| ") and "mesh" not in lines[end]:
         end += 1
@@ -254,7 +324,8 @@ def main():
     emit()
     emit("All rows (this run's and earlier resumed ones) are in the .json beside this page.")
     emit()
-    emit("Cost per sample relative to the family's smallest count (CPU ms per sample):")
+    emit("Cost relative to the family's smallest count: CPU ms per sample; in brackets per hit pixel, "
+         "then per primary step (coverage and march length taken out):")
     emit()
     for name, _ in binaries:
         for fam in families:
@@ -262,7 +333,12 @@ def main():
                           key=lambda r: r["parts"])
             if not base:
                 continue
-            parts = [f"{r['parts']}: {r['cpu_ms_per_sample'] / base[0]['cpu_ms_per_sample']:.2f}x" for r in base]
+            b_hit, b_step = per_work(base[0], args.size)
+            parts = []
+            for r in base:
+                hit, step = per_work(r, args.size)
+                parts.append(f"{r['parts']}: {r['cpu_ms_per_sample'] / base[0]['cpu_ms_per_sample']:.2f}x "
+                             f"({hit / b_hit:.2f}x, {step / b_step:.2f}x)")
             emit(f"- {name} {fam}: " + ", ".join(parts))
     os.makedirs(os.path.dirname(args.out), exist_ok=True)
     with open(args.out, "w") as f:

@@ -9,9 +9,17 @@
              its depth, hard union
   holes      a block with n holes of varied radius subtracted from it
   city       n buildings of distinct footprints and heights, some with roofs
+  boxbash    kitbash with every part a box (an ablation: the cost of mixing kinds)
   chess      32 parametric pieces (pawns, rooks, knights, bishops, queens,
              kings) from revolved profiles and parametric definitions; n is
              ignored beyond 32 (a board of n squares' worth of pieces)
+
+Framing (`framing`): "sphere" (the default) puts the camera where the
+family's bounding sphere (the parts' own bounding balls, not the clump's
+centres) spans the same share of the view at every count, so a count's cost
+is not a coverage's: at 10 parts the legacy camera stood back from a small
+clump and most pixels were sky. "legacy" is the camera of the pages before
+(position extent * [1.6, 1.2, 2.4] + [0, 1, 2]), kept for their history.
 
     bench/many_parts_scenes.py kitbash 1000 --smooth 0.05 > kit.sdf
 """
@@ -28,8 +36,12 @@ def _vec(v):
     return "[" + ", ".join(_num(x) for x in v) + "]"
 
 
+FOV = 40  # vertical, degrees
+# The bounding sphere's angular radius as a share of the half field of view
+# ("sphere" framing): about what the legacy camera gave at 1,000 parts.
+SPHERE_SHARE = 0.9
 HEADER = """render(size: [320, 180])
-camera(position: {pos}, target: {target}, fov: 40)
+camera(position: {pos}, target: {target}, fov: {fov})
 sun(direction: [0.5, 1, 0.3])
 let a = diffuse(albedo: [0.8, 0.4, 0.3])
 """
@@ -43,15 +55,19 @@ def _rot(rng):
 
 
 def _primitive(rng, kind, s):
+    """A primitive's text and the radius of a ball about its origin holding it."""
     if kind == "box":
-        return f"box(size: {_vec([s * rng.uniform(0.5, 1.5) for _ in range(3)])})"
+        size = [s * rng.uniform(0.5, 1.5) for _ in range(3)]
+        return f"box(size: {_vec(size)})", 0.5 * math.sqrt(sum(x * x for x in size))
     if kind == "capsule":
-        return f"capsule(radius: {_num(0.3 * s)}, height: {_num(s * rng.uniform(0.8, 2))})"
+        h = s * rng.uniform(0.8, 2)
+        return f"capsule(radius: {_num(0.3 * s)}, height: {_num(h)})", 0.5 * h + 0.3 * s
     if kind == "cylinder":
-        return f"cylinder(radius: {_num(0.4 * s)}, height: {_num(s * rng.uniform(0.8, 2))})"
+        h = s * rng.uniform(0.8, 2)
+        return f"cylinder(radius: {_num(0.4 * s)}, height: {_num(h)})", math.hypot(0.5 * h, 0.4 * s)
     if kind == "torus":
-        return f"torus(major: {_num(0.5 * s)}, minor: {_num(0.15 * s)})"
-    return f"sphere(radius: {_num(0.5 * s)})"
+        return f"torus(major: {_num(0.5 * s)}, minor: {_num(0.15 * s)})", 0.65 * s
+    return f"sphere(radius: {_num(0.5 * s)})", 0.5 * s
 
 
 def _clump(rng, n, spread):
@@ -65,28 +81,37 @@ def _clump(rng, n, spread):
     return pts, r
 
 
+# Each family returns (extent, body lines, balls): extent places the legacy
+# camera, balls (centre, radius) hold every part and frame the "sphere" camera.
 def molecule(n, smooth, rng):
     pts, r = _clump(rng, n, 0.5)
     body = [f"  union(smooth: {_num(smooth)}, material: a) {{"]
+    balls = []
     for p in pts:
-        body.append(f"    translate({_vec(p)}) {{ sphere(radius: {_num(rng.uniform(0.25, 0.45))}) }}")
+        radius = rng.uniform(0.25, 0.45)
+        body.append(f"    translate({_vec(p)}) {{ sphere(radius: {_num(radius)}) }}")
+        balls.append((p, radius))
     body.append("  }")
-    return r, body
+    return r, body, balls
 
 
-def kitbash(n, smooth, rng):
+def kitbash(n, smooth, rng, kinds=("box", "capsule", "cylinder", "torus", "sphere")):
     pts, r = _clump(rng, n, 0.6)
-    kinds = ["box", "capsule", "cylinder", "torus", "sphere"]
     body = [f"  union(smooth: {_num(smooth)}, material: a) {{"]
+    balls = []
     for i, p in enumerate(pts):
         s = rng.uniform(0.3, 0.7)
-        body.append(f"    translate({_vec(p)}) {{ {_rot(rng)} {{ {_primitive(rng, kinds[i % 5], s)} }} }}")
+        rot = _rot(rng)
+        text, radius = _primitive(rng, kinds[i % 5], s)
+        body.append(f"    translate({_vec(p)}) {{ {rot} {{ {text} }} }}")
+        balls.append((p, radius))
     body.append("  }")
-    return r, body
+    return r, body, balls
 
 
 def tree(n, smooth, rng):
     body = [f"  union(smooth: {_num(smooth)}, material: a) {{"]
+    balls = []
     # Breadth-first branching: each branch spawns two shorter ones at its tip.
     todo = [([0.0, 0.0, 0.0], [0.0, 1.0, 0.0], 1.5, 0)]
     count = 0
@@ -103,6 +128,7 @@ def tree(n, smooth, rng):
         if abs(angle) > 1e-6 and max(abs(axis[0]), abs(axis[2])) > 1e-9:
             shape = f"rotate(axis: {_vec(axis)}, degrees: {_num(angle)}) {{ {shape} }}"
         body.append(f"    translate({_vec(mid)}) {{ {shape} }}")
+        balls.append((mid, 0.5 * math.sqrt(2 * w * w + length * length)))
         extent = max(extent, max(abs(x) for x in tip))
         count += 1
         for _ in range(2):
@@ -111,7 +137,7 @@ def tree(n, smooth, rng):
             norm = math.sqrt(sum(x * x for x in nd))
             todo.append((tip, [x / norm for x in nd], length * 0.8, depth + 1))
     body.append("  }")
-    return extent, body
+    return extent, body, balls
 
 
 def holes(n, smooth, rng):
@@ -122,23 +148,26 @@ def holes(n, smooth, rng):
         p = [rng.uniform(-side / 2, side / 2), rng.uniform(-side / 2, side / 2), 0.3 * side]
         body.append(f"    translate({_vec(p)}) {{ sphere(radius: {_num(rng.uniform(0.1, 0.3))}) }}")
     body.append("  }")
-    return side, body
+    # The holes only take away: the block holds the shape.
+    return side, body, [([0.0, 0.0, 0.0], 0.5 * side * math.sqrt(2.36))]
 
 
 def city(n, smooth, rng):
     side = 1.5 * math.ceil(math.sqrt(n))
     body = [f"  union(smooth: {_num(smooth)}, material: a) {{"]
+    balls = []
     k = math.ceil(math.sqrt(n))
     for i in range(n):
         x, z = (i % k) * 1.5 - side / 2, (i // k) * 1.5 - side / 2
         h = rng.uniform(0.5, 3.0)
         fx, fz = rng.uniform(0.6, 1.2), rng.uniform(0.6, 1.2)
         body.append(f"    translate({_vec([x, h / 2, z])}) {{ box(size: {_vec([fx, h, fz])}, rounding: 0.03) }}")
+        balls.append(([x, h / 2, z], 0.5 * math.sqrt(fx * fx + h * h + fz * fz)))
         if rng.random() < 0.3:
             body.append(f"    translate({_vec([x, h, z])}) {{ pyramid(size: {_num(min(fx, fz))}, height: {_num(0.5)}) }}")
+            balls.append(([x, h, z], math.hypot(min(fx, fz) / math.sqrt(2), 0.5)))
     body.append("  }")
-    return side / 2, body
-
+    return side / 2, body, balls
 
 CHESS_DEFS = """let pawn(s) = union {
   translate([0, 0.15 * s, 0]) { cylinder(radius: 0.35 * s, height: 0.3 * s) }
@@ -180,6 +209,7 @@ let king(s) = union {
 def chess(n, smooth, rng):
     order = ["rook", "knight", "bishop", "queen", "king", "bishop", "knight", "rook"]
     body = [f"  union(smooth: {_num(smooth)}, material: a) {{"]
+    balls = []
     count = 0
     for row, z in ((0, -3.5), (1, -2.5), (6, 2.5), (7, 3.5)):
         for col in range(8):
@@ -188,23 +218,55 @@ def chess(n, smooth, rng):
             piece = order[col] if row in (0, 7) else "pawn"
             s = rng.uniform(0.95, 1.05)  # hand-made: no two pieces quite alike
             body.append(f"    translate({_vec([col - 3.5, 0, z])}) {{ {piece}({_num(s)}) }}")
+            # The tallest piece (the king) reaches 1.79 s, the widest 0.45 s.
+            balls.append(([col - 3.5, 0.9 * s, z], math.hypot(0.9 * s, 0.45 * s)))
             count += 1
     body.append("  }")
-    return 5.0, body
+    return 5.0, body, balls
 
 
-FAMILIES = dict(molecule=molecule, kitbash=kitbash, tree=tree, holes=holes, city=city, chess=chess)
+def boxbash(n, smooth, rng):
+    """kitbash with every part a box: what mixing kinds costs (an ablation)."""
+    return kitbash(n, smooth, rng, kinds=("box",) * 5)
 
 
-def scene(family, n, smooth=0.0, seed=1):
+FAMILIES = dict(molecule=molecule, kitbash=kitbash, tree=tree, holes=holes, city=city, chess=chess,
+                boxbash=boxbash)
+FRAMINGS = ("sphere", "legacy")
+
+
+def bounding_sphere(balls):
+    """A sphere holding every ball: its centre the middle of their box."""
+    lo = [min(c[i] - r for c, r in balls) for i in range(3)]
+    hi = [max(c[i] + r for c, r in balls) for i in range(3)]
+    centre = [(lo[i] + hi[i]) / 2 for i in range(3)]
+    radius = max(math.dist(c, centre) + r for c, r in balls)
+    return centre, radius
+
+
+def camera(family, extent, balls, framing):
+    """(position, target) of the camera."""
+    if framing == "legacy":
+        target = [0, extent * 0.3 if family in ("tree", "city", "chess") else 0, 0]
+        return [extent * 1.6, extent * 1.2 + 1, extent * 2.4 + 2], target
+    centre, radius = bounding_sphere(balls)
+    # The legacy camera's direction; the distance at which the sphere's
+    # angular radius is SPHERE_SHARE of the half field of view.
+    d = [1.6, 1.2, 2.4]
+    norm = math.sqrt(sum(x * x for x in d))
+    dist = radius / math.sin(math.radians(SPHERE_SHARE * FOV / 2))
+    return [centre[i] + d[i] / norm * dist for i in range(3)], centre
+
+
+def scene(family, n, smooth=0.0, seed=1, framing="sphere"):
     rng = random.Random(f"{family}-{n}-{seed}")
-    extent, body = FAMILIES[family](n, smooth, rng)
-    target = [0, extent * 0.3 if family in ("tree", "city", "chess") else 0, 0]
-    pos = [extent * 1.6, extent * 1.2 + 1, extent * 2.4 + 2]
-    text = HEADER.format(pos=_vec(pos), target=_vec(target))
+    extent, body, balls = FAMILIES[family](n, smooth, rng)
+    pos, target = camera(family, extent, balls, framing)
+    text = HEADER.format(pos=_vec(pos), target=_vec(target), fov=FOV)
     if family == "chess":
         text += CHESS_DEFS
     return text + "scene {\n" + "\n".join(body) + "\n}\n"
+
 
 
 def main():
@@ -213,8 +275,9 @@ def main():
     ap.add_argument("n", type=int)
     ap.add_argument("--smooth", type=float, default=0.0)
     ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--framing", choices=FRAMINGS, default="sphere")
     args = ap.parse_args()
-    print(scene(args.family, args.n, args.smooth, args.seed), end="")
+    print(scene(args.family, args.n, args.smooth, args.seed, args.framing), end="")
 
 
 if __name__ == "__main__":

@@ -148,6 +148,33 @@ const ir::Node* findSet(const ir::Node& n) {
   return nullptr;
 }
 
+// A blend grid lists each cell kind-major, then by member: lanes on
+// neighbouring cells then branch on the same kind at the same place in their
+// lists more often (docs/design/large_scenes.md, "Cost per part").
+TEST(ManyParts, BlendGridListsAreInKindOrder) {
+  std::string text = mixedParts(5, 60, "union", 7);
+  text.replace(text.find("  union {"), 9, "  union(smooth: 0.1) {");
+  const CompiledScene c = checkedParts(text, 32);
+  ASSERT_TRUE(c.ok);
+  const ir::Node* set = findSet(*c.scene.root);
+  ASSERT_NE(set, nullptr);
+  const ir::InstanceSet& members = *set->instances;
+  const ir::InstanceGrid& g = members.grid;
+  ASSERT_TRUE(g.blend);
+  int mixed = 0;
+  for (size_t cell = 0; cell < g.count.size(); ++cell) {
+    bool kinds = false;
+    for (std::int32_t j = 1; j < g.count[cell]; ++j) {
+      const std::uint32_t a = g.entries[g.first[cell] + j - 1], b = g.entries[g.first[cell] + j];
+      const std::int32_t ta = members.instances[a].templ, tb = members.instances[b].templ;
+      ASSERT_TRUE(ta < tb || (ta == tb && a < b)) << "cell " << cell << ", place " << j;
+      kinds = kinds || ta != tb;
+    }
+    mixed += kinds;
+  }
+  EXPECT_GT(mixed, 20);  // lists of several kinds: the order above was tested
+}
+
 // A smooth set's blend grid (passes/blend_grid.cpp) lists, per cell, every
 // member that can come within k of the nearest: the evaluator's value through
 // the lists equals, bit for bit, the blend of all members nearest first, at

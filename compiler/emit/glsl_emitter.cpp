@@ -452,7 +452,7 @@ class SceneWriter {
     bool mixed = false;
     bool grid = false;   // a grid: header (2 vec4), cells (1 vec4 each), lists (4 per vec4)
     size_t grid_header = 0, grid_cells = 0, grid_entries = 0;
-    bool grid_records = false;  // lists hold copies of one-vec4 records, not indices
+    bool grid_records = false;  // lists hold copies of the records (stride vec4 each), not indices
     // Every cell's list is kGridListMax centres (padded with copies of its
     // last, or a far dummy), slot_vec4 vec4 a cell, tested without a loop (the
     // root's sphere cloud).
@@ -769,12 +769,17 @@ class SceneWriter {
         return instance_layouts_.emplace(&n, l).first->second;
       }
       // One-vec4 records (no rotation, no parameters: point clouds) are copied
-      // into the lists, which saves a dependent load per listed instance.
-      l.grid_records = l.stride == 1 && grid.entries.size() * 16 <= kMaxCopiedRecordBytes;
+      // into the lists, which saves a dependent load per listed instance; so
+      // are a blend grid's records of any size, its lists being evaluated
+      // whole (1,000 blended spheres 230 -> 182 ms a sample, kit-bash 460 ->
+      // 431: docs/design/large_scenes.md, "Cost per part").
+      l.grid_records = (l.stride == 1 || grid.blend) &&
+                       grid.entries.size() * 16 * size_t(l.stride) <= kMaxCopiedRecordBytes;
       if (l.grid_records) {
         for (std::uint32_t e : grid.entries) {
-          const size_t r = (l.records + e) * 4;
-          pushVec4(data_[r], data_[r + 1], data_[r + 2], data_[r + 3]);
+          const size_t r = (l.records + size_t(e) * l.stride) * 4;
+          for (int v = 0; v < l.stride; ++v)
+            pushVec4(data_[r + 4 * v], data_[r + 4 * v + 1], data_[r + 4 * v + 2], data_[r + 4 * v + 3]);
         }
       } else {
         for (std::uint32_t e : grid.entries) data_.push_back(float(e));
@@ -962,7 +967,10 @@ class SceneWriter {
   // their smooth minimum nearest first over those within k of the nearest
   // (each pass picks the next by value, then by place in the list), which is
   // the whole set's blend there. Only a driver that caps loops, with too few
-  // visits left for the list, takes the hierarchy.
+  // visits left for the list, takes the hierarchy. The values are not kept
+  // in an array: lavapipe turns an array indexed by the loop into a ladder of
+  // branches per access, paid on every entry; where three or more lie within
+  // k of the least (rare) each pass evaluates the list again instead.
   void blendList(const ir::Node& n, const InstanceLayout& l, bool mat, const std::string& one,
                  const std::string& tree, const std::string& visits, const std::string& size, Function& g) {
     g.code << "  // Far from every part: a bound to step on.\n";
@@ -970,15 +978,12 @@ class SceneWriter {
     g.code << "    float face = min(min(min(q.x, q.y), q.z), min(min(1.0 - q.x, 1.0 - q.y), 1.0 - q.z));\n";
     g.code << "    float far = cell.z + " << size << " * max(face, 0.0);\n";
     g.code << "    return " << (mat ? "vec2(far, inherited)" : "far") << ";\n  }\n";
-    const std::string longest = std::to_string(std::max(n.instances->grid.longest, 1));
     const std::string loop0 = options_.with_kernel ? "loopZero()" : "0";
     const std::string tick = options_.with_kernel ? "    g_loop_iterations++;\n" : "";
     g.code << "  if (count * (count + 2) > " << visits << ") return " << tree << "(p" << (mat ? ", inherited" : "")
            << ");\n";
     g.code << "  float k = " << n.smooth.glsl() << ";\n";
     g.code << "  int first = int(cell.x);\n";
-    g.code << "  float v[" << longest << "];\n";
-    if (mat) g.code << "  float vm[" << longest << "];\n";
     // The three least values as they come (the first of equals first): where
     // fewer than three lie within k of the least, the blend is known without
     // the passes below (the same blends in the same order).
@@ -989,11 +994,10 @@ class SceneWriter {
     g.code << "    int e = first + it;\n";
     g.code << "    int rec = " << listedRecord(l) << ";\n";
     if (mat) {
-      g.code << "    vec2 r = " << one << "(p, rec, inherited);\n    float x = r.x;\n    vm[it] = r.y;\n";
+      g.code << "    vec2 r = " << one << "(p, rec, inherited);\n    float x = r.x;\n";
     } else {
       g.code << "    float x = " << one << "(p, rec);\n";
     }
-    g.code << "    v[it] = x;\n";
     g.code << "    if (x < m) {\n      m3 = m2;\n      m2 = m;\n      m = x;\n" << (mat ? "      mm = r.y;\n" : "")
            << "    } else if (x < m2) {\n      m3 = m2;\n      m2 = x;\n    } else {\n      m3 = min(m3, x);\n    }\n  }\n";
     g.code << "  if (m2 >= m + k) return " << (mat ? "vec2(m, mm)" : "m") << ";\n";
@@ -1002,14 +1006,21 @@ class SceneWriter {
     g.code << "  " << (mat ? "vec2 best = vec2(1e30, inherited);" : "float best = 1e30;") << "\n";
     g.code << "  float last = -1e30;\n  int last_j = -1;\n";
     g.code << "  for (int s = " << loop0 << "; s < count; s++) {\n" << tick;
-    g.code << "    float nv = 1e30;\n    int nj = -1;\n";
+    g.code << "    float nv = 1e30;\n    int nj = -1;\n" << (mat ? "    float nm = inherited;\n" : "");
     g.code << "    for (int j = " << loop0 << "; j < count; j++) {\n" << tick;
-    g.code << "      float x = v[j];\n";
-    g.code << "      if ((x > last || (x == last && j > last_j)) && x < nv) {\n        nv = x;\n        nj = j;\n      }\n";
+    g.code << "      int e = first + j;\n";
+    g.code << "      int rec = " << listedRecord(l) << ";\n";
+    if (mat) {
+      g.code << "      vec2 r = " << one << "(p, rec, inherited);\n      float x = r.x;\n";
+    } else {
+      g.code << "      float x = " << one << "(p, rec);\n";
+    }
+    g.code << "      if ((x > last || (x == last && j > last_j)) && x < nv) {\n        nv = x;\n        nj = j;\n"
+           << (mat ? "        nm = r.y;\n" : "") << "      }\n";
     g.code << "    }\n";
     g.code << "    if (nj < 0 || nv >= m + k) break;\n";
     if (mat) {
-      g.code << "    best = vec2(sdSmoothMin(best.x, nv, k), nv < best.x ? vm[nj] : best.y);\n";
+      g.code << "    best = vec2(sdSmoothMin(best.x, nv, k), nv < best.x ? nm : best.y);\n";
     } else {
       g.code << "    best = sdSmoothMin(best, nv, k);\n";
     }
@@ -1038,7 +1049,7 @@ class SceneWriter {
   std::string listedRecord(const InstanceLayout& l) const {
     const std::string ge = std::to_string(l.grid_entries);
     // Fixed slots read as records only with a material to read: unpacked.
-    if (l.grid_records) return ge + " + e";
+    if (l.grid_records) return ge + " + e" + (l.stride > 1 ? " * " + std::to_string(l.stride) : "");
     return std::to_string(l.records) + " + int(sd_data[" + ge + " + (e >> 2)][e & 3]) * " +
            std::to_string(l.stride);
   }
