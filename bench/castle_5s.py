@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """The castle's default render in 5 s (issue 48): time against error of the candidates.
 
-    /usr/bin/python3 bench/castle_5s.py filter --spp 24 32 --seeds 7 8 VARIANT...
+    /usr/bin/python3 bench/castle_5s.py filter --spp 24 32 --seeds 7 8 --variants VARIANT...
     /usr/bin/python3 bench/castle_5s.py render --configs nlr@32 nlr+a@20 ... --seeds 7 8 --reps 3
 
 `filter`: one render of the halves per spp and seed (build/bench/nlr_tune/sdfc_nlr_tune),
@@ -131,7 +131,7 @@ def cmd_render(args, scene, ref, work):
 def main():
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("mode", choices=["filter", "render"])
-    p.add_argument("variants", nargs="*", help="filter: nlr parameter variants")
+    p.add_argument("--variants", nargs="+", default=["base"], help="filter: nlr parameter variants")
     p.add_argument("--scene", default=os.path.join(ROOT, "examples", "castle.sdf"))
     p.add_argument("--configs", nargs="+", default=["nlr@48", "nlr@32"])
     p.add_argument("--spp", nargs="+", type=int, default=[32])
