@@ -297,6 +297,7 @@ int runRender(const CommandLine& cl) {
   request.view = o.view;
   request.layers = cl.layers;
   request.adaptive = cl.adaptive;
+  request.frames = times.size();
   RenderChoice choice = chooseRenderSettings(request, nullptr);
   // Check the output's extension (a usage error) and directory before any work.
   if (!checkImageExtension(cl.output)) return kExitUsage;
