@@ -25,6 +25,9 @@ struct RenderRequest {
   // Frames of the render (--frames A-B); more than one: an animation, whose
   // filter runs every frame and gets nlr-fast by default.
   size_t frames = 1;
+  // --denoise-select: per-pixel strengths of nlm's and nlr's last pass (nlr-fast's
+  // single pass has none), so an animation asking for it keeps nlr.
+  bool denoise_select = false;
 };
 
 // The settings chosen, and the one line that says why.

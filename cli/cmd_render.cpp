@@ -301,6 +301,7 @@ int runRender(const CommandLine& cl) {
   request.layers = cl.layers;
   request.adaptive = cl.adaptive;
   request.frames = times.size();
+  request.denoise_select = !cl.denoise_select.empty();
   RenderChoice choice = chooseRenderSettings(request, nullptr);
   // Check the output's extension (a usage error) and directory before any work.
   if (!checkImageExtension(cl.output)) return kExitUsage;

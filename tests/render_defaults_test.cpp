@@ -67,6 +67,12 @@ TEST(RenderDefaults, AnimationGetsTheFastFilter) {
   request.denoiser = Denoiser::Nlr;
   EXPECT_EQ(chooseRenderSettings(request, &set).denoiser, Denoiser::Nlr);
   request.denoiser.reset();
+  request.denoise_select = true;  // strengths of a last pass nlr-fast does not have
+  EXPECT_EQ(chooseRenderSettings(request, &set).denoiser, Denoiser::Nlr);
+  EXPECT_EQ(chooseRenderSettings(request, &set).reason,
+            "16 spp + nlr denoiser: the scene's render() sets spp 16; nlr is the default denoiser for "
+            "--denoise-select (nlr-fast, an animation's, has no last pass to select in; docs/denoise.md)");
+  request.denoise_select = false;
   request.layers = true;
   EXPECT_EQ(chooseRenderSettings(request, &set).denoiser, Denoiser::None);
 }
