@@ -45,9 +45,17 @@ RenderChoice chooseRenderSettings(const RenderRequest& request, const ir::Render
   } else if (request.denoiser) {
     c.denoiser = *request.denoiser;
     denoiser_why = std::string("--denoise ") + denoiserName(c.denoiser);
+  } else if (request.frames > 1 && !request.denoise_select) {
+    // The filter runs once a frame: nlr-fast's time is a smaller share of the
+    // frame's, and the samples that time buys lower the error more than nlr's
+    // wider window does (bench/results/anim_denoise.md).
+    c.denoiser = Denoiser::NlrFast;
+    denoiser_why = "nlr-fast is an animation's default denoiser (nlr in one pass, about 40% of its time; docs/denoise.md)";
   } else {
     c.denoiser = Denoiser::Nlr;
-    denoiser_why = "nlr is the default denoiser (docs/denoise.md)";
+    denoiser_why = request.frames > 1 ? "nlr is the default denoiser for --denoise-select (nlr-fast, an "
+                                        "animation's, has no last pass to select in; docs/denoise.md)"
+                                      : "nlr is the default denoiser (docs/denoise.md)";
   }
   c.adaptive = request.adaptive && beauty;
   // Without two halves (1 spp) a variance-guided filter leaves the image as it is.

@@ -4,6 +4,7 @@
 // `sdfc view` all ask here, so they cannot drift apart (issue 48). The values
 // themselves are measured in bench/results/DEFAULT_CHOICE.md.
 #pragma once
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -21,6 +22,12 @@ struct RenderRequest {
   uint32_t view = gpu::kViewBeauty;
   bool layers = false;    // --layers: the raw mean and the primary ray's layers
   bool adaptive = false;  // --adaptive
+  // Frames of the render (--frames A-B); more than one: an animation, whose
+  // filter runs every frame and gets nlr-fast by default.
+  size_t frames = 1;
+  // --denoise-select: per-pixel strengths of nlm's and nlr's last pass (nlr-fast's
+  // single pass has none), so an animation asking for it keeps nlr.
+  bool denoise_select = false;
 };
 
 // The settings chosen, and the one line that says why.

@@ -18,6 +18,7 @@
 #include "progress.h"
 #include "scene_render.h"
 #include "pipeline_cache.h"
+#include "reuse_freed_memory.h"
 #include "spirv/spirv_cache.h"
 #include "stage_timings.h"
 #include "shard_plan.h"
@@ -289,6 +290,8 @@ int runRender(const CommandLine& cl) {
   std::vector<double> times = {cl.time};
   std::vector<int> frame_numbers;  // empty: a still, written to -o as it is
   if (!framesFrom(cl, times, frame_numbers)) return kExitUsage;
+  // Each frame's filter reuses the memory of the one before (runtime/reuse_freed_memory.h).
+  if (times.size() > 1) reuseFreedMemory();
   // The defaults (spp, denoiser, adaptive, the kernel's features) are decided in
   // api/render_defaults.h; here from the command line alone, the scene is not read yet.
   RenderRequest request;
@@ -297,6 +300,8 @@ int runRender(const CommandLine& cl) {
   request.view = o.view;
   request.layers = cl.layers;
   request.adaptive = cl.adaptive;
+  request.frames = times.size();
+  request.denoise_select = !cl.denoise_select.empty();
   RenderChoice choice = chooseRenderSettings(request, nullptr);
   // Check the output's extension (a usage error) and directory before any work.
   if (!checkImageExtension(cl.output)) return kExitUsage;

@@ -96,9 +96,9 @@ void registerCommands(CLI::App& app, CommandLine& cl) {
   render->add_option("--bounces", cl.bounces, "maximum path length")->check(limitOf(api::Option::Bounces));
   render->add_option("--light-samples", cl.light_samples, "light samples per vertex")->check(limitOf(api::Option::LightSamples));
   render->add_option("--denoise", cl.denoiser,
-                     "none | bilateral | atrous | svgf | nlm | nlr (default nlr: it leaves converged "
-                     "pixels as they are; none for reference images)")
-      ->check(CLI::IsMember({"none", "bilateral", "atrous", "svgf", "nlm", "nlr"}));
+                     "none | bilateral | atrous | svgf | nlm | nlr | nlr-fast (default nlr, nlr-fast for "
+                     "--frames: it leaves converged pixels as they are; none for reference images)")
+      ->check(CLI::IsMember({"none", "bilateral", "atrous", "svgf", "nlm", "nlr", "nlr-fast"}));
   render->add_option("--denoise-aovs", cl.denoise_aovs,
                      "features of svgf, nlm, nlr: auto (specular for nlr, else centre) | jittered "
                      "(means over the samples) | specular (jittered, through specular first hits) | "

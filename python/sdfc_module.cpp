@@ -243,7 +243,7 @@ class PyScene {
     if (denoise) {
       request.denoiser = parseDenoiser(*denoise);
       if (!request.denoiser)
-        throw py::value_error("denoise must be one of nlr, none, bilateral, atrous, svgf, nlm; got '" + *denoise + "'");
+        throw py::value_error("denoise must be one of nlr, nlr-fast, none, bilateral, atrous, svgf, nlm; got '" + *denoise + "'");
     }
     return request;
   }

@@ -34,6 +34,7 @@ std::optional<Denoiser> parseDenoiser(std::string_view name) {
   if (name == "svgf") return Denoiser::Svgf;
   if (name == "nlm") return Denoiser::Nlm;
   if (name == "nlr") return Denoiser::Nlr;
+  if (name == "nlr-fast") return Denoiser::NlrFast;
   return std::nullopt;
 }
 
@@ -45,6 +46,7 @@ const char* denoiserName(Denoiser denoiser) {
     case Denoiser::Svgf: return "svgf";
     case Denoiser::Nlm: return "nlm";
     case Denoiser::Nlr: return "nlr";
+    case Denoiser::NlrFast: return "nlr-fast";
   }
   return "?";
 }
@@ -156,19 +158,21 @@ double predictedDenoiseSeconds(Denoiser denoiser, size_t pixels, size_t select_s
     case Denoiser::Svgf: per_megapixel = 2.8; break;
     case Denoiser::Nlm: per_megapixel = 1.2; break;
     case Denoiser::Nlr: per_megapixel = 1.7; break;
+    case Denoiser::NlrFast: per_megapixel = 0.75; break;  // bench/results/anim_denoise.md
   }
-  if (select_strengths > 1 && (denoiser == Denoiser::Nlm || denoiser == Denoiser::Nlr))
+  if (select_strengths > 1 && (denoiser == Denoiser::Nlm || denoiser == Denoiser::Nlr || denoiser == Denoiser::NlrFast))
     per_megapixel *= (1.0 + 2.5 * double(select_strengths)) / 3.5;
   const int threads = std::clamp<int>(int(std::thread::hardware_concurrency()), 1, 8);
   return per_megapixel * double(pixels) * 1e-6 / threads;
 }
 
 bool needsVariance(Denoiser denoiser) {
-  return denoiser == Denoiser::Svgf || denoiser == Denoiser::Nlm || denoiser == Denoiser::Nlr;
+  return denoiser == Denoiser::Svgf || denoiser == Denoiser::Nlm || denoiser == Denoiser::Nlr ||
+         denoiser == Denoiser::NlrFast;
 }
 
-bool wantsJitteredAovs(Denoiser denoiser) { return denoiser == Denoiser::Nlr; }
-bool wantsSpecularAovs(Denoiser denoiser) { return denoiser == Denoiser::Nlr; }
+bool wantsJitteredAovs(Denoiser denoiser) { return denoiser == Denoiser::Nlr || denoiser == Denoiser::NlrFast; }
+bool wantsSpecularAovs(Denoiser denoiser) { return denoiser == Denoiser::Nlr || denoiser == Denoiser::NlrFast; }
 
 FloatImage denoise(Denoiser denoiser, const FloatImage& color, const FloatImage& normal_depth,
                    const FloatImage& albedo_steps, const SampleHalves* halves,
@@ -184,8 +188,9 @@ FloatImage denoise(Denoiser denoiser, const FloatImage& color, const FloatImage&
       return svgfDenoise(*halves, normal_depth, albedo_steps, params);
     }
     case Denoiser::Nlm:
-    case Denoiser::Nlr: {
-      NlmParams params = denoiser == Denoiser::Nlr ? nlrParams() : NlmParams();
+    case Denoiser::Nlr:
+    case Denoiser::NlrFast: {
+      NlmParams params = denoiser == Denoiser::Nlr ? nlrParams() : denoiser == Denoiser::NlrFast ? nlrFastParams() : NlmParams();
       params.select_k = select_strengths;
       params.interrupt = control.interrupt;
       params.progress = control.progress;

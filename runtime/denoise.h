@@ -13,6 +13,8 @@
 //  - Nlr: nlm's weights with a first-order regression on features averaged over
 //    the jittered samples (nlrParams in denoise_nlm.h). The best of these at equal
 //    samples (docs/denoise.md).
+//  - NlrFast: nlr in one pass over a smaller window (nlrFastParams), about 40%
+//    of its time: an animation's default, where the filter runs every frame.
 #pragma once
 #include <atomic>
 #include <functional>
@@ -27,9 +29,10 @@
 
 namespace sdfc {
 
-enum class Denoiser { None, Bilateral, ATrous, Svgf, Nlm, Nlr };
+enum class Denoiser { None, Bilateral, ATrous, Svgf, Nlm, Nlr, NlrFast };
 
-// "none", "bilateral", "atrous" (also "a-trous"), "svgf", "nlm", "nlr"; nullopt otherwise.
+// "none", "bilateral", "atrous" (also "a-trous"), "svgf", "nlm", "nlr", "nlr-fast";
+// nullopt otherwise.
 std::optional<Denoiser> parseDenoiser(std::string_view name);
 const char* denoiserName(Denoiser denoiser);
 

@@ -49,6 +49,34 @@ TEST(RenderDefaults, ReasonSaysWhoDecided) {
             "1 sample, no denoiser: the normal view takes one sample and is never denoised (docs/debug_views.md)");
 }
 
+// An animation's frames each pay for the filter: nlr-fast unless asked otherwise;
+// a still keeps nlr, and --denoise and --layers still decide.
+TEST(RenderDefaults, AnimationGetsTheFastFilter) {
+  RenderRequest request;
+  const ir::RenderSettings set = sceneWith(16);
+  request.frames = 24;
+  RenderChoice c = chooseRenderSettings(request, &set);
+  EXPECT_EQ(c.denoiser, Denoiser::NlrFast);
+  EXPECT_TRUE(c.denoises);
+  EXPECT_EQ(c.reason,
+            "16 spp + nlr-fast denoiser: the scene's render() sets spp 16; nlr-fast is an animation's "
+            "default denoiser (nlr in one pass, about 40% of its time; docs/denoise.md)");
+  request.frames = 1;
+  EXPECT_EQ(chooseRenderSettings(request, &set).denoiser, Denoiser::Nlr);
+  request.frames = 24;
+  request.denoiser = Denoiser::Nlr;
+  EXPECT_EQ(chooseRenderSettings(request, &set).denoiser, Denoiser::Nlr);
+  request.denoiser.reset();
+  request.denoise_select = true;  // strengths of a last pass nlr-fast does not have
+  EXPECT_EQ(chooseRenderSettings(request, &set).denoiser, Denoiser::Nlr);
+  EXPECT_EQ(chooseRenderSettings(request, &set).reason,
+            "16 spp + nlr denoiser: the scene's render() sets spp 16; nlr is the default denoiser for "
+            "--denoise-select (nlr-fast, an animation's, has no last pass to select in; docs/denoise.md)");
+  request.denoise_select = false;
+  request.layers = true;
+  EXPECT_EQ(chooseRenderSettings(request, &set).denoiser, Denoiser::None);
+}
+
 // Every combination: the denoiser, adaptive sampling and the kernel's features
 // as `sdfc render` decided them before api/render_defaults.h (cli/cmd_render.cpp).
 TEST(RenderDefaults, MatchesTheCommandLinesRules) {

@@ -105,6 +105,30 @@ def main():
                             "8x8", "--quiet"], capture_output=True, text=True, env=env)
         check(q.returncode == 0 and settings_line(q.stderr) is None and "settings" not in q.stderr,
               "--quiet prints no settings line", q.stderr)
+        # An animation (--frames with more than one frame) takes nlr-fast unless --denoise
+        # says otherwise, and each frame is the still rendered at its time with it.
+        anim = os.path.join(tmp, "anim.sdf")
+        with open(anim, "w") as f:
+            f.write(SCENE.replace("sphere(radius: 1)", "sphere(radius: 0.8 + 0.2 * sin(time))")
+                    .format(render="render(spp: 4)\n"))
+        for denoise, expected in ((None, "nlr-fast"), ("nlr", "nlr")):
+            cmd = [args.sdfc, "render", anim, "-o", os.path.join(tmp, "f.pfm"), "--size", "24x16",
+                   "--frames", "0-1", "--fps", "4"] + (["--denoise", denoise] if denoise else [])
+            what = " ".join(cmd[2:]).replace(tmp + os.sep, "")
+            r = subprocess.run(cmd, capture_output=True, text=True, env=env)
+            line = settings_line(r.stderr) if r.returncode == 0 else None
+            check(line is not None and f"+ {expected} denoiser" in line, what + f": {expected} chosen", r.stderr)
+            check(r.stderr.count(f"denoised ({expected};") == 2, what + f": both frames denoised with {expected}",
+                  r.stderr)
+        still = os.path.join(tmp, "still.pfm")
+        r = subprocess.run([args.sdfc, "render", anim, "-o", still, "--size", "24x16", "--time", "0.25",
+                            "--denoise", "nlr-fast"], capture_output=True, text=True, env=env)
+        check(r.returncode == 0 and "denoised (nlr-fast;" in r.stderr, "a still with --denoise nlr-fast", r.stderr)
+        subprocess.run([args.sdfc, "render", anim, "-o", os.path.join(tmp, "f.pfm"), "--size", "24x16",
+                        "--frames", "0-1", "--fps", "4", "--quiet"], capture_output=True, env=env)
+        frame1 = os.path.join(tmp, "f_0001.pfm")
+        same = os.path.exists(frame1) and open(frame1, "rb").read() == open(still, "rb").read()
+        check(same, "an animation's frame 1 is the still at its time with nlr-fast, byte for byte")
         # Python's render uses the chosen denoiser: its default equals denoise="nlr".
         s = sdfc.load(scenes["set"])
         a = s.render(size=(8, 8), spp=2)

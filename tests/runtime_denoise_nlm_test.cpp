@@ -114,32 +114,51 @@ TEST(RuntimeDenoiseNlm, ErrorFallsAsSamplesRise) {
   EXPECT_LT(previous, 1e-8);  // the undenoised image has 1.2e-7 here
 }
 
-// nlr (nlm's weights with a first-order regression on the features): the same
-// convergence guarantees.
+// nlr (nlm's weights with a first-order regression on the features) and its
+// one-pass animation form nlr-fast: the same convergence guarantees.
 TEST(RuntimeDenoiseNlr, ZeroVarianceIsTheIdentity) {
   FloatImage normal_depth, albedo;
   planeGuides(normal_depth, albedo, true, 4);
   SampleHalves h = noisyHalves(0.2f, 8, stepTruth, 25);
   h.b = h.a;
-  const FloatImage out = nlmDenoise(h, normal_depth, albedo, nlrParams());
-  for (size_t i = 0; i < out.pixelCount(); ++i)
-    for (int c = 0; c < 3; ++c) ASSERT_FLOAT_EQ(out.rgba[i * 4 + c], h.a.rgba[i * 4 + c]) << i;
+  for (const NlmParams& params : {nlrParams(), nlrFastParams()}) {
+    const FloatImage out = nlmDenoise(h, normal_depth, albedo, params);
+    for (size_t i = 0; i < out.pixelCount(); ++i)
+      for (int c = 0; c < 3; ++c) ASSERT_FLOAT_EQ(out.rgba[i * 4 + c], h.a.rgba[i * 4 + c]) << i;
+  }
 }
 
 TEST(RuntimeDenoiseNlr, ErrorFallsAsSamplesRise) {
   FloatImage normal_depth, albedo;
   planeGuides(normal_depth, albedo, false);
-  double previous = 1e30;
-  for (uint32_t samples : {2u, 8u, 32u, 128u, 512u, 1u << 14, 1u << 20}) {
-    const SampleHalves h = noisyHalves(0.5f, samples, stepTruth, 26);
-    const double raw = meanSquaredError(meanOf(h), stepTruth);
-    const double error = meanSquaredError(nlmDenoise(h, normal_depth, albedo, nlrParams()), stepTruth);
-    std::printf("nlr on a shadow edge, %7u spp: MSE %.3g (undenoised %.3g)\n", 2 * samples, error, raw);
-    EXPECT_LT(error, previous);
-    EXPECT_LT(error, raw);
-    previous = error;
+  for (const NlmParams& params : {nlrParams(), nlrFastParams()}) {
+    const char* name = params.passes == 1 ? "nlr-fast" : "nlr";
+    double previous = 1e30;
+    for (uint32_t samples : {2u, 8u, 32u, 128u, 512u, 1u << 14, 1u << 20}) {
+      const SampleHalves h = noisyHalves(0.5f, samples, stepTruth, 26);
+      const double raw = meanSquaredError(meanOf(h), stepTruth);
+      const double error = meanSquaredError(nlmDenoise(h, normal_depth, albedo, params), stepTruth);
+      std::printf("%s on a shadow edge, %7u spp: MSE %.3g (undenoised %.3g)\n", name, 2 * samples, error, raw);
+      EXPECT_LT(error, previous) << name;
+      EXPECT_LT(error, raw) << name;
+      previous = error;
+    }
+    EXPECT_LT(previous, 1e-8) << name;
   }
-  EXPECT_LT(previous, 1e-8);
+}
+
+// nlr-fast is nlr with fewer offsets and passes: it removes less noise than nlr
+// on a flat plane, but most of it.
+TEST(RuntimeDenoiseNlr, FastFormRemovesMostNoise) {
+  FloatImage normal_depth, albedo;
+  planeGuides(normal_depth, albedo, false);
+  const SampleHalves h = noisyHalves(0.2f, 8, flatTruth, 21);
+  const double raw = meanSquaredError(meanOf(h), flatTruth);
+  const double full = meanSquaredError(nlmDenoise(h, normal_depth, albedo, nlrParams()), flatTruth);
+  const double fast = meanSquaredError(nlmDenoise(h, normal_depth, albedo, nlrFastParams()), flatTruth);
+  std::printf("flat plane MSE: undenoised %.3g, nlr %.3g, nlr-fast %.3g\n", raw, full, fast);
+  EXPECT_GT(raw / fast, 5.0);
+  EXPECT_LT(full, fast);
 }
 
 float rampTruth(uint32_t x) { return 0.1f + 0.8f * float(x) / float(kSize - 1); }
@@ -197,7 +216,7 @@ TEST(RuntimeDenoiseNlr, InstructionSetsAgree) {
     for (uint32_t x = 0; x < kSize; ++x)
       for (int c = 0; c < 3; ++c) albedo.at(x, y)[c] = rampTruth(x) * (c == 1 ? 0.5f : 1.0f);
   const SampleHalves h = noisyHalves(0.3f, 4, rampTruth, 28);
-  for (const NlmParams& params : {NlmParams(), nlrParams()}) {
+  for (const NlmParams& params : {NlmParams(), nlrParams(), nlrFastParams()}) {
     std::vector<FloatImage> images;
     for (const char* level : {"baseline", "avx2", "best"}) {
       setenv("SDFC_SIMD", level, 1);
@@ -255,6 +274,11 @@ TEST(RuntimeDenoiseNlm, DispatchNeedsHalves) {
   EXPECT_STREQ(denoiserName(Denoiser::Nlr), "nlr");
   EXPECT_TRUE(needsVariance(Denoiser::Nlr));
   EXPECT_TRUE(wantsJitteredAovs(Denoiser::Nlr));
+  EXPECT_EQ(parseDenoiser("nlr-fast"), Denoiser::NlrFast);
+  EXPECT_STREQ(denoiserName(Denoiser::NlrFast), "nlr-fast");
+  EXPECT_TRUE(needsVariance(Denoiser::NlrFast));
+  EXPECT_TRUE(wantsJitteredAovs(Denoiser::NlrFast));
+  EXPECT_TRUE(wantsSpecularAovs(Denoiser::NlrFast));
   EXPECT_FALSE(wantsJitteredAovs(Denoiser::Nlm));
   EXPECT_STREQ(denoiserName(Denoiser::Nlm), "nlm");
   EXPECT_TRUE(needsVariance(Denoiser::Nlm));
