@@ -10,6 +10,7 @@
 #include <cstdlib>
 #include <random>
 #include <sstream>
+#include <string>
 
 #include "camera.h"
 #include "driver/compile.h"
@@ -384,6 +385,42 @@ TEST_F(ManyPartsGpu, CarvedAndIntersectedSetsAreExact) {
   cut.replace(cut.find("scene {\n"), 8, "scene {\n  intersect {\n  sphere(radius: 2.2)\n");
   cut.insert(cut.rfind('}'), "}\n");
   expectExact("a sphere intersected with a smooth blend of 5 x 60 parts", cut);
+}
+
+// The kernel's kDriverCapsLoops is specialised from the driver (prelude.glsl,
+// render_pipeline.cpp): only a kernel specialised for a loop cap takes a blend
+// list's hierarchy fallback, and where no visits are rationed the two kernels
+// draw the same bits.
+TEST_F(ManyPartsGpu, LoopCapSpecialisationDropsOnlyTheBlendFallback) {
+  CompileOptions options;
+  options.emit.bounding_volumes = false;
+  Diagnostics diags;
+  const CompiledScene c = compileSource("many_parts.sdf", mixedParts(5, 100, "union(smooth: 0.1)", 4), options, diags);
+  ASSERT_TRUE(c.ok) << diags.format();
+  ASSERT_NE(c.emitted.glsl.find("kDriverCapsLoops && count * (count + 2) >"), std::string::npos);
+  const bool driver_caps = context_->loop_cap;
+  context_->loop_cap = true;
+  Renderer capped(*context_, c);
+  context_->loop_cap = false;
+  Renderer uncapped(*context_, c);
+  context_->loop_cap = driver_caps;
+  gpu::FrameParams params = makeFrameParams(cameraFor(c.scene), 64, 36, 0);
+  params.view = gpu::kViewDepth;
+  params.sample_count = 1;
+  auto draw = [&](Renderer& r) {
+    FloatImage color, normal_depth, albedo_steps;
+    r.renderPass(params, 120.0, color, normal_depth, albedo_steps);
+    // Compared as bytes: the same bits, not merely equal floats.
+    std::string bytes(reinterpret_cast<const char*>(normal_depth.rgba.data()), normal_depth.rgba.size() * sizeof(float));
+    bytes.append(reinterpret_cast<const char*>(albedo_steps.rgba.data()), albedo_steps.rgba.size() * sizeof(float));
+    return bytes;
+  };
+  params.traversal_visits = kUncappedTraversalVisits;
+  EXPECT_TRUE(draw(capped) == draw(uncapped)) << "the same lists, the same bits";
+  // Eight visits: the capped kernel's lists of 3 or more go to the hierarchy,
+  // which runs out of visits (a bound, more steps); the other ignores visits.
+  params.traversal_visits = 8;
+  EXPECT_FALSE(draw(capped) == draw(uncapped)) << "the specialisation did not reach the driver";
 }
 
 }  // namespace

@@ -973,8 +973,10 @@ class SceneWriter {
     const std::string longest = std::to_string(std::max(n.instances->grid.longest, 1));
     const std::string loop0 = options_.with_kernel ? "loopZero()" : "0";
     const std::string tick = options_.with_kernel ? "    g_loop_iterations++;\n" : "";
-    g.code << "  if (count * (count + 2) > " << visits << ") return " << tree << "(p" << (mat ? ", inherited" : "")
-           << ");\n";
+    // Only a driver that caps loops takes the hierarchy (its visits are never
+    // fewer than the list's otherwise): the constant drops it from the others'.
+    g.code << "  if (" << (options_.with_kernel ? "kDriverCapsLoops && " : "") << "count * (count + 2) > " << visits
+           << ") return " << tree << "(p" << (mat ? ", inherited" : "") << ");\n";
     g.code << "  float k = " << n.smooth.glsl() << ";\n";
     g.code << "  int first = int(cell.x);\n";
     g.code << "  float v[" << longest << "];\n";
