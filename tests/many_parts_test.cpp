@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <functional>
 #include <random>
 #include <sstream>
 #include <string>
@@ -213,6 +214,65 @@ TEST(ManyParts, BlendGridListsEveryMemberThatCounts) {
       EXPECT_GT(near, 20) << per_kind * 5 << " parts, k " << k;
       if (per_kind >= 60) EXPECT_GT(far, 20) << per_kind * 5 << " parts, k " << k;
     }
+}
+
+// The blend grid's z slices are listed on several threads and joined in z
+// order: any thread count builds the same grid, bit for bit, including a
+// build that gives up (over its evaluation budget: a blend radius spanning
+// the set).
+TEST(ManyParts, BlendGridIsTheSameOnAnyNumberOfThreads) {
+  for (double k : {0.1, 3.0}) {
+    std::string text = mixedParts(5, 400, "union", 11);
+    text.replace(text.find("  union {"), 9, "  union(smooth: " + std::to_string(k) + ") {");
+    const CompiledScene c = checkedParts(text, 32);
+    ASSERT_TRUE(c.ok);
+    const ir::Node* set = findSet(*c.scene.root);
+    ASSERT_NE(set, nullptr);
+    const Evaluator eval(c.scene);
+    auto build = [&](unsigned threads) {
+      ir::InstanceSet members = *set->instances;
+      const bool built = buildBlendGrid(members, *set, k, [&](size_t i, const dvec3& p) {
+        return eval.instanceDistance(*set, i, p);
+      }, threads);
+      return std::make_pair(built, members.grid);
+    };
+    const auto [one_built, one] = build(1);
+    EXPECT_EQ(one_built, k < 1) << "k " << k;
+    for (unsigned threads : {2u, 3u, 8u}) {
+      const auto [built, g] = build(threads);
+      SCOPED_TRACE("k " + std::to_string(k) + ", " + std::to_string(threads) + " threads");
+      EXPECT_EQ(built, one_built);
+      EXPECT_EQ(g.dims, one.dims);
+      EXPECT_EQ(g.first, one.first);
+      EXPECT_EQ(g.count, one.count);
+      EXPECT_EQ(g.reach, one.reach);
+      EXPECT_EQ(g.entries, one.entries);
+      EXPECT_EQ(g.longest, one.longest);
+      EXPECT_EQ(g.splits, one.splits);
+    }
+    if (!one_built) continue;
+    EXPECT_GT(one.splits, 0) << "no octants: the join's renumbering is untested";
+    // The numbering of one pass over the cells in z, y, x order: a list's
+    // entries follow the lists before it, a split cell's octants the octants
+    // before them (depth first), as the single-threaded build numbered them.
+    size_t entries = 0, octants = size_t(one.dims.x) * one.dims.y * one.dims.z;
+    std::function<bool(size_t)> walk = [&](size_t c) {
+      if (one.count[c] == ir::kGridSplit) {
+        if (one.first[c] != octants) return false;
+        const size_t sub = octants;
+        octants += 8;
+        for (size_t o = 0; o < 8; ++o)
+          if (!walk(sub + o)) return false;
+        return true;
+      }
+      if (one.first[c] != entries || one.count[c] < 0) return false;
+      entries += size_t(one.count[c]);
+      return true;
+    };
+    for (size_t c = 0, cells = octants; c < cells; ++c) ASSERT_TRUE(walk(c)) << "cell " << c;
+    EXPECT_EQ(entries, one.entries.size());
+    EXPECT_EQ(octants, one.count.size());
+  }
 }
 
 TEST(ManyParts, HolesCutAwayBecomeData) {
