@@ -7,6 +7,7 @@ part count, written to bench/results/many_parts.md (and .json).
                       [--counts 10,100,1000] [--smooth 0.05] [--repeats 3]
                       [--size 320x180] [--spp 8] [--mesh-counts 1000]
                       [--framing sphere|legacy]
+  bench/many_parts.py --first-image [--before OLD_SDFC] [--counts 10000] [--repeats 3]
 
 Families come from bench/many_parts_scenes.py, framed (--framing sphere, the
 default) so that the family's bounding sphere spans the same share of the view
@@ -34,6 +35,11 @@ Per family and count:
     a hit must lie within a pixel's footprint of the surface and no surface
     may lie clearly before it on the ray (the check of tests/many_parts_test.cpp);
   - with --mesh-counts: `sdfc mesh` at resolution 128 of the smooth molecule.
+With --first-image, only the first image (issue 46's "compile + pipeline +
+first sample"): --repeats runs per binary, interleaved, medians of the whole
+process's wall and CPU seconds (os.wait4: user + system of every thread) and
+of `--timings`' front end, pipeline creation and first draw (the driver's LLVM
+compile), to bench/results/many_parts_first_image.md (and .json).
 Needs numpy (Debian's python3-numpy: run with /usr/bin/python3) and /usr/bin/time.
 """
 import argparse
@@ -79,6 +85,67 @@ def first_image(sdfc, scene, out):
                             "--denoise", "none", "--timings"], cold_env())
     m = re.search(r"pipeline[^0-9]*([0-9.]+) ?ms", err)
     return wall, rss, float(m.group(1)) if m else float("nan")
+
+
+def first_image_stages(sdfc, scene, out):
+    """One cold first image: wall s, CPU s (the process and its threads) and --timings' stages (ms)."""
+    start = time.perf_counter()
+    p = subprocess.Popen([sdfc, "render", scene, "-o", out, "--size", "64x36", "--spp", "1",
+                          "--denoise", "none", "--timings", "-q"], env=cold_env(),
+                         stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    err = p.stderr.read()
+    _, status, usage = os.wait4(p.pid, 0)
+    wall = time.perf_counter() - start
+    if status != 0:
+        raise RuntimeError(f"{sdfc} render {scene} failed:\n{err[-2000:]}")
+    stages = {}
+    for key, label in (("front_ms", "front end"), ("pipeline_ms", "pipeline creation"),
+                       ("first_draw_ms", "first draw")):
+        m = re.search(re.escape(label) + r"[^\n]*?\s([0-9.]+)\s+[0-9.]+%", err)
+        stages[key] = float(m.group(1)) if m else float("nan")
+    return dict(wall_s=wall, cpu_s=usage.ru_utime + usage.ru_stime, **stages)
+
+
+def first_image_mode(args, binaries, families, counts):
+    """The first image per family and count, binaries interleaved (--first-image)."""
+    out = os.path.join(HERE, "results", "many_parts_first_image.md") if args.out is None else args.out
+    machine = sb.machine_info(args.sdfc)
+    keys = ("wall_s", "cpu_s", "front_ms", "pipeline_ms", "first_draw_ms")
+    lines = ["# First image of many distinct parts (bench/many_parts.py --first-image)", "",
+             f"Machine: {machine['cpu']}, {machine['cores']} cores, {machine['device']}, {machine['driver']}; "
+             f"load average at the start {os.getloadavg()[0]:.1f}. `sdfc render` at 64x36, 1 spp, no denoiser, "
+             f"Mesa's shader cache and sdfc's SPIR-V cache off, LLVM optimised (GALLIVM_PERF empty); "
+             f"smooth {args.smooth} where the family blends; medians of {args.repeats}, binaries interleaved.", "",
+             "| family | parts | binary | whole process s | CPU s | front end ms | pipeline ms | first draw ms |",
+             "|---|---|---|---|---|---|---|---|"]
+    for line in lines:
+        print(line, flush=True)
+    rows = []
+    with tempfile.TemporaryDirectory(prefix="many_parts_") as dir_:
+        for fam in families:
+            for n in ([32] if fam == "chess" else counts):
+                smooth = args.smooth if fam in ("molecule", "kitbash") else 0.0
+                scene = os.path.join(dir_, f"{fam}_{n}.sdf")
+                with open(scene, "w") as f:
+                    f.write(mps.scene(fam, n, smooth))
+                runs = {name: [] for name, _ in binaries}
+                for _ in range(args.repeats):
+                    for name, exe in binaries:
+                        runs[name].append(first_image_stages(exe, scene, os.path.join(dir_, "f.png")))
+                for name, _ in binaries:
+                    row = dict(family=fam, parts=n, binary=name, smooth=smooth, runs=runs[name])
+                    row.update({k: statistics.median(r[k] for r in runs[name]) for k in keys})
+                    rows.append(row)
+                    line = (f"| {fam} | {n} | {name} | {row['wall_s']:.2f} | {row['cpu_s']:.2f} | {row['front_ms']:.0f} | "
+                            f"{row['pipeline_ms']:.0f} | {row['first_draw_ms']:.0f} |")
+                    print(line, flush=True)
+                    lines.append(line)
+    os.makedirs(os.path.dirname(out), exist_ok=True)
+    with open(out, "w") as f:
+        f.write("\n".join(lines) + "\n")
+    with open(os.path.splitext(out)[0] + ".json", "w") as f:
+        json.dump(rows, f, indent=1)
+    print(f"wrote {out}")
 
 
 def compile_s(sdfc, scene):
@@ -202,12 +269,20 @@ def main():
     ap.add_argument("--spp", type=int, default=8)
     ap.add_argument("--mesh-counts", default="")
     ap.add_argument("--no-check", action="store_true", help="skip the float64 pixel check")
-    ap.add_argument("--out", default=os.path.join(HERE, "results", "many_parts.md"))
+    ap.add_argument("--out", default=None, help="the page (default bench/results/many_parts.md, "
+                    "or many_parts_first_image.md with --first-image)")
+    ap.add_argument("--first-image", action="store_true",
+                    help="only the first image's cost, with its stages (issue 46's 2 s goal at 10k parts)")
     ap.add_argument("--resume", action="store_true", help="keep the rows of --out's .json and measure the rest")
     args = ap.parse_args()
     binaries = [("after", args.sdfc)] + ([("before", args.before)] if args.before else [])
     families = args.families.split(",")
     counts = [int(c) for c in args.counts.split(",")]
+    if args.first_image:
+        first_image_mode(args, binaries, families, counts)
+        return
+    if args.out is None:
+        args.out = os.path.join(HERE, "results", "many_parts.md")
     rows = []
     lines = []
     json_path = os.path.splitext(args.out)[0] + ".json"

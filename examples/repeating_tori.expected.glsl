@@ -82,6 +82,10 @@ static_assert(sizeof(FrameParams) == 116, "push constant layout");
 // See docs/kernel_contract.md. Follows runtime/shader_interface.h.
 
 layout(push_constant) uniform Push { FrameParams frame; };
+// Whether the driver ends loops early (VulkanContext::loop_cap): the renderer
+// specialises it, so an uncapped driver's compile drops the code only a capped
+// one can reach (a blend grid's hierarchy fallback: 1 s of LLVM, issue 46).
+layout(constant_id = 0) const bool kDriverCapsLoops = true;
 layout(location = 0) out vec4 out_color;
 layout(location = 1) out vec4 out_normal_depth;
 layout(location = 2) out vec4 out_albedo_steps;

@@ -193,6 +193,12 @@ void createRenderPipeline(RenderPipeline& pipeline, const VulkanContext& context
     stages[1] = stages[0];
     stages[1].stage = VK_SHADER_STAGE_FRAGMENT_BIT;
     stages[1].module = frag;
+    // The kernel's kDriverCapsLoops (prelude.glsl, constant_id 0): an uncapped
+    // driver compiles without the code only a loop cap can reach.
+    const VkBool32 caps_loops = context.loop_cap ? VK_TRUE : VK_FALSE;
+    const VkSpecializationMapEntry caps_loops_entry{0, 0, sizeof(VkBool32)};
+    const VkSpecializationInfo specialization{1, &caps_loops_entry, sizeof(VkBool32), &caps_loops};
+    stages[1].pSpecializationInfo = &specialization;
 
     VkPipelineVertexInputStateCreateInfo vertex_input{
         VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};

@@ -8,8 +8,10 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <functional>
 #include <random>
 #include <sstream>
+#include <string>
 
 #include "camera.h"
 #include "driver/compile.h"
@@ -241,6 +243,65 @@ TEST(ManyParts, BlendGridListsEveryMemberThatCounts) {
     }
 }
 
+// The blend grid's z slices are listed on several threads and joined in z
+// order: any thread count builds the same grid, bit for bit, including a
+// build that gives up (over its evaluation budget: a blend radius spanning
+// the set).
+TEST(ManyParts, BlendGridIsTheSameOnAnyNumberOfThreads) {
+  for (double k : {0.1, 3.0}) {
+    std::string text = mixedParts(5, 400, "union", 11);
+    text.replace(text.find("  union {"), 9, "  union(smooth: " + std::to_string(k) + ") {");
+    const CompiledScene c = checkedParts(text, 32);
+    ASSERT_TRUE(c.ok);
+    const ir::Node* set = findSet(*c.scene.root);
+    ASSERT_NE(set, nullptr);
+    const Evaluator eval(c.scene);
+    auto build = [&](unsigned threads) {
+      ir::InstanceSet members = *set->instances;
+      const bool built = buildBlendGrid(members, *set, k, [&](size_t i, const dvec3& p) {
+        return eval.instanceDistance(*set, i, p);
+      }, threads);
+      return std::make_pair(built, members.grid);
+    };
+    const auto [one_built, one] = build(1);
+    EXPECT_EQ(one_built, k < 1) << "k " << k;
+    for (unsigned threads : {2u, 3u, 8u}) {
+      const auto [built, g] = build(threads);
+      SCOPED_TRACE("k " + std::to_string(k) + ", " + std::to_string(threads) + " threads");
+      EXPECT_EQ(built, one_built);
+      EXPECT_EQ(g.dims, one.dims);
+      EXPECT_EQ(g.first, one.first);
+      EXPECT_EQ(g.count, one.count);
+      EXPECT_EQ(g.reach, one.reach);
+      EXPECT_EQ(g.entries, one.entries);
+      EXPECT_EQ(g.longest, one.longest);
+      EXPECT_EQ(g.splits, one.splits);
+    }
+    if (!one_built) continue;
+    EXPECT_GT(one.splits, 0) << "no octants: the join's renumbering is untested";
+    // The numbering of one pass over the cells in z, y, x order: a list's
+    // entries follow the lists before it, a split cell's octants the octants
+    // before them (depth first), as the single-threaded build numbered them.
+    size_t entries = 0, octants = size_t(one.dims.x) * one.dims.y * one.dims.z;
+    std::function<bool(size_t)> walk = [&](size_t c) {
+      if (one.count[c] == ir::kGridSplit) {
+        if (one.first[c] != octants) return false;
+        const size_t sub = octants;
+        octants += 8;
+        for (size_t o = 0; o < 8; ++o)
+          if (!walk(sub + o)) return false;
+        return true;
+      }
+      if (one.first[c] != entries || one.count[c] < 0) return false;
+      entries += size_t(one.count[c]);
+      return true;
+    };
+    for (size_t c = 0, cells = octants; c < cells; ++c) ASSERT_TRUE(walk(c)) << "cell " << c;
+    EXPECT_EQ(entries, one.entries.size());
+    EXPECT_EQ(octants, one.count.size());
+  }
+}
+
 TEST(ManyParts, HolesCutAwayBecomeData) {
   const std::string text = mixedParts(5, 40, "union", 5, true);
   const std::string flat = [&] {
@@ -411,6 +472,42 @@ TEST_F(ManyPartsGpu, CarvedAndIntersectedSetsAreExact) {
   cut.replace(cut.find("scene {\n"), 8, "scene {\n  intersect {\n  sphere(radius: 2.2)\n");
   cut.insert(cut.rfind('}'), "}\n");
   expectExact("a sphere intersected with a smooth blend of 5 x 60 parts", cut);
+}
+
+// The kernel's kDriverCapsLoops is specialised from the driver (prelude.glsl,
+// render_pipeline.cpp): only a kernel specialised for a loop cap takes a blend
+// list's hierarchy fallback, and where no visits are rationed the two kernels
+// draw the same bits.
+TEST_F(ManyPartsGpu, LoopCapSpecialisationDropsOnlyTheBlendFallback) {
+  CompileOptions options;
+  options.emit.bounding_volumes = false;
+  Diagnostics diags;
+  const CompiledScene c = compileSource("many_parts.sdf", mixedParts(5, 100, "union(smooth: 0.1)", 4), options, diags);
+  ASSERT_TRUE(c.ok) << diags.format();
+  ASSERT_NE(c.emitted.glsl.find("kDriverCapsLoops && count * (count + 2) >"), std::string::npos);
+  const bool driver_caps = context_->loop_cap;
+  context_->loop_cap = true;
+  Renderer capped(*context_, c);
+  context_->loop_cap = false;
+  Renderer uncapped(*context_, c);
+  context_->loop_cap = driver_caps;
+  gpu::FrameParams params = makeFrameParams(cameraFor(c.scene), 64, 36, 0);
+  params.view = gpu::kViewDepth;
+  params.sample_count = 1;
+  auto draw = [&](Renderer& r) {
+    FloatImage color, normal_depth, albedo_steps;
+    r.renderPass(params, 120.0, color, normal_depth, albedo_steps);
+    // Compared as bytes: the same bits, not merely equal floats.
+    std::string bytes(reinterpret_cast<const char*>(normal_depth.rgba.data()), normal_depth.rgba.size() * sizeof(float));
+    bytes.append(reinterpret_cast<const char*>(albedo_steps.rgba.data()), albedo_steps.rgba.size() * sizeof(float));
+    return bytes;
+  };
+  params.traversal_visits = kUncappedTraversalVisits;
+  EXPECT_TRUE(draw(capped) == draw(uncapped)) << "the same lists, the same bits";
+  // Eight visits: the capped kernel's lists of 3 or more go to the hierarchy,
+  // which runs out of visits (a bound, more steps); the other ignores visits.
+  params.traversal_visits = 8;
+  EXPECT_FALSE(draw(capped) == draw(uncapped)) << "the specialisation did not reach the driver";
 }
 
 }  // namespace

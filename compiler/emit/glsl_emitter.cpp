@@ -980,8 +980,10 @@ class SceneWriter {
     g.code << "    return " << (mat ? "vec2(far, inherited)" : "far") << ";\n  }\n";
     const std::string loop0 = options_.with_kernel ? "loopZero()" : "0";
     const std::string tick = options_.with_kernel ? "    g_loop_iterations++;\n" : "";
-    g.code << "  if (count * (count + 2) > " << visits << ") return " << tree << "(p" << (mat ? ", inherited" : "")
-           << ");\n";
+    // Only a driver that caps loops takes the hierarchy (its visits are never
+    // fewer than the list's otherwise): the constant drops it from the others'.
+    g.code << "  if (" << (options_.with_kernel ? "kDriverCapsLoops && " : "") << "count * (count + 2) > " << visits
+           << ") return " << tree << "(p" << (mat ? ", inherited" : "") << ");\n";
     g.code << "  float k = " << n.smooth.glsl() << ";\n";
     g.code << "  int first = int(cell.x);\n";
     // The three least values as they come (the first of equals first): where

@@ -115,6 +115,8 @@ GlslEsResult toGlslEs(const std::string& vulkan_glsl, EsTarget target) {
     }
     replaceLine(s, "FrameParams frame;\n", "FrameParams frame;\nvec4 g_frag_coord;\n");
   }
+  // No specialisation in GLSL ES: the kernel keeps what a capped driver runs.
+  replaceLine(s, "layout(constant_id = 0) const bool kDriverCapsLoops = true;\n", "const bool kDriverCapsLoops = true;\n");
   // Storage buffer -> texture (the caller refuses data over the texture's size).
   replaceLine(s, "layout(std430, set = 0, binding = 0) readonly buffer SdfcSceneData { vec4 sd_data[]; };\n",
               "uniform highp sampler2D sd_data_tex;  // kEsDataWidth texels a row\n"

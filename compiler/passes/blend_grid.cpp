@@ -19,9 +19,13 @@
 // others, and the blend of its list is the set's blend, bit for bit, wherever
 // the margin for float32 rounding holds.
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <exception>
 #include <limits>
+#include <mutex>
 #include <queue>
+#include <thread>
 
 #include "passes/passes.h"
 
@@ -64,83 +68,79 @@ struct Interval {
   double lo, hi;
 };
 
-class BlendGridBuilder {
+// What every worker reads: the set, its members' boxes and constants, and
+// the grid's geometry (fixed before any list is built).
+struct Shared {
+  Shared(const ir::InstanceSet& set_in, double k_in, const std::function<double(size_t, const dvec3&)>& distance_of_in,
+         const std::vector<double>& lipschitz_in, const std::vector<bool>& exact_in)
+      : set(set_in), k(k_in), distance_of(distance_of_in), lipschitz(lipschitz_in), exact(exact_in),
+        all_exact(std::find(exact_in.begin(), exact_in.end(), false) == exact_in.end()) {}
+  const ir::InstanceSet& set;
+  double k;
+  const std::function<double(size_t, const dvec3&)>& distance_of;
+  const std::vector<double>& lipschitz;
+  const std::vector<bool>& exact;
+  bool all_exact;
+  std::vector<Aabb> boxes;
+  double slack = 0;
+  size_t budget = 0;
+  size_t cells = 0;  // dims.x * dims.y * dims.z
+  // Member evaluations of all slices so far: a build over its budget stops.
+  std::atomic<size_t> evaluations{0};
+  std::atomic<bool> failed{false};
+};
+
+// One z slice of cells, built on its own: its cells' entries and octants,
+// both numbered from 0 (an octant as cells + its place here); build() joins
+// the slices in z order, which is the numbering of one pass over the cells.
+struct Slice {
+  std::vector<std::uint32_t> first;  // per cell of the slice, then per octant
+  std::vector<std::int32_t> count;
+  std::vector<double> reach;
+  std::vector<std::uint32_t> entries;
+  size_t cells = 0;  // cells of the slice (its octants follow)
+  int longest = 0, splits = 0;
+  size_t evaluations = 0;
+};
+
+// The lists of one slice at a time (one worker per thread): scratch state only.
+class SliceBuilder {
  public:
-  BlendGridBuilder(ir::InstanceSet& set, const ir::Node& node, double k,
-                   const std::function<double(size_t, const dvec3&)>& distance_of,
-                   const std::vector<double>& lipschitz, const std::vector<bool>& exact)
-      : set_(set), node_(node), k_(k), distance_of_(distance_of), lipschitz_(lipschitz), exact_(exact),
-        all_exact_(std::find(exact.begin(), exact.end(), false) == exact.end()) {}
+  explicit SliceBuilder(Shared& shared) : sh_(shared) {}
 
-  bool build() {
-    ir::InstanceGrid& g = set_.grid;
-    g = ir::InstanceGrid{};
-    const size_t n = set_.size();
-    if (n == 0 || set_.nodes.empty()) return false;
-    boxes_.resize(n);
-    std::vector<double> sizes(n);
-    Aabb bounds;
-    for (size_t i = 0; i < n; ++i) {
-      boxes_[i] = instanceBounds(set_, i, node_);
-      if (!boxes_[i].finite()) return false;
-      bounds = bounds.unite(boxes_[i]);
-      const dvec3 e = boxes_[i].hi - boxes_[i].lo;
-      sizes[i] = std::max({e.x, e.y, e.z});
-    }
-    std::nth_element(sizes.begin(), sizes.begin() + n / 2, sizes.end());
-    const double typical = std::max(sizes[n / 2], 1e-9);
-    const dvec3 extent = glm::max(bounds.hi - bounds.lo, dvec3(typical));
-    const double max_cells = std::min<double>(kCellsPerInstance * double(n) + 4096, double(kMaxIndex));
-    double cell = std::max(std::cbrt(extent.x * extent.y * extent.z / (kCellsPerInstance * double(n))), 0.5 * typical);
-    // The box is the bounds grown by 1.25 k plus half a cell: outside it every
-    // member is that far, the blend at least half a cell (a positive bound).
-    dvec3 dims;
-    for (;;) {
-      pad_ = 1.25 * k_ + 0.5 * cell;
-      dims = glm::ceil((bounds.hi - bounds.lo + 2.0 * pad_) / cell);
-      if (dims.x * dims.y * dims.z <= max_cells) break;
-      cell *= 1.05;
-    }
-    g.cell = cell;
-    g.dims = glm::ivec3(dims);
-    g.lo = bounds.lo - pad_;
-    g.margin = pad_ - 1.25 * k_;
-    g.blend = true;
-    budget_ = kEvaluationsPerMember * n + kEvaluationsAtLeast;
-    // float32 rounding of the kernel's values (coordinates up to `scale`)
-    // must not turn a proven drop or reset into a near miss.
-    const dvec3 hi = g.lo + dims * cell;
-    const double scale = std::max(glm::length(glm::max(glm::abs(g.lo), glm::abs(hi))), glm::length(extent));
-    slack_ = 1e-3 * k_ + 1e-5 * scale;
-
-    const size_t cells = size_t(g.dims.x) * g.dims.y * g.dims.z;
-    g.first.resize(cells);
-    g.count.resize(cells);
-    g.reach.assign(cells, 0);
-    for (int z = 0; z < g.dims.z; ++z)
-      for (int y = 0; y < g.dims.y; ++y)
-        for (int x = 0; x < g.dims.x; ++x) {
-          const size_t c = size_t(x) + size_t(g.dims.x) * (size_t(y) + size_t(g.dims.y) * z);
-          const dvec3 lo = g.lo + dvec3(x, y, z) * cell;
-          if (far(Aabb{lo, lo + cell}, c)) continue;
-          if (!cellList(Aabb{lo, lo + cell}, c, 0)) return fail();
-          if (g.entries.size() > kMaxIndex) return fail();
-        }
+  // Lists slice z of `g`'s cells into `out`; false where the set cannot be listed.
+  bool build(const ir::InstanceGrid& g, int z, Slice& out) {
+    out_ = &out;
+    const size_t cells = size_t(g.dims.x) * g.dims.y;
+    out.cells = cells;
+    out.first.assign(cells, 0);
+    out.count.assign(cells, 0);
+    out.reach.assign(cells, 0);
+    for (int y = 0; y < g.dims.y; ++y)
+      for (int x = 0; x < g.dims.x; ++x) {
+        const size_t c = size_t(x) + size_t(g.dims.x) * size_t(y);
+        const dvec3 lo = g.lo + dvec3(x, y, z) * g.cell;
+        if (sh_.failed.load(std::memory_order_relaxed)) return false;
+        if (far(Aabb{lo, lo + g.cell}, c)) continue;
+        if (!cellList(Aabb{lo, lo + g.cell}, c, 0)) return false;
+        if (out.entries.size() > kMaxIndex) return false;
+      }
     return true;
   }
 
  private:
-  bool fail() {
-    set_.grid = ir::InstanceGrid{};
-    return false;
+  // Counts evaluations; false once the whole build is over its budget.
+  bool spend(size_t evaluations) {
+    out_->evaluations += evaluations;
+    return sh_.evaluations.fetch_add(evaluations, std::memory_order_relaxed) + evaluations <= sh_.budget;
   }
 
   void store(size_t c) {
-    ir::InstanceGrid& g = set_.grid;
-    g.longest = std::max(g.longest, static_cast<int>(list_.size()));
-    g.first[c] = static_cast<std::uint32_t>(g.entries.size());
-    g.count[c] = static_cast<std::int32_t>(list_.size());
-    for (std::uint32_t i : list_) g.entries.push_back(i);
+    Slice& s = *out_;
+    s.longest = std::max(s.longest, static_cast<int>(list_.size()));
+    s.first[c] = static_cast<std::uint32_t>(s.entries.size());
+    s.count[c] = static_cast<std::int32_t>(list_.size());
+    for (std::uint32_t i : list_) s.entries.push_back(i);
   }
 
   // Members whose boxes lie within r of `box`: from the hierarchy, or
@@ -151,14 +151,14 @@ class BlendGridBuilder {
     const double rr = r * r;
     if (within) {
       for (std::uint32_t i : *within)
-        if (gapSquared(boxes_[i], box) < rr) out.push_back(i);
+        if (gapSquared(sh_.boxes[i], box) < rr) out.push_back(i);
       return;
     }
     stack_.assign(1, 0);
     while (!stack_.empty()) {
       const std::uint32_t ni = stack_.back();
       stack_.pop_back();
-      const ir::BvhNode& node = set_.nodes[ni];
+      const ir::BvhNode& node = sh_.set.nodes[ni];
       if (gapSquared(node.box, box) >= rr) continue;
       if (node.count == 0) {
         stack_.push_back(ni + 1);
@@ -166,7 +166,7 @@ class BlendGridBuilder {
         continue;
       }
       for (std::uint32_t i = node.first; i < node.first + node.count; ++i)
-        if (gapSquared(boxes_[i], box) < rr) out.push_back(i);
+        if (gapSquared(sh_.boxes[i], box) < rr) out.push_back(i);
     }
   }
 
@@ -184,14 +184,14 @@ class BlendGridBuilder {
       store(c);
       return true;
     }
-    ir::InstanceGrid& g = set_.grid;
-    g.splits = std::max(g.splits, level + 1);
-    const size_t sub = g.count.size();
-    g.first[c] = static_cast<std::uint32_t>(sub);
-    g.count[c] = ir::kGridSplit;
-    g.first.resize(sub + 8);
-    g.count.resize(sub + 8);
-    g.reach.resize(sub + 8, 0);
+    Slice& s = *out_;
+    s.splits = std::max(s.splits, level + 1);
+    const size_t sub = s.count.size();
+    s.first[c] = static_cast<std::uint32_t>(sh_.cells + (sub - s.cells));
+    s.count[c] = ir::kGridSplit;
+    s.first.resize(sub + 8);
+    s.count.resize(sub + 8);
+    s.reach.resize(sub + 8, 0);
     if (parents_.size() <= size_t(level)) {
       parents_.resize(level + 1);
       parent_r_.resize(level + 1);
@@ -214,14 +214,14 @@ class BlendGridBuilder {
   // steps on it (a march never stops there); the evaluator searches all
   // members. A list there would hold the many members facing the cell.
   bool far(const Aabb& box, size_t c) {
-    if (!all_exact_) return false;
+    if (!sh_.all_exact) return false;
     nearest(box, 1, candidates_);
-    const double g = boxBoxDistance(boxes_[candidates_[0]], box);
-    if (g - 1.25 * k_ < 0.5 * glm::length(box.hi - box.lo)) return false;
-    ir::InstanceGrid& grid = set_.grid;
-    grid.first[c] = static_cast<std::uint32_t>(grid.entries.size());
-    grid.count[c] = 0;
-    grid.reach[c] = g - 1.25 * k_;
+    const double g = boxBoxDistance(sh_.boxes[candidates_[0]], box);
+    if (g - 1.25 * sh_.k < 0.5 * glm::length(box.hi - box.lo)) return false;
+    Slice& s = *out_;
+    s.first[c] = static_cast<std::uint32_t>(s.entries.size());
+    s.count[c] = 0;
+    s.reach[c] = g - 1.25 * sh_.k;
     return true;
   }
 
@@ -230,7 +230,8 @@ class BlendGridBuilder {
     out.clear();
     using Entry = std::pair<double, std::int64_t>;  // gap squared; node index, or -1 - member
     std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
-    queue.push({gapSquared(set_.nodes[0].box, box), 0});
+    const std::vector<ir::BvhNode>& nodes = sh_.set.nodes;
+    queue.push({gapSquared(nodes[0].box, box), 0});
     while (!queue.empty() && out.size() < count) {
       const auto [gap, id] = queue.top();
       queue.pop();
@@ -238,14 +239,14 @@ class BlendGridBuilder {
         out.push_back(static_cast<std::uint32_t>(-1 - id));
         continue;
       }
-      const ir::BvhNode& node = set_.nodes[size_t(id)];
+      const ir::BvhNode& node = nodes[size_t(id)];
       if (node.count == 0) {
-        queue.push({gapSquared(set_.nodes[size_t(id) + 1].box, box), id + 1});
-        queue.push({gapSquared(set_.nodes[node.first].box, box), node.first});
+        queue.push({gapSquared(nodes[size_t(id) + 1].box, box), id + 1});
+        queue.push({gapSquared(nodes[node.first].box, box), node.first});
         continue;
       }
       for (std::uint32_t i = node.first; i < node.first + node.count; ++i)
-        queue.push({gapSquared(boxes_[i], box), -1 - std::int64_t(i)});
+        queue.push({gapSquared(sh_.boxes[i], box), -1 - std::int64_t(i)});
     }
   }
 
@@ -256,16 +257,19 @@ class BlendGridBuilder {
             double parent_r = 0) {
     const dvec3 c = box.center();
     const double h = 0.5 * glm::length(box.hi - box.lo);
+    const ir::InstanceSet& set = sh_.set;
     // A first reach from the members of the nearest few boxes: the least of
     // their upper values plus k (found best first, so a cell far from the
     // parts does not gather the many between).
-    double r = 2 * h + k_;
+    double r = 2 * h + sh_.k;
     if (!parent) {
       nearest(box, 8, candidates_);
       double least = std::numeric_limits<double>::infinity();
-      evaluations_ += candidates_.size();
-      for (std::uint32_t i : candidates_) least = std::min(least, distance_of_(i, c) + lipschitz_[set_.instances[i].templ] * h);
-      r = least + k_ + slack_;
+      out_->evaluations += candidates_.size();
+      sh_.evaluations.fetch_add(candidates_.size(), std::memory_order_relaxed);
+      for (std::uint32_t i : candidates_)
+        least = std::min(least, sh_.distance_of(i, c) + sh_.lipschitz[set.instances[i].templ] * h);
+      r = least + sh_.k + sh_.slack;
     }
     for (;;) {
       near(box, r, candidates_, parent && r <= parent_r ? parent : nullptr);
@@ -274,21 +278,20 @@ class BlendGridBuilder {
         r *= 2;
         continue;
       }
-      evaluations_ += candidates_.size();
-      if (evaluations_ > budget_) return false;
+      if (!spend(candidates_.size())) return false;
       values_.resize(candidates_.size());
       double least_hi = std::numeric_limits<double>::infinity();
       for (size_t j = 0; j < candidates_.size(); ++j) {
         const std::uint32_t i = candidates_[j];
-        const double v = distance_of_(i, c), spread = lipschitz_[set_.instances[i].templ] * h;
+        const double v = sh_.distance_of(i, c), spread = sh_.lipschitz[set.instances[i].templ] * h;
         // A cell apart from an exact member's box: the member is at least that
         // far (a box touching the cell bounds nothing: the member may be
         // inside; a bound's value may lie below its box's distance).
-        const double apart = exact_[set_.instances[i].templ] ? boxBoxDistance(boxes_[i], box) : 0;
+        const double apart = sh_.exact[set.instances[i].templ] ? boxBoxDistance(sh_.boxes[i], box) : 0;
         values_[j] = {apart > 0 ? std::max(v - spread, apart) : v - spread, v + spread};
         least_hi = std::min(least_hi, values_[j].hi);
       }
-      const double cut = least_hi + k_ + slack_;
+      const double cut = least_hi + sh_.k + sh_.slack;
       if (r < cut) {
         r = cut;
         continue;
@@ -309,37 +312,157 @@ class BlendGridBuilder {
     }
   }
 
-  ir::InstanceSet& set_;
-  const ir::Node& node_;
-  double k_;
-  const std::function<double(size_t, const dvec3&)>& distance_of_;
-  const std::vector<double>& lipschitz_;
-  const std::vector<bool>& exact_;
-  bool all_exact_;
-  std::vector<Aabb> boxes_;
-  double pad_ = 0, slack_ = 0;
+  Shared& sh_;
+  Slice* out_ = nullptr;
   std::vector<std::uint32_t> candidates_, list_, stack_;
   std::vector<std::vector<std::uint32_t>> parents_;  // per split level
   std::vector<double> parent_r_;
   double reach_ = 0;  // the r the last list was proven with
-  // Members evaluated so far, and the most a build may evaluate: a set whose
-  // lists grow long (thin parts crowded within k of each other) gives up
-  // early rather than after most of its cells.
-  size_t evaluations_ = 0, budget_ = 0;
   std::vector<Interval> values_;
+};
+
+// Slices a build may list at once: the worker threads beside the caller's.
+unsigned blendGridThreads(size_t cells) {
+  // A small grid is not worth a thread's start (about 0.1 ms).
+  if (cells < 4096) return 1;
+  return std::clamp(std::thread::hardware_concurrency(), 1u, 8u);
+}
+
+class BlendGridBuilder {
+ public:
+  BlendGridBuilder(ir::InstanceSet& set, const ir::Node& node, double k,
+                   const std::function<double(size_t, const dvec3&)>& distance_of,
+                   const std::vector<double>& lipschitz, const std::vector<bool>& exact, unsigned threads)
+      : set_(set), node_(node), threads_(threads),
+        sh_(set, k, distance_of, lipschitz, exact) {}
+
+  bool build() {
+    ir::InstanceGrid& g = set_.grid;
+    g = ir::InstanceGrid{};
+    const size_t n = set_.size();
+    if (n == 0 || set_.nodes.empty()) return false;
+    std::vector<Aabb>& boxes = sh_.boxes;
+    const double k = sh_.k;
+    boxes.resize(n);
+    std::vector<double> sizes(n);
+    Aabb bounds;
+    for (size_t i = 0; i < n; ++i) {
+      boxes[i] = instanceBounds(set_, i, node_);
+      if (!boxes[i].finite()) return false;
+      bounds = bounds.unite(boxes[i]);
+      const dvec3 e = boxes[i].hi - boxes[i].lo;
+      sizes[i] = std::max({e.x, e.y, e.z});
+    }
+    std::nth_element(sizes.begin(), sizes.begin() + n / 2, sizes.end());
+    const double typical = std::max(sizes[n / 2], 1e-9);
+    const dvec3 extent = glm::max(bounds.hi - bounds.lo, dvec3(typical));
+    const double max_cells = std::min<double>(kCellsPerInstance * double(n) + 4096, double(kMaxIndex));
+    double cell = std::max(std::cbrt(extent.x * extent.y * extent.z / (kCellsPerInstance * double(n))), 0.5 * typical);
+    // The box is the bounds grown by 1.25 k plus half a cell: outside it every
+    // member is that far, the blend at least half a cell (a positive bound).
+    dvec3 dims;
+    double pad = 0;
+    for (;;) {
+      pad = 1.25 * k + 0.5 * cell;
+      dims = glm::ceil((bounds.hi - bounds.lo + 2.0 * pad) / cell);
+      if (dims.x * dims.y * dims.z <= max_cells) break;
+      cell *= 1.05;
+    }
+    g.cell = cell;
+    g.dims = glm::ivec3(dims);
+    g.lo = bounds.lo - pad;
+    g.margin = pad - 1.25 * k;
+    g.blend = true;
+    sh_.budget = kEvaluationsPerMember * n + kEvaluationsAtLeast;
+    // float32 rounding of the kernel's values (coordinates up to `scale`)
+    // must not turn a proven drop or reset into a near miss.
+    const dvec3 hi = g.lo + dims * cell;
+    const double scale = std::max(glm::length(glm::max(glm::abs(g.lo), glm::abs(hi))), glm::length(extent));
+    sh_.slack = 1e-3 * k + 1e-5 * scale;
+    sh_.cells = size_t(g.dims.x) * g.dims.y * g.dims.z;
+    if (!listSlices(g)) return fail();
+    return true;
+  }
+
+ private:
+  bool fail() {
+    set_.grid = ir::InstanceGrid{};
+    return false;
+  }
+
+  // The z slices' lists, on several threads where the grid is large (each
+  // slice alone, so the threads share only the budget), joined in z order:
+  // the same grid as one pass over the cells, bit for bit. A thread's
+  // exception (out of memory) is the caller's, after every thread is joined.
+  bool listSlices(ir::InstanceGrid& g) {
+    std::vector<Slice> slices(size_t(g.dims.z));
+    std::atomic<int> next{0};
+    std::vector<std::exception_ptr> errors;
+    std::mutex errors_mutex;
+    auto work = [&] {
+      try {
+        SliceBuilder builder(sh_);
+        for (int z = next++; z < g.dims.z && !sh_.failed.load(); z = next++)
+          if (!builder.build(g, z, slices[size_t(z)])) sh_.failed = true;
+      } catch (...) {
+        sh_.failed = true;
+        const std::lock_guard<std::mutex> lock(errors_mutex);
+        errors.push_back(std::current_exception());
+      }
+    };
+    std::vector<std::thread> threads;
+    for (unsigned t = 1; t < (threads_ > 0 ? threads_ : blendGridThreads(sh_.cells)); ++t) threads.emplace_back(work);
+    work();
+    for (std::thread& t : threads) t.join();
+    if (!errors.empty()) std::rethrow_exception(errors.front());
+    size_t evaluations = 0, entries = 0, octants = 0;
+    for (const Slice& s : slices) {
+      evaluations += s.evaluations;
+      entries += s.entries.size();
+      octants += s.count.size() - s.cells;
+    }
+    if (sh_.failed || evaluations > sh_.budget || entries > kMaxIndex) return false;
+    g.first.resize(sh_.cells + octants);
+    g.count.resize(sh_.cells + octants);
+    g.reach.resize(sh_.cells + octants);
+    g.entries.reserve(entries);
+    size_t cell_at = 0, octant_at = sh_.cells;
+    for (const Slice& s : slices) {
+      // Entries and octants numbered after the slices before this one.
+      const auto entry_base = static_cast<std::uint32_t>(g.entries.size());
+      const auto octant_shift = static_cast<std::uint32_t>(octant_at - sh_.cells);
+      for (size_t j = 0; j < s.count.size(); ++j) {
+        const size_t to = j < s.cells ? cell_at + j : octant_at + (j - s.cells);
+        g.count[to] = s.count[j];
+        g.reach[to] = s.reach[j];
+        g.first[to] = s.count[j] == ir::kGridSplit ? s.first[j] + octant_shift : s.first[j] + entry_base;
+      }
+      g.entries.insert(g.entries.end(), s.entries.begin(), s.entries.end());
+      cell_at += s.cells;
+      octant_at += s.count.size() - s.cells;
+      g.longest = std::max(g.longest, s.longest);
+      g.splits = std::max(g.splits, s.splits);
+    }
+    return true;
+  }
+
+  ir::InstanceSet& set_;
+  const ir::Node& node_;
+  unsigned threads_;  // 0: blendGridThreads
+  Shared sh_;
 };
 
 }  // namespace
 
 bool buildBlendGrid(ir::InstanceSet& set, const ir::Node& node, double k,
-                    const std::function<double(size_t, const glm::dvec3&)>& distance_of) {
+                    const std::function<double(size_t, const glm::dvec3&)>& distance_of, unsigned threads) {
   std::vector<double> lipschitz;
   std::vector<bool> exact;
   for (const ir::NodeRef& templ : node.children) {
     lipschitz.push_back(std::max(templ->lipschitz, 1.0));
     exact.push_back(templ->exact);
   }
-  return BlendGridBuilder(set, node, k, distance_of, lipschitz, exact).build();
+  return BlendGridBuilder(set, node, k, distance_of, lipschitz, exact, threads).build();
 }
 
 }  // namespace sdfc

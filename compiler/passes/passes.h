@@ -28,9 +28,11 @@ void buildInstanceHierarchy(ir::InstanceSet& set, const ir::Node& n);
 // (NaN where the cell defers to the hierarchy): what the shader computes.
 void buildInstanceGrid(ir::InstanceSet& set, const ir::Node& n);
 // A smooth set's grid (passes/blend_grid.cpp) for blend radii up to k, given
-// instance i's distance at a point; false (and no grid) where it would not pay.
+// instance i's distance at a point (called from several threads at once);
+// false (and no grid) where it would not pay. `threads`: 0 = as many as the
+// machine has for a large grid; any count builds the same grid, bit for bit.
 bool buildBlendGrid(ir::InstanceSet& set, const ir::Node& n, double k,
-                    const std::function<double(size_t, const glm::dvec3&)>& distance_of);
+                    const std::function<double(size_t, const glm::dvec3&)>& distance_of, unsigned threads = 0);
 ir::GridCellAt instanceGridCellAt(const ir::InstanceGrid& grid, const glm::dvec3& p);
 double instanceGridBound(const ir::InstanceSet& set, const glm::dvec3& p,
                          const std::function<double(size_t)>& distance_of);
