@@ -305,7 +305,7 @@ class SliceBuilder {
       // cells then tend to take the same branch at the same place in their
       // lists (docs/design/large_scenes.md, "Cost per part").
       std::sort(out.begin(), out.end(), [&](std::uint32_t a, std::uint32_t b) {
-        const std::int32_t ta = set_.instances[a].templ, tb = set_.instances[b].templ;
+        const std::int32_t ta = set.instances[a].templ, tb = set.instances[b].templ;
         return ta != tb ? ta < tb : a < b;
       });
       return true;
