@@ -129,7 +129,7 @@ struct Padded {
 };
 
 constexpr int kMaxRadius = 16;  // search windows up to 33 x 33
-constexpr int kBlockRows = 16, kBlockCols = 64;
+constexpr int kBlockRows = 16, kBlockCols = 80;
 
 // What one pass reads and writes (the kernel's input).
 struct PassData {
@@ -202,26 +202,33 @@ int simdLevel() {
   return level;
 }
 
-// The pass's features, padded: the same for every pass of a denoise.
+// The pass's features, padded, straight from the renderer's attachments (the
+// values and slopes of Features, without its arrays between): the same for
+// every pass of a denoise.
 struct FeaturePlanes {
   // albedo (3), normal (3), depth, depth_dx, depth_dy, then hit (1 a surface,
   // 0 the sky, -1 outside the image).
   PaddedPlane albedo[3], normal[3], depth, depth_dx, depth_dy, hit;
-  FeaturePlanes(const Features& f, const Padded& layout) {
+  FeaturePlanes(const FloatImage& normal_depth, const FloatImage& albedo_steps, const Padded& layout) {
     PaddedPlane planes[10];
     const float fills[10] = {0, 0, 0, 0, 0, 0, 0, 0, 0, -1};
-    const int w = f.width;
+    const int w = layout.w, h = layout.h;
+    const float* nd = normal_depth.rgba.data();
+    const float* as = albedo_steps.rgba.data();
+    auto depth_at = [nd](size_t q) { return nd[q * 4 + 3]; };
+    auto hit_at = [nd](size_t q) { return nd[q * 4 + 3] >= 0.0f; };
     layout.fill(planes, 10, fills, [&](int y, float* const* out) {
       for (int x = 0; x < w; ++x) {
         const size_t i = size_t(y) * w + x, p = layout.at(x, y);
         for (int c = 0; c < 3; ++c) {
-          out[c][p] = f.albedo[i * 3 + c];
-          out[3 + c][p] = f.normal[i * 3 + c];
+          out[c][p] = as[i * 4 + c];
+          out[3 + c][p] = nd[i * 4 + c];
         }
-        out[6][p] = f.depth[i];
-        out[7][p] = f.depth_dx[i];
-        out[8][p] = f.depth_dy[i];
-        out[9][p] = f.hit[i] ? 1.0f : 0.0f;
+        const bool surface = hit_at(i);
+        out[6][p] = depth_at(i);
+        out[7][p] = surface ? depthSlope(i, -1, 1, x > 0, x + 1 < w, depth_at, hit_at) : 0.0f;
+        out[8][p] = surface ? depthSlope(i, -long(w), long(w), y > 0, y + 1 < h, depth_at, hit_at) : 0.0f;
+        out[9][p] = surface ? 1.0f : 0.0f;
       }
     });
     for (int c = 0; c < 3; ++c) {
@@ -235,14 +242,14 @@ struct FeaturePlanes {
   }
 };
 
-Padded layoutFor(const Features& f, const NlmParams& params) {
+Padded layoutFor(int w, int h, const NlmParams& params) {
   const int r = params.radius, pr = std::max(params.patch_radius, 0);
   if (r < 0 || r > kMaxRadius || pr > kMaxRadius)
     throw std::invalid_argument("nlm: search radius " + std::to_string(r) + " or patch radius " +
                                 std::to_string(pr) + " outside 0.." + std::to_string(kMaxRadius));
   // Rows: the radii reach no further (one row more: a vector read past the last
   // row's end stays in memory).
-  return Padded(f.width, f.height, r + pr + 2 * kMostLanes, r + pr + 1);
+  return Padded(w, h, r + pr + 2 * kMostLanes, r + pr + 1);
 }
 
 // One pass: out_a = ua filtered with weights from guide gb, out_b = ub with
@@ -250,12 +257,11 @@ Padded layoutFor(const Features& f, const NlmParams& params) {
 // output unfinished) when params.interrupt was set. `progress` (if set) gets
 // the pass's finished share now and then, from one thread at a time.
 bool crossFilter(const Plane& ua, const Plane& ub, const Plane& ga, const Plane& gb,
-                 const Plane& var_a, const Plane& var_b, const Features& f, const FeaturePlanes& fp,
+                 const Plane& var_a, const Plane& var_b, int w, int h, const FeaturePlanes& fp,
                  float k, const NlmParams& params, bool regress, Plane& out_a, Plane& out_b,
                  const std::function<void(double)>& progress) {
-  const int w = f.width, h = f.height;
   if (params.interrupt && params.interrupt->load()) return false;
-  const Padded layout = layoutFor(f, params);
+  const Padded layout = layoutFor(w, h, params);
   // Each distinct plane once: the first pass's guides are the colours it filters.
   PaddedPlane planes[18];
   const Plane* sources[6] = {&ga, &gb, &var_a, &var_b, &ua, &ub};
@@ -343,7 +349,6 @@ FloatImage nlmDenoise(const SampleHalves& halves, const FloatImage& normal_depth
   if (!(n_a > 0 && n_b > 0)) throw std::invalid_argument("nlm: needs samples in both halves");
   const int w = int(halves.a.width), h = int(halves.a.height);
   auto stopped = [&] { return params.interrupt && params.interrupt->load(); };
-  const Features f(normal_depth, albedo_steps);
   if (stopped()) return {};
   SampleHalves clamped;
   if (params.clamp_fireflies) {
@@ -354,7 +359,7 @@ FloatImage nlmDenoise(const SampleHalves& halves, const FloatImage& normal_depth
   const Plane a = rgbOf(input.a), b = rgbOf(input.b);
   if (stopped()) return {};
 
-  const FeaturePlanes fp(f, layoutFor(f, params));
+  const FeaturePlanes fp(normal_depth, albedo_steps, layoutFor(w, h, params));
   // The share of the work each pass is (a regression pass costs kRegressCost
   // plain ones), for params.progress.
   constexpr double kRegressCost = 2.5;
@@ -380,7 +385,7 @@ FloatImage nlmDenoise(const SampleHalves& halves, const FloatImage& normal_depth
   };
   Plane var_a, var_b, out_a, out_b;
   guideVariances(a, b, w, h, params.variance_radius, n_a, n_b, var_a, var_b);
-  if (!crossFilter(a, b, a, b, var_a, var_b, f, fp, params.k_first, params,
+  if (!crossFilter(a, b, a, b, var_a, var_b, w, h, fp, params.k_first, params,
                    params.regression && params.passes == 1, out_a, out_b, next()))
     return {};
   for (int pass = 1; pass < params.passes; ++pass) {
@@ -389,7 +394,7 @@ FloatImage nlmDenoise(const SampleHalves& halves, const FloatImage& normal_depth
     guideVariances(guide_a, guide_b, w, h, params.variance_radius, n_a, n_b, var_a, var_b);
     const bool last = pass + 1 == params.passes;
     if (!last || params.select_k.empty()) {
-      if (!crossFilter(a, b, guide_a, guide_b, var_a, var_b, f, fp, params.k_second, params,
+      if (!crossFilter(a, b, guide_a, guide_b, var_a, var_b, w, h, fp, params.k_second, params,
                        params.regression && last, out_a, out_b, next()))
         return {};
       continue;
@@ -397,7 +402,7 @@ FloatImage nlmDenoise(const SampleHalves& halves, const FloatImage& normal_depth
     // Several strengths, chosen per pixel by their error against the other half.
     std::vector<Plane> candidates_a(params.select_k.size()), candidates_b(params.select_k.size());
     for (size_t i = 0; i < params.select_k.size(); ++i)
-      if (!crossFilter(a, b, guide_a, guide_b, var_a, var_b, f, fp, params.select_k[i], params,
+      if (!crossFilter(a, b, guide_a, guide_b, var_a, var_b, w, h, fp, params.select_k[i], params,
                        params.regression, candidates_a[i], candidates_b[i], next()))
         return {};
     selectPerPixel(candidates_a, candidates_b, a, b, w, h, params.select, out_a, out_b);
