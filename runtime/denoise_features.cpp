@@ -43,21 +43,10 @@ Features::Features(const FloatImage& normal_depth, const FloatImage& albedo_step
       albedo[i * 3 + c] = albedo_steps.rgba[i * 4 + c];
     }
   }
-  // Depth slope from the neighbour on the same surface: of the two one-sided
-  // differences, the smaller (a silhouette makes the other one large).
+  auto depth_at = [&](size_t q) { return depth[q]; };
+  auto hit_at = [&](size_t q) { return hit[q] != 0; };
   auto slope = [&](size_t i, long back, long ahead, bool has_back, bool has_ahead) {
-    float best = 0;
-    bool found = false;
-    for (int k = 0; k < 2; ++k) {
-      const bool ok = k == 0 ? has_back : has_ahead;
-      if (!ok) continue;
-      const size_t q = size_t(long(i) + (k == 0 ? back : ahead));
-      if (!hit[q]) continue;
-      const float d = k == 0 ? depth[i] - depth[q] : depth[q] - depth[i];
-      if (!found || std::fabs(d) < std::fabs(best)) best = d;
-      found = true;
-    }
-    return best;
+    return depthSlope(i, back, ahead, has_back, has_ahead, depth_at, hit_at);
   };
   for (int y = 0; y < height; ++y)
     for (int x = 0; x < width; ++x) {

@@ -18,6 +18,27 @@ namespace sdfc {
 // (2 radius + 1)^2 box, counting only the pixels inside the image; separable.
 std::vector<float> boxMean(const std::vector<float>& in, int w, int h, int channels, int radius);
 
+// Depth slope at pixel i from the neighbour on the same surface: of the two
+// one-sided differences (to i + back, from i + ahead), the smaller (a
+// silhouette makes the other one large); 0 with neither neighbour a hit.
+// depth(q), hit(q): pixel q's depth and whether it is a surface.
+template <typename DepthAt, typename HitAt>
+float depthSlope(size_t i, long back, long ahead, bool has_back, bool has_ahead, const DepthAt& depth,
+                 const HitAt& hit) {
+  float best = 0;
+  bool found = false;
+  for (int k = 0; k < 2; ++k) {
+    const bool ok = k == 0 ? has_back : has_ahead;
+    if (!ok) continue;
+    const size_t q = size_t(long(i) + (k == 0 ? back : ahead));
+    if (!hit(q)) continue;
+    const float d = k == 0 ? depth(i) - depth(q) : depth(q) - depth(i);
+    if (!found || std::fabs(d) < std::fabs(best)) best = d;
+    found = true;
+  }
+  return best;
+}
+
 // Everything the edge-stopping weights read, per pixel, in flat arrays.
 struct Features {
   int width = 0, height = 0;

@@ -3,6 +3,7 @@
 // result is the same whatever thread runs it.
 #pragma once
 #include <algorithm>
+#include <atomic>
 #include <system_error>
 #include <thread>
 #include <vector>
@@ -10,8 +11,10 @@
 namespace sdfc {
 
 // Runs body(y) for every row on up to hardware_concurrency threads (at most 8),
-// thread t taking rows t, t + threads, ...; the rows of a thread that could not
-// be started run on the caller's.
+// the caller's among them. A thread takes the next row not yet taken, so one
+// that meets slow rows (a denoiser's surfaces beside its sky) does not leave
+// the others waiting at the end; with no further thread to be had, the
+// caller's takes them all.
 template <typename Body>
 void forEachRow(int height, const Body& body) {
   const int threads = std::clamp<int>(int(std::thread::hardware_concurrency()), 1, 8);
@@ -19,16 +22,18 @@ void forEachRow(int height, const Body& body) {
     for (int y = 0; y < height; ++y) body(y);
     return;
   }
-  auto rows = [&](int t) {
-    for (int y = t; y < height; y += threads) body(y);
+  std::atomic<int> next{0};
+  auto rows = [&] {
+    for (int y = next.fetch_add(1, std::memory_order_relaxed); y < height;
+         y = next.fetch_add(1, std::memory_order_relaxed))
+      body(y);
   };
   std::vector<std::thread> pool;
-  int started = 0;
   try {
-    for (; started < threads; ++started) pool.emplace_back(rows, started);
+    for (int t = 1; t < threads; ++t) pool.emplace_back(rows);
   } catch (const std::system_error&) {  // no thread to be had: a failed render it is not
   }
-  for (int t = started; t < threads; ++t) rows(t);
+  rows();
   for (std::thread& thread : pool) thread.join();
 }
 
