@@ -302,6 +302,27 @@ def bounds_plan_headline():
     return lines + [""]
 
 
+def anim_denoise_headline():
+    """The headline of bench/anim_denoise.py's last run (results/anim_denoise.csv):
+    an animation's denoise share of the frame time, per denoiser, medians."""
+    path = os.path.join(HERE, "results", "anim_denoise.csv")
+    if not os.path.exists(path):
+        return []
+    with open(path) as f:
+        rows = [r for r in csv.DictReader(f) if r["spp"] == "8"]
+    lines = ["## An animation's denoise (headline of results/ANIM_DENOISE.md)", "",
+             "morph.sdf, 320x180, 8 spp, 24 frames: per frame, the samples and the denoise in wall ms "
+             "(medians over the runs) and the denoise's share of the frame; run `bench/anim_denoise.py` "
+             "to refresh.", "",
+             "| --denoise | chose | frame ms | samples ms | denoise ms (CPU ms) | share |", "|---|---|---|---|---|---|"]
+    for name in dict.fromkeys(r["denoiser"] for r in rows):
+        rs = [r for r in rows if r["denoiser"] == name]
+        med = lambda k: statistics.median(float(r[k]) for r in rs)
+        lines.append(f"| {name} | {rs[0]['chosen']} | {med('frame_ms'):.0f} | {med('samples_ms'):.0f} | "
+                     f"{med('denoise_ms'):.0f} ({med('denoise_cpu_ms'):.0f}) | {100 * med('share'):.0f}% |")
+    return lines + [""]
+
+
 def write_report(args, info, conv_rows, speedups, geo_rows, plots, elapsed, mitsuba=None):
     rel = lambda p: os.path.relpath(p, os.path.dirname(args.report))
     lines = ["# sdfc benchmark results", "",
@@ -366,6 +387,7 @@ def write_report(args, info, conv_rows, speedups, geo_rows, plots, elapsed, mits
         lines.append("")
     lines += many_parts_headline()
     lines += bounds_plan_headline()
+    lines += anim_denoise_headline()
     if geo_rows:
         lines += ["## Primary-ray geometry (hit distance against float64 roots)", "",
                   "Depth AOV (1 spp, unjittered pixel-centre ray) against the first sign change "
