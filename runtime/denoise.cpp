@@ -157,8 +157,8 @@ double predictedDenoiseSeconds(Denoiser denoiser, size_t pixels, size_t select_s
     case Denoiser::ATrous: per_megapixel = 1.0; break;
     case Denoiser::Svgf: per_megapixel = 2.8; break;
     case Denoiser::Nlm: per_megapixel = 1.2; break;
-    case Denoiser::Nlr: per_megapixel = 1.7; break;
-    case Denoiser::NlrFast: per_megapixel = 0.75; break;  // bench/results/anim_denoise.md
+    case Denoiser::Nlr: per_megapixel = 1.6; break;
+    case Denoiser::NlrFast: per_megapixel = 0.6; break;  // bench/results/ANIM_DENOISE.md (33 CPU ms at 320x180)
   }
   if (select_strengths > 1 && (denoiser == Denoiser::Nlm || denoiser == Denoiser::Nlr || denoiser == Denoiser::NlrFast))
     per_megapixel *= (1.0 + 2.5 * double(select_strengths)) / 3.5;
