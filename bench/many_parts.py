@@ -397,13 +397,14 @@ def main():
     lines[head_at + 2:end] = body
     # Cost growth per family: spp/s of the smallest count over each count's.
     emit()
-    emit("All rows (this run's and earlier resumed ones) are in the .json beside this page.")
+    emit("All rows (this run's and earlier resumed ones, each measured with the binaries of its own run) are in the .json beside this page.")
     emit()
     emit("Cost relative to the family's smallest count: CPU ms per sample; in brackets per hit pixel, "
          "then per primary step (coverage and march length taken out):")
     emit()
     for name, _ in binaries:
-        for fam in families:
+        # Every family on the page, resumed ones too.
+        for fam in dict.fromkeys(r["family"] for r in rows):
             base = sorted((r for r in rows if r["family"] == fam and r["binary"] == name and "cpu_ms_per_sample" in r),
                           key=lambda r: r["parts"])
             if not base:
