@@ -106,6 +106,19 @@ def first_image_stages(sdfc, scene, out):
     return dict(wall_s=wall, cpu_s=usage.ru_utime + usage.ru_stime, **stages)
 
 
+def family_scenes(args, families, counts, dir_):
+    """(family, parts, smooth, path) of each scene to measure, written to dir_:
+    the chess set is 32 pieces whatever the count; only molecules and
+    kit-bashes blend."""
+    for fam in families:
+        for n in ([32] if fam == "chess" else counts):
+            smooth = args.smooth if fam in ("molecule", "kitbash") else 0.0
+            scene = os.path.join(dir_, f"{fam}_{n}.sdf")
+            with open(scene, "w") as f:
+                f.write(mps.scene(fam, n, smooth, framing=args.framing))
+            yield fam, n, smooth, scene
+
+
 def first_image_mode(args, binaries, families, counts):
     """The first image per family and count, binaries interleaved (--first-image)."""
     out = os.path.join(HERE, "results", "many_parts_first_image.md") if args.out is None else args.out
@@ -122,24 +135,19 @@ def first_image_mode(args, binaries, families, counts):
         print(line, flush=True)
     rows = []
     with tempfile.TemporaryDirectory(prefix="many_parts_") as dir_:
-        for fam in families:
-            for n in ([32] if fam == "chess" else counts):
-                smooth = args.smooth if fam in ("molecule", "kitbash") else 0.0
-                scene = os.path.join(dir_, f"{fam}_{n}.sdf")
-                with open(scene, "w") as f:
-                    f.write(mps.scene(fam, n, smooth))
-                runs = {name: [] for name, _ in binaries}
-                for _ in range(args.repeats):
-                    for name, exe in binaries:
-                        runs[name].append(first_image_stages(exe, scene, os.path.join(dir_, "f.png")))
-                for name, _ in binaries:
-                    row = dict(family=fam, parts=n, binary=name, smooth=smooth, runs=runs[name])
-                    row.update({k: statistics.median(r[k] for r in runs[name]) for k in keys})
-                    rows.append(row)
-                    line = (f"| {fam} | {n} | {name} | {row['wall_s']:.2f} | {row['cpu_s']:.2f} | {row['front_ms']:.0f} | "
-                            f"{row['pipeline_ms']:.0f} | {row['first_draw_ms']:.0f} |")
-                    print(line, flush=True)
-                    lines.append(line)
+        for fam, n, smooth, scene in family_scenes(args, families, counts, dir_):
+            runs = {name: [] for name, _ in binaries}
+            for _ in range(args.repeats):
+                for name, exe in binaries:
+                    runs[name].append(first_image_stages(exe, scene, os.path.join(dir_, "f.png")))
+            for name, _ in binaries:
+                row = dict(family=fam, parts=n, binary=name, smooth=smooth, runs=runs[name])
+                row.update({k: statistics.median(r[k] for r in runs[name]) for k in keys})
+                rows.append(row)
+                line = (f"| {fam} | {n} | {name} | {row['wall_s']:.2f} | {row['cpu_s']:.2f} | {row['front_ms']:.0f} | "
+                        f"{row['pipeline_ms']:.0f} | {row['first_draw_ms']:.0f} |")
+                print(line, flush=True)
+                lines.append(line)
     os.makedirs(os.path.dirname(out), exist_ok=True)
     with open(out, "w") as f:
         f.write("\n".join(lines) + "\n")
@@ -321,58 +329,52 @@ def main():
     head = ("| family | parts | binary | compile s | first image s | pipeline ms | peak MiB | spp/s "
             "| process CPU ms/spp | CPU ms/sample | primary steps | hit px | CPU us/hit px | CPU ns/primary step | off | before | missed |")
     emit(head)
-    emit("|" + "---|" * head.count("|")[:-1] if False else "|" + "|".join(["---"] * (head.count("|") - 1)) + "|")
+    emit("|" + "|".join(["---"] * (head.count("|") - 1)) + "|")
     with tempfile.TemporaryDirectory(prefix="many_parts_") as dir_:
-        for fam in families:
-            # The chess set is 32 pieces whatever the count.
-            for n in ([32] if fam == "chess" else counts):
-                smooth = args.smooth if fam in ("molecule", "kitbash") else 0.0
-                scene = os.path.join(dir_, f"{fam}_{n}.sdf")
-                with open(scene, "w") as f:
-                    f.write(mps.scene(fam, n, smooth, framing=args.framing))
-                per = {name: {"spp": [], "cpu": [], "process": []} for name, _ in binaries}
-                refused = {}
-                todo = [(name, exe) for name, exe in binaries if (fam, n, name) not in done]
-                # Warm Mesa's shader cache, so that neither of a repeat's two
-                # renders pays the kernel's LLVM compile the other does not.
+        for fam, n, smooth, scene in family_scenes(args, families, counts, dir_):
+            per = {name: {"spp": [], "cpu": [], "process": []} for name, _ in binaries}
+            refused = {}
+            todo = [(name, exe) for name, exe in binaries if (fam, n, name) not in done]
+            # Warm Mesa's shader cache, so that neither of a repeat's two
+            # renders pays the kernel's LLVM compile the other does not.
+            for name, exe in todo:
+                try:
+                    sb.render(exe, scene, os.path.join(dir_, "w.pfm"), ["--size", args.size, "--spp", "1", "-Wno-bound"])
+                except RuntimeError:
+                    pass  # refused: the repeats below say why
+            for _ in range(args.repeats):
                 for name, exe in todo:
-                    try:
-                        sb.render(exe, scene, os.path.join(dir_, "w.pfm"), ["--size", args.size, "--spp", "1", "-Wno-bound"])
-                    except RuntimeError:
-                        pass  # refused: the repeats below say why
-                for _ in range(args.repeats):
-                    for name, exe in todo:
-                        if name in refused:
-                            continue
-                        try:
-                            spp_s, cpu, cpu_one = sampling(exe, scene, os.path.join(dir_, "b.pfm"), args.size,
-                                                           args.spp)
-                        except RuntimeError as e:  # e.g. an older binary's limit
-                            refused[name] = str(e).splitlines()[1][:160] if len(str(e).splitlines()) > 1 else str(e)
-                            continue
-                        per[name]["spp"].append(spp_s)
-                        per[name]["cpu"].append(1000 * (cpu - cpu_one) / (args.spp - 1))
-                        per[name]["process"].append(1000 * cpu / args.spp)
-                for name, exe in todo:
-                    row = dict(family=fam, parts=n, binary=name, smooth=smooth, framing=args.framing)
                     if name in refused:
-                        row["refused"] = refused[name]
-                        rows.append(row)
-                        emit(f"| {fam} | {n} | {name} | refused: {refused[name]} |")
                         continue
-                    row["compile_s"] = compile_s(exe, scene)
-                    row["first_image_s"], row["peak_mib"], row["pipeline_ms"] = first_image(
-                        exe, scene, os.path.join(dir_, "f.png"))
-                    row["spp_per_s"] = statistics.median(per[name]["spp"])
-                    row["cpu_ms_per_sample"] = statistics.median(per[name]["cpu"])
-                    row["process_cpu_ms_per_spp"] = statistics.median(per[name]["process"])
-                    row["primary_steps"] = primary_steps(exe, scene, dir_, args.size)
-                    if not args.no_check:
-                        row["hits"], row["off"], row["early"], row["missed"] = pixels_off(exe, scene, dir_)
-                    else:
-                        row["hits"] = hit_pixels(exe, scene, dir_)
+                    try:
+                        spp_s, cpu, cpu_one = sampling(exe, scene, os.path.join(dir_, "b.pfm"), args.size,
+                                                       args.spp)
+                    except RuntimeError as e:  # e.g. an older binary's limit
+                        refused[name] = str(e).splitlines()[1][:160] if len(str(e).splitlines()) > 1 else str(e)
+                        continue
+                    per[name]["spp"].append(spp_s)
+                    per[name]["cpu"].append(1000 * (cpu - cpu_one) / (args.spp - 1))
+                    per[name]["process"].append(1000 * cpu / args.spp)
+            for name, exe in todo:
+                row = dict(family=fam, parts=n, binary=name, smooth=smooth, framing=args.framing)
+                if name in refused:
+                    row["refused"] = refused[name]
                     rows.append(row)
-                    emit(row_line(row, args.size))
+                    emit(f"| {fam} | {n} | {name} | refused: {refused[name]} |")
+                    continue
+                row["compile_s"] = compile_s(exe, scene)
+                row["first_image_s"], row["peak_mib"], row["pipeline_ms"] = first_image(
+                    exe, scene, os.path.join(dir_, "f.png"))
+                row["spp_per_s"] = statistics.median(per[name]["spp"])
+                row["cpu_ms_per_sample"] = statistics.median(per[name]["cpu"])
+                row["process_cpu_ms_per_spp"] = statistics.median(per[name]["process"])
+                row["primary_steps"] = primary_steps(exe, scene, dir_, args.size)
+                if not args.no_check:
+                    row["hits"], row["off"], row["early"], row["missed"] = pixels_off(exe, scene, dir_)
+                else:
+                    row["hits"] = hit_pixels(exe, scene, dir_)
+                rows.append(row)
+                emit(row_line(row, args.size))
         if args.mesh_counts:
             emit()
             emit("| mesh: molecule parts | binary | `sdfc mesh --resolution 128` s | peak MiB |")
