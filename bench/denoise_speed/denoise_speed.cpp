@@ -10,8 +10,6 @@
 // mean), DIR/legacy.pfm, DIR/nlr.pfm, DIR/svgf.pfm and prints one JSON object
 // with the timings and the largest difference between the two nlr images
 // (bench/denoise_speed.py reads it and measures the images' error).
-#include <sys/resource.h>
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -24,19 +22,13 @@
 #include "denoise.h"
 #include "image_io.h"
 #include "legacy_nlm.h"
+#include "nlr_input.h"
 #include "renderer.h"
 #include "scene_render.h"
-#include "vulkan_context.h"
 
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-double cpuMs() {
-  rusage u{};
-  getrusage(RUSAGE_SELF, &u);
-  return (u.ru_utime.tv_sec + u.ru_stime.tv_sec) * 1e3 + (u.ru_utime.tv_usec + u.ru_stime.tv_usec) * 1e-3;
-}
 
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
@@ -83,41 +75,20 @@ int main(int argc, char** argv) {
   }
   if (scene_path.empty()) return usage();
 
-  ScopedContext scoped;
-  VulkanContext& context = scoped.get();
-  CompileOptions options;
-  options.emit.march.image_height = size.second;
-  adaptCompileOptionsToDevice(options, context.properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU, false);
-  Diagnostics diags;
-  const CompiledScene compiled = compileFile(scene_path, options, diags);
-  if (!compiled.ok) {
-    std::fprintf(stderr, "sdfc_denoise_speed: %s does not compile\n", scene_path.c_str());
-    return 1;
-  }
-  Renderer renderer(context, compiled);
-  RenderOverrides o;
-  o.width = size.first;
-  o.height = size.second;
-  o.spp = spp;
-  o.seed = uint32_t(seed);
-  RenderSettings settings = renderSettingsFor(compiled, o);
-  // As renderImage sets them for nlr (api/scene_render.cpp).
-  settings.jittered_aovs = true;
-  settings.specular_aovs = true;
-  settings.read_features = true;
-  SampleHalves halves;
-  RenderOutput out = renderHalves(renderer, cameraFor(compiled.scene), settings, &halves);
-  resolveJitteredAovs(out, &halves);
+  bench::NlrInput input;
+  if (!bench::renderNlrInput(scene_path, size, spp, seed, "sdfc_denoise_speed", input)) return 1;
+  const RenderOutput& out = input.out;
+  const SampleHalves& halves = input.halves;
 
   std::vector<double> legacy_ms, nlr_ms, svgf_ms, legacy_cpu, nlr_cpu, svgf_cpu;
   FloatImage legacy_image, nlr_image, svgf_image;
   for (int r = 0; r < reps; ++r) {
     auto time = [&](auto&& run, std::vector<double>& wall, std::vector<double>& cpu, FloatImage& image) {
       const auto start = Clock::now();
-      const double cpu_start = cpuMs();
+      const double cpu_start = bench::processCpuMs();
       image = run();
       wall.push_back(std::chrono::duration<double, std::milli>(Clock::now() - start).count());
-      cpu.push_back(cpuMs() - cpu_start);
+      cpu.push_back(bench::processCpuMs() - cpu_start);
     };
     const NlmParams params = nlm ? NlmParams() : nlrParams();
     time([&] { return legacy::nlmDenoise(halves, out.normal_depth, out.albedo_steps, params); },

@@ -13,8 +13,6 @@
 // per variant: relMSE (mean (x - ref)^2 / (ref^2 + 0.01)) and the filter's CPU ms.
 // --write DIR: also DIR/raw.pfm, DIR/NAME.pfm (each variant's image), DIR/normal_depth.pfm
 // and DIR/albedo.pfm (the features), for a look at where the error is.
-#include <sys/resource.h>
-
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -24,17 +22,11 @@
 
 #include "denoise.h"
 #include "image_io.h"
+#include "nlr_input.h"
 #include "renderer.h"
 #include "scene_render.h"
-#include "vulkan_context.h"
 
 namespace {
-
-double cpuMs() {
-  rusage u{};
-  getrusage(RUSAGE_SELF, &u);
-  return (u.ru_utime.tv_sec + u.ru_stime.tv_sec) * 1e3 + (u.ru_utime.tv_usec + u.ru_stime.tv_usec) * 1e-3;
-}
 
 double relMse(const sdfc::FloatImage& image, const std::vector<float>& ref) {
   double sum = 0;
@@ -116,30 +108,10 @@ int main(int argc, char** argv) {
     return 1;
   }
 
-  ScopedContext scoped;
-  VulkanContext& context = scoped.get();
-  CompileOptions options;
-  options.emit.march.image_height = size.second;
-  adaptCompileOptionsToDevice(options, context.properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU, false);
-  Diagnostics diags;
-  const CompiledScene compiled = compileFile(scene_path, options, diags);
-  if (!compiled.ok) {
-    std::fprintf(stderr, "sdfc_nlr_tune: %s does not compile\n", scene_path.c_str());
-    return 1;
-  }
-  Renderer renderer(context, compiled);
-  RenderOverrides o;
-  o.width = size.first;
-  o.height = size.second;
-  o.spp = spp;
-  o.seed = uint32_t(seed);
-  RenderSettings settings = renderSettingsFor(compiled, o);
-  settings.jittered_aovs = true;  // as renderImage sets them for nlr (api/scene_render.cpp)
-  settings.specular_aovs = true;
-  settings.read_features = true;
-  SampleHalves halves;
-  RenderOutput out = renderHalves(renderer, cameraFor(compiled.scene), settings, &halves);
-  resolveJitteredAovs(out, &halves);
+  bench::NlrInput input;
+  if (!bench::renderNlrInput(scene_path, size, spp, seed, "sdfc_nlr_tune", input)) return 1;
+  const RenderOutput& out = input.out;
+  const SampleHalves& halves = input.halves;
   std::printf("{\"variant\": \"raw\", \"spp\": %d, \"seed\": %d, \"relmse\": %.6g, \"cpu_ms\": 0}\n", spp, seed,
               relMse(out.color, ref));
   if (!write_dir.empty()) {
@@ -154,9 +126,9 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "sdfc_nlr_tune: bad variant %s\n", spec.c_str());
       return 2;
     }
-    const double start = cpuMs();
+    const double start = bench::processCpuMs();
     const FloatImage image = nlmDenoise(halves, out.normal_depth, out.albedo_steps, params);
-    const double cpu = cpuMs() - start;
+    const double cpu = bench::processCpuMs() - start;
     if (!write_dir.empty()) writeImage(write_dir + "/" + name + ".pfm", image);
     std::printf("{\"variant\": \"%s\", \"spec\": \"%s\", \"spp\": %d, \"seed\": %d, \"relmse\": %.6g, \"cpu_ms\": %.0f}\n",
                 name.c_str(), spec.c_str(), spp, seed, relMse(image, ref), cpu);
