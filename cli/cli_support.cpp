@@ -31,6 +31,7 @@ CompileOptions compileOptionsFrom(const CommandLine& cl) {
   o.emit.count_event = cl.count_event;
   // The paper marches every surface; --no-analytic-spheres for A/B runs.
   o.emit.analytic_spheres = !cl.paper_baseline && !cl.no_analytic_spheres;
+  o.emit.prune = cl.prune;
   o.fuse_transforms = !cl.no_fuse;
   if (!cl.mesh_mode.empty()) o.check.mesh_mode = cl.mesh_mode == "exact" ? MeshMode::Exact : MeshMode::Grid;
   o.instancing.threshold = cl.instance_threshold;

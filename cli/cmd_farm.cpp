@@ -55,6 +55,7 @@ std::vector<std::string> renderArgs(const CommandLine& cl, const farm::ShardPlan
   if (cl.no_fuse) a.push_back("--no-fuse");
   if (cl.no_analytic_spheres) a.push_back("--no-analytic-spheres");
   if (!cl.mesh_mode.empty()) a.insert(a.end(), {"--mesh-mode", cl.mesh_mode});
+  if (cl.prune) a.push_back("--prune");
   if (cl.optimize) a.push_back("-O");
   if (cl.paper_baseline) a.push_back("--paper-baseline");
   if (cl.white_noise) a.push_back("--white-noise");

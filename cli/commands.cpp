@@ -41,6 +41,9 @@ void registerCommands(CLI::App& app, CommandLine& cl) {
     sub->add_flag("--no-fuse", cl.no_fuse, "do not fuse transform chains");
     sub->add_flag("--no-analytic-spheres", cl.no_analytic_spheres,
                   "march top-level spheres instead of intersecting them in closed form");
+    sub->add_flag("--prune", cl.prune,
+                  "evaluate only the parts of the scene's union near each point, listed per cell of a grid "
+                  "(docs/large_scenes.md; slower on lavapipe, for GPUs)");
     sub->add_option("--mesh-mode", cl.mesh_mode,
                     "how mesh(file: ...) is drawn: exact (its triangles) or grid (a sampled distance); "
                     "default: the compiler chooses per mesh and --emit ir says which")

@@ -32,6 +32,7 @@ struct CommandLine {
   bool force_bounds = false;  // render: bounds even on a CPU device
   bool no_fuse = false;
   bool no_analytic_spheres = false;
+  bool prune = false;  // --prune: the root union's prune grid (passes/prune_grid.cpp)
   std::string mesh_mode;  // --mesh-mode exact|grid (empty: the compiler chooses per mesh)
   bool optimize = false;
   bool no_cache = false;       // --no-cache: bypass the on-disk SPIR-V and pipeline caches

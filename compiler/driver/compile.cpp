@@ -162,6 +162,8 @@ CompiledScene compileSource(const std::string& path, std::string text, const Com
   // A CPU device: the bounding-volume checks that pay on this scene.
   if (!emit.bounding_volumes && emit.planned_bounds && emit.with_kernel)
     out.bounds_plan = planBoundChecks(out.scene, emit.march, emit.bound_cost_threshold);
+  // `--prune`: each march step evaluates only the parts near it.
+  if (emit.with_kernel && emit.prune) planPruneGrid(out.scene);
   if (options.spirv_cache) emit.mesh_grid_cache_version = options.cache_version;
   out.emitted = emitGlsl(out.scene, emit);
   out.times.emit = secondsSince(t0);

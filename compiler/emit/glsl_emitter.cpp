@@ -7,6 +7,7 @@
 #include <map>
 #include <optional>
 #include <sstream>
+#include <unordered_set>
 
 #include "emit/color_field_glsl.h"
 #include "emit/embedded_sources.h"
@@ -176,6 +177,8 @@ class SceneWriter {
         planes_.push_back({n, c->args[3].value, material, c->range.line()});
       }
       if (!planes_.empty() || !spheres_.empty()) {
+        for (const ir::NodeRef& c : root.children)
+          if (std::find(kept.begin(), kept.end(), c) == kept.end()) taken_.insert(c.get());
         root.children = kept;
         if (kept.empty()) {
           // Nothing left to march: a primitive far outside the view stands in.
@@ -202,6 +205,12 @@ class SceneWriter {
         ray_skip_set_ = only;
       // One material: sdSceneMaterial reads none, so the slots need no w.
       packed_slots_ = uniformMaterial(root, -1) != kMixed;
+    }
+    // `--prune`: the root's parts pruned per cell.
+    if (options_.with_kernel && options_.prune && scene_.root->prune && root.kind == ir::NodeKind::Union) {
+      prune_ = scene_.root->prune.get();
+      prune_root_ = &root;
+      pruneGridData();
     }
     // Distance function.
     {
@@ -340,6 +349,38 @@ class SceneWriter {
   bool has_sphere_material_ = false;  // and kRootSphereMaterial: the scene has one material
   bool has_sphere_hit_ = false;  // march() keeps the slot of a met sphere (g_hit_sphere)
   bool has_glass_ = false;  // the scene uses glass (SDFC_HAS_GLASS): planes take contact rays
+  // Root children the kernel intersects in closed form (planes, spheres): out of the union.
+  std::unordered_set<const ir::Node*> taken_;
+  // The root union's prune grid (passes/prune_grid.cpp) when used, the root
+  // it prunes, and where its masks start in the scene data (in vec4s).
+  const ir::PruneGrid* prune_ = nullptr;
+  const ir::Node* prune_root_ = nullptr;
+  int pruned_checks_ = 0;
+
+  // The masks as vec4s of exact integers (24 bits a float: the web page's
+  // float texture reads them too), and sdPruneMask, which looks p's up:
+  // every bit outside the grid (and for a NaN point).
+  void pruneGridData() {
+    const size_t base = data_.size() / 4;
+    for (const auto& m : prune_->masks) pushVec4(float(m[0]), float(m[1]), float(m[2]), float(m[3]));
+    const ir::PruneGrid& g = *prune_;
+    const std::string index = std::to_string(base) + " + c.x + " + std::to_string(g.dims.x) + " * (c.y + " +
+                              std::to_string(g.dims.y) + " * c.z)";
+    std::ostringstream h;
+    h << "// The parts of the scene's union each cell needs (passes/prune_grid.cpp):\n"
+         "// 24 bits a component; every part outside the grid.\n"
+         "uvec4 sdPruneMask(vec3 p) {\n"
+         "  vec3 g = (p - "
+      << vec3Literal(g.lo) << ") * " << glslFloat(1 / g.cell) << ";\n"
+      << "  const vec3 dims = vec3(" << g.dims.x << ".0, " << g.dims.y << ".0, " << g.dims.z << ".0);\n"
+      << "  bool inside = all(greaterThanEqual(g, vec3(0.0))) && all(lessThan(g, dims));\n"
+      << "  ivec3 c = clamp(ivec3(g), ivec3(0), ivec3(dims) - 1);\n";
+    h << "  uvec4 m = uvec4(sd_data[" << index << "]);\n";
+    h << "  return inside ? m : uvec4(0xFFFFFFu);\n"
+      << "}\n";
+    prune_helper_ = h.str();
+  }
+  std::string prune_helper_;
 
   // A top-level sphere with constant radius, bare or under one Affine that is
   // a similarity (scale * linear orthonormal), of a non-emissive material in a
@@ -437,6 +478,7 @@ class SceneWriter {
   bool hasSphereMaterial() const { return has_sphere_material_; }
   bool oneMaterial() const { return one_material_; }
   bool hasSphereHit() const { return has_sphere_hit_; }
+  int prunedChecks() const { return pruned_checks_; }
 
  private:
   std::map<std::pair<const ir::Node*, bool>, std::string> node_functions_;
@@ -1546,8 +1588,39 @@ class SceneWriter {
     if (is_union) f.code << " = " << (mat ? "vec2(1e30, -1.0)" : "1e30");
     f.code << ";" << lineComment(n) << " "
            << (is_union ? "union" : n.kind == ir::NodeKind::Intersect ? "intersect" : "subtract") << "\n";
-    for (size_t i = 0; i < n.children.size(); ++i) {
-      const ir::Node& c = *n.children[i];
+    // The operands: the children, or for the pruned root its parts (nested
+    // unions flattened), each with its material and bit in a cell's mask.
+    struct Operand {
+      const ir::Node* node;
+      std::string inherited;
+      int bit;
+    };
+    std::vector<Operand> operands;
+    std::string mask;
+    if (&n == prune_root_) {
+      needHelper("prune", prune_helper_.c_str());
+      mask = var(f, "pm");
+      f.code << "  uvec4 " << mask << " = sdPruneMask(" << p << ");\n";
+      for (size_t i = 0; i < prune_->parts.size(); ++i) {
+        if (taken_.count(prune_->parts[i].get())) continue;
+        const int m = prune_->inherited[i];
+        operands.push_back({prune_->parts[i].get(), m >= 0 ? glslFloat(m) : inherited, prune_->bit[i]});
+      }
+    } else {
+      for (const ir::NodeRef& c : n.children) operands.push_back({c.get(), inherited, -1});
+    }
+    for (size_t i = 0; i < operands.size(); ++i) {
+      const ir::Node& c = *operands[i].node;
+      const int bit = operands[i].bit;
+      if (bit >= 0) {
+        // Uniform over the group, as a bound's check: the part runs where some
+        // lane's cell needs it, and is skipped where none does.
+        ++pruned_checks_;
+        char hex[16];
+        std::snprintf(hex, sizeof hex, "0x%Xu", 1u << (bit % ir::kPruneBitsPerWord));
+        f.code << "  if (subgroupAny((" << mask << "." << "xyzw"[bit / ir::kPruneBitsPerWord] << " & " << hex
+               << ") != 0u)) {\n";
+      }
       // Bounding volumes, in a union only (where a lower bound of a child
       // keeps the result a lower bound):
       //  - a child whose box is farther than the nearest distance so far
@@ -1578,7 +1651,7 @@ class SceneWriter {
           f.code << "   } else {\n";
         }
       }
-      std::string r = node(c, p, f, mat, inherited);
+      std::string r = node(c, p, f, mat, operands[i].inherited);
       if (mat && !isIdentifier(r)) {
         // The material pair is used three times below: a call written out
         // three times is inlined three times (glslang and the driver's NIR
@@ -1611,6 +1684,7 @@ class SceneWriter {
       }
       f.code << "  " << s.str() << "\n";
       if (bound) f.code << (mat ? "  }\n" : "   }\n  }\n");
+      if (bit >= 0) f.code << "  }\n";
     }
     return acc;
   }
@@ -1922,7 +1996,7 @@ EmitResult emitGlsl(const ir::Scene& scene, const EmitOptions& options) {
   out << "#version 450\n";
   if (options.line_directives) out << "#extension GL_GOOGLE_cpp_style_line_directive : require\n";
   // subgroupAny / subgroupAll: bounded subtrees and the point-cloud march's fast path.
-  if (result.stats.bounded_subtrees > 0 || writer.hasSphereHit())
+  if (result.stats.bounded_subtrees > 0 || writer.hasSphereHit() || writer.prunedChecks() > 0)
     out << "#extension GL_KHR_shader_subgroup_vote : require\n";
   out << "// Generated by sdfc. Features:";
   for (const std::string& f : result.stats.features) out << " " << f;

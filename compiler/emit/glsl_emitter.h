@@ -33,6 +33,10 @@ struct EmitOptions {
   // those (Node::box_check, passes/bounds_plan.cpp); false: none. The front
   // ends turn it on where they adapt to a CPU device.
   bool planned_bounds = false;
+  // The root union's parts pruned per cell (passes/prune_grid.cpp, planned by
+  // compileSource; the emitter uses the root's grid). Off by default: on
+  // lavapipe it costs more than it saves (bench/results/prune_grid.md).
+  bool prune = false;
   bool line_directives = false;   // #line so glslang errors point at the .sdf
   bool sobol = true;              // low-discrepancy sampler (else PCG hash)
   bool with_kernel = true;        // false: scene code only (for tests and tools)

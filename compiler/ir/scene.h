@@ -11,6 +11,7 @@
 #include "diag/source.h"
 #include "ir/expr.h"
 #include "ir/instances.h"
+#include "ir/prune_grid.h"
 #include "meshin/mesh_shape.h"
 #include "shapes/primitives.h"
 
@@ -113,6 +114,9 @@ struct Node {
   // that would skip it (-1: not sampled).
   bool box_check = false;
   double box_check_skips = -1;
+  // The root union only (passes/prune_grid.cpp): which parts each cell of a
+  // grid over the scene needs.
+  std::shared_ptr<const PruneGrid> prune;
 };
 
 // A 2D profile (a profile primitive, or CSG and planar transforms of them):

@@ -95,6 +95,12 @@ struct BoundsPlan {
 BoundsPlan planBoundChecks(ir::Scene& scene, const MarchPolicy& policy, double cost_threshold,
                            double budget = 4e6);
 
+// Lipschitz pruning of the root union (passes/prune_grid.cpp): a grid whose
+// cells list the parts that can be nearest there (Node::prune on the root),
+// where at least two parts can be pruned. Opt-in (`--prune`): on lavapipe
+// the cell's lookup costs more than it saves (bench/results/prune_grid.md).
+void planPruneGrid(ir::Scene& scene);
+
 // How far a repeat node's child reaches from its cell centre along `axis`
 // (infinite when unbounded).
 double repeatReach(const ir::Node& repeat, int axis);
