@@ -10,6 +10,7 @@
 #include <cstdlib>
 #include <functional>
 #include <random>
+#include <set>
 #include <sstream>
 #include <string>
 
@@ -175,6 +176,36 @@ TEST(ManyParts, BlendGridListsAreInKindOrder) {
     mixed += kinds;
   }
   EXPECT_GT(mixed, 20);  // lists of several kinds: the order above was tested
+}
+
+// A mixed set of rotated parts keeps each record's template index in its
+// placement's free slot (scale, material, template, 0): kinds of at most 4
+// parameters take 5 vec4 a record, not 6 (a vec4 less to load per list entry).
+TEST(ManyParts, MixedRecordsCarryTheirTemplateInThePlacement) {
+  for (const char* op : {"union", "union(smooth: 0.1)"}) {
+    const CompiledScene c = checkedParts(mixedParts(5, 60, op, 3), 32);
+    ASSERT_TRUE(c.ok);
+    const ir::Node* set = findSet(*c.scene.root);
+    ASSERT_NE(set, nullptr);
+    const ir::InstanceSet& members = *set->instances;
+    ASSERT_EQ(set->children.size(), 5u) << op;
+    ASSERT_EQ(members.param_count, 4) << op;  // the box's size and rounding
+    const std::string& glsl = c.emitted.glsl;
+    const std::string said = "records of 5 vec4 at sd_data[";
+    const size_t at = glsl.find(said);
+    ASSERT_NE(at, std::string::npos) << op;
+    ASSERT_NE(glsl.find("int t = int(e.z);"), std::string::npos) << op;
+    const size_t records = std::stoul(glsl.substr(at + said.size()));
+    const std::vector<float>& data = c.emitted.scene_data;
+    ASSERT_LE((records + members.size() * 5) * 4, data.size());
+    std::set<std::int32_t> seen;
+    for (size_t i = 0; i < members.size(); ++i) {
+      const float* e = &data[(records + i * 5 + 3) * 4];
+      ASSERT_EQ(e[2], float(members.instances[i].templ)) << op << ", record " << i;
+      seen.insert(members.instances[i].templ);
+    }
+    EXPECT_EQ(seen.size(), 5u) << op;
+  }
 }
 
 // A smooth set's blend grid (passes/blend_grid.cpp) lists, per cell, every

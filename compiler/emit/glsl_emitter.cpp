@@ -489,9 +489,12 @@ class SceneWriter {
     int stride = 1;      // vec4 per record
     bool affine = false; // records hold a 3x4 map and a scale
     int param_vec4 = 0;  // vec4 of primitive parameters after the placement
-    // A mixed set (several templates): each record's template index follows
-    // its parameters, at float slot set.param_count of the parameter vec4s.
+    // A mixed set (several templates): each record carries its template index,
+    // in the affine placement's fourth vec4 (scale, material, template, 0)
+    // where there is one (templ_in_placement), else after its parameters at
+    // float slot set.param_count of the parameter vec4s.
     bool mixed = false;
+    bool templ_in_placement = false;
     bool grid = false;   // a grid: header (2 vec4), cells (1 vec4 each), lists (4 per vec4)
     size_t grid_header = 0, grid_cells = 0, grid_entries = 0;
     bool grid_records = false;  // lists hold copies of the records (stride vec4 each), not indices
@@ -739,7 +742,11 @@ class SceneWriter {
     l.id = static_cast<int>(instance_layouts_.size());
     l.affine = !set.transforms.empty();
     l.mixed = n.children.size() > 1;
-    l.param_vec4 = (set.param_count + (l.mixed ? 1 : 0) + 3) / 4;
+    // In the placement's free slot, the template index costs no vec4: a
+    // kit-bash's records of 4 parameters take 5 vec4, not 6 (kit-bash 1,000
+    // 401 -> 387 ms a sample; docs/design/large_scenes.md, "Cost per part").
+    l.templ_in_placement = l.mixed && l.affine;
+    l.param_vec4 = (set.param_count + (l.mixed && !l.templ_in_placement ? 1 : 0) + 3) / 4;
     l.stride = (l.affine ? 4 : 1) + l.param_vec4;
     // Indices are stored as float values: exact below 2^24.
     l.nodes = data_.size() / 4;
@@ -760,14 +767,14 @@ class SceneWriter {
         }
         for (int row = 0; row < 3; ++row)
           pushVec4(float(m[0][row]), float(m[1][row]), float(m[2][row]), float(inst.offset[row]));
-        pushVec4(float(scale), float(inst.material), 0, 0);
+        pushVec4(float(scale), float(inst.material), l.templ_in_placement ? float(inst.templ) : 0, 0);
       } else {
         pushVec4(float(inst.offset.x), float(inst.offset.y), float(inst.offset.z), float(inst.material));
       }
       for (int v = 0; v < l.param_vec4; ++v) {
         float c[4] = {0, 0, 0, 0};
         for (int j = 0; j < 4 && v * 4 + j < set.param_count; ++j) c[j] = float(set.paramsOf(i)[v * 4 + j]);
-        if (l.mixed && set.param_count / 4 == v) c[set.param_count % 4] = float(inst.templ);
+        if (l.mixed && !l.templ_in_placement && set.param_count / 4 == v) c[set.param_count % 4] = float(inst.templ);
         pushVec4(c[0], c[1], c[2], c[3]);
       }
     }
@@ -1298,7 +1305,7 @@ class SceneWriter {
       // One branch per template: lanes in lockstep run the branches some lane
       // takes, and a branch no lane takes is skipped.
       r = var(g, "part");
-      g.code << "  int t = int(" << slot(set.param_count) << ");\n";
+      g.code << "  int t = int(" << (l.templ_in_placement ? std::string("e.z") : slot(set.param_count)) << ");\n";
       g.code << "  " << (mat ? "vec2 " : "float ") << r << ";\n";
       for (size_t t = 0; t < n.children.size(); ++t) {
         g.code << "  " << (t == 0 ? "" : "} else ") << (t + 1 < n.children.size() ? "if (t == " + std::to_string(t) + ") " : "") << "{\n";
