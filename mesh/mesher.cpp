@@ -14,7 +14,8 @@ MeshResult meshScene(const ir::Scene& scene, const MeshOptions& options) {
     return out;
   }
   out.plan = planned.plan;
-  const BlockEvaluator eval(scene, options.time);
+  // Each sample evaluates the parts its cell lists (the same bits, faster on many parts).
+  const BlockEvaluator eval(scene, options.time, true);
   const SignGrid grid = sampleGrid(eval, *scene.root, out.plan, options);
   out.points_evaluated = grid.points_evaluated;
   out.sample_seconds = grid.seconds;

@@ -12,6 +12,7 @@
 
 #include "driver/compile.h"
 #include "eval/block_evaluator.h"
+#include "passes/passes.h"
 
 namespace sdfc {
 namespace {
@@ -51,12 +52,12 @@ std::vector<double> testPoints(const ir::Scene& scene, double time) {
   return xyz;  // 2127 points: 16 full blocks and a partial one
 }
 
-void expectSame(const CompiledScene& c, const std::string& name, double time) {
+void expectSame(const CompiledScene& c, const std::string& name, double time, bool prune = false) {
   const ir::Scene& scene = c.scene;
   const std::vector<double> xyz = testPoints(scene, time);
   const size_t n = xyz.size() / 3;
   const Evaluator point(scene, time);
-  const BlockEvaluator block(scene, time);
+  const BlockEvaluator block(scene, time, prune);
   BlockEvaluator::Scratch scratch;
   std::vector<double> distance(n), gradient(3 * n);
   std::vector<int> material(n);
@@ -73,7 +74,7 @@ void expectSame(const CompiledScene& c, const std::string& name, double time) {
     if (!same) {
       ++mismatches;
       ADD_FAILURE() << name << " at (" << p.x << ", " << p.y << ", " << p.z << "): point " << r.distance << " m"
-                    << r.material << ", block " << distance[i] << " m" << material[i];
+                    << r.material << ", block " << distance[i] << " m" << material[i] << (prune ? " (pruned)" : "");
     }
   }
 }
@@ -93,6 +94,25 @@ TEST(BlockEvaluator, EqualsPerPointOnEveryExample) {
     }
   }
   EXPECT_GE(scenes, 30);
+}
+
+// With the root union's prune grid (mesh, large eval batches): the same bits
+// on every example and bench scene, at two times (moving parts are never pruned).
+TEST(BlockEvaluator, PrunedEqualsPerPoint) {
+  int pruned = 0;
+  for (const char* folder : {"/examples", "/examples/hard", "/bench/scenes"}) {
+    for (const auto& entry : std::filesystem::directory_iterator(std::string(SDFC_SOURCE_DIR) + folder)) {
+      if (entry.path().extension() != ".sdf") continue;
+      Diagnostics diags;
+      CompileOptions options;
+      options.produce_spirv = false;
+      const CompiledScene c = compileFile(entry.path().string(), options, diags);
+      ASSERT_TRUE(c.ok) << entry.path() << "\n" << diags.format();
+      pruned += buildPruneGrid(c.scene) != nullptr;
+      for (double time : {0.0, 0.37}) expectSame(c, entry.path().filename().string(), time, true);
+    }
+  }
+  EXPECT_GE(pruned, 10);  // scenes with a grid, where the pruned path ran
 }
 
 // Every node kind, with materials, colour fields, time, smooth blends,

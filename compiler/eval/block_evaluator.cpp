@@ -32,13 +32,66 @@ BlockEvaluator::Scratch::Level& BlockEvaluator::Scratch::level(size_t depth) {
   return *levels_[depth];
 }
 
+BlockEvaluator::BlockEvaluator(const ir::Scene& scene, double time, bool prune)
+    : scene_(scene), time_(time), point_(scene, time) {
+  if (prune) prune_ = buildPruneGrid(scene);
+}
+
 void BlockEvaluator::at(const PointBlock& points, BlockResult& out, Scratch& scratch) const {
   if (!scene_.root) {
     for (int i = 0; i < points.count; ++i) out.distance[i] = std::numeric_limits<double>::infinity();
     std::fill(out.material, out.material + points.count, -1);
     return;
   }
+  if (prune_) {
+    atPruned(points, out, scratch);
+    return;
+  }
   evalNode(*scene_.root, points, -1, out, scratch, 0);
+}
+
+// The points grouped by their cell's mask; each group evaluates the union of
+// the parts listed there, in the union's order and with its rule (the first
+// strictly nearer part's material). A part left out is farther than a listed
+// one everywhere in the cell, so the value and material are the whole union's.
+void BlockEvaluator::atPruned(const PointBlock& points, BlockResult& out, Scratch& scratch) const {
+  const ir::PruneGrid& g = *prune_;
+  const int count = points.count;
+  std::array<std::array<std::uint32_t, 4>, kEvalBlock> masks;
+  std::array<int, kEvalBlock> order;
+  for (int i = 0; i < count; ++i) {
+    masks[i] = pruneMaskAt(g, points.at(i));
+    order[i] = i;
+  }
+  std::stable_sort(order.begin(), order.begin() + count, [&](int a, int b) { return masks[a] < masks[b]; });
+  const int root_material = scene_.root->material;
+  PointBlock group;
+  BlockResult best, r;
+  for (int begin = 0; begin < count;) {
+    int end = begin + 1;
+    while (end < count && masks[order[end]] == masks[order[begin]]) ++end;
+    const std::array<std::uint32_t, 4>& mask = masks[order[begin]];
+    group.count = end - begin;
+    for (int k = begin; k < end; ++k) group.set(k - begin, points.at(order[k]));
+    bool first = true;
+    for (size_t i = 0; i < g.parts.size(); ++i) {
+      const int bit = g.bit[i];
+      if (bit >= 0 && !(mask[bit / ir::kPruneBitsPerWord] >> (bit % ir::kPruneBitsPerWord) & 1u)) continue;
+      const int inherited = g.inherited[i] >= 0 ? g.inherited[i] : root_material;
+      evalNode(*g.parts[i], group, inherited, first ? best : r, scratch, 0);
+      if (!first)
+        for (int k = 0; k < group.count; ++k) {
+          best.material[k] = r.distance[k] < best.distance[k] ? r.material[k] : best.material[k];
+          best.distance[k] = std::min(best.distance[k], r.distance[k]);
+        }
+      first = false;
+    }
+    for (int k = begin; k < end; ++k) {
+      out.distance[order[k]] = best.distance[k - begin];
+      out.material[order[k]] = best.material[k - begin];
+    }
+    begin = end;
+  }
 }
 
 void BlockEvaluator::evaluate(const double* xyz, size_t n, double* distance, int* material,

@@ -32,7 +32,11 @@ struct BlockResult {
 
 class BlockEvaluator {
  public:
-  BlockEvaluator(const ir::Scene& scene, double time = 0) : scene_(scene), time_(time), point_(scene, time) {}
+  // With `prune`, the root union's parts are evaluated per point only where
+  // its prune grid lists them (passes/prune_grid.cpp; built here, 10-20 ms on
+  // scenes of tens of parts): the same bits, each point paying for the parts
+  // near it (`mesh` and large `eval` batches).
+  BlockEvaluator(const ir::Scene& scene, double time = 0, bool prune = false);
 
   // Working memory for one thread: a block of points and results per tree
   // level, kept on the heap so a deep tree cannot overflow a thread's stack.
@@ -63,9 +67,13 @@ class BlockEvaluator {
   void evalNode(const ir::Node& n, const PointBlock& p, int inherited, BlockResult& out, Scratch& scratch,
                 size_t depth) const;
 
+  // The root's parts at the points of `points` whose cell lists the same parts.
+  void atPruned(const PointBlock& points, BlockResult& out, Scratch& scratch) const;
+
   const ir::Scene& scene_;
   double time_;
   Evaluator point_;
+  std::shared_ptr<const ir::PruneGrid> prune_;
 };
 
 }  // namespace sdfc

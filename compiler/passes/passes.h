@@ -100,6 +100,10 @@ BoundsPlan planBoundChecks(ir::Scene& scene, const MarchPolicy& policy, double c
 // where at least two parts can be pruned. Opt-in (`--prune`): on lavapipe
 // the cell's lookup costs more than it saves (bench/results/prune_grid.md).
 void planPruneGrid(ir::Scene& scene);
+// The grid alone (null where fewer than two parts can be pruned), for the
+// float64 block evaluator (`mesh`, many-point `eval`), and the mask of p's cell.
+std::shared_ptr<const ir::PruneGrid> buildPruneGrid(const ir::Scene& scene);
+std::array<std::uint32_t, 4> pruneMaskAt(const ir::PruneGrid& g, const glm::dvec3& p);
 
 // How far a repeat node's child reaches from its cell centre along `axis`
 // (infinite when unbounded).

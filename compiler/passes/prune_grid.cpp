@@ -133,8 +133,8 @@ class Builder {
 
 }  // namespace
 
-void planPruneGrid(ir::Scene& scene) {
-  if (!scene.root || !sharpUnion(*scene.root)) return;
+std::shared_ptr<const ir::PruneGrid> buildPruneGrid(const ir::Scene& scene) {
+  if (!scene.root || !sharpUnion(*scene.root)) return nullptr;
   const auto t0 = std::chrono::steady_clock::now();
   auto g = std::make_shared<ir::PruneGrid>();
   // Nested sharp unions are flattened level by level while the parts fit a mask.
@@ -156,7 +156,7 @@ void planPruneGrid(ir::Scene& scene) {
       grew = true;
     }
   }
-  if (parts.size() > size_t(ir::kPruneMaxParts)) return;
+  if (parts.size() > size_t(ir::kPruneMaxParts)) return nullptr;
   Aabb box;
   std::vector<int> pruned;
   for (size_t i = 0; i < parts.size(); ++i) {
@@ -172,7 +172,7 @@ void planPruneGrid(ir::Scene& scene) {
       box = box.unite(n.bounds);
     }
   }
-  if (pruned.size() < 2) return;
+  if (pruned.size() < 2) return nullptr;
   const dvec3 extent = glm::max(box.hi - box.lo, dvec3(1e-9));
   const double longest = std::max(extent.x, std::max(extent.y, extent.z));
   g->cell = longest / kCellsOnLongestAxis;
@@ -187,7 +187,22 @@ void planPruneGrid(ir::Scene& scene) {
   g->kept_cost = builder.keptCost();
   g->kept_cost_near = builder.keptCostNear();
   g->build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  scene.root->prune = std::move(g);
+  return g;
+}
+
+void planPruneGrid(ir::Scene& scene) {
+  if (std::shared_ptr<const ir::PruneGrid> g = buildPruneGrid(scene)) scene.root->prune = std::move(g);
+}
+
+std::array<std::uint32_t, 4> pruneMaskAt(const ir::PruneGrid& g, const glm::dvec3& p) {
+  // As the shader's sdPruneMask: every part outside the grid (and for NaN).
+  const dvec3 q = (p - g.lo) / g.cell;
+  if (!(q.x >= 0 && q.y >= 0 && q.z >= 0 && q.x < g.dims.x && q.y < g.dims.y && q.z < g.dims.z)) {
+    constexpr std::uint32_t all = (1u << ir::kPruneBitsPerWord) - 1;
+    return {all, all, all, all};
+  }
+  const ivec3 c = glm::min(ivec3(q), g.dims - 1);
+  return g.masks[size_t(c.x) + size_t(g.dims.x) * (size_t(c.y) + size_t(g.dims.y) * c.z)];
 }
 
 }  // namespace sdfc
