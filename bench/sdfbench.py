@@ -6,6 +6,7 @@ Only the standard library and numpy: CI installs python3-numpy from apt.
 import hashlib
 import os
 import re
+import statistics
 import subprocess
 import tempfile
 import threading
@@ -69,6 +70,16 @@ def render(sdfc, scene, output, flags, env=None):
     info["wall_s"] = wall
     info["cpu_s"] = usage.ru_utime + usage.ru_stime
     return info
+
+
+def interleaved_medians(sdfc, scene, work, configs, reps, flags, keys=("cpu_s", "spp_per_s")):
+    """Renders `scene` once per (name, extra flags) in `configs` per rep, the order
+    turned every other rep; the medians of `keys` per name."""
+    got = {name: [] for name, _ in configs}
+    for rep in range(reps):
+        for name, extra in configs if rep % 2 == 0 else configs[::-1]:
+            got[name].append(render(sdfc, scene, os.path.join(work, "x.pfm"), list(flags) + list(extra)))
+    return {name: {k: statistics.median(i[k] for i in runs) for k in keys} for name, runs in got.items()}
 
 
 def compile_text(sdfc, scene, emit, flags=()):

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <functional>
 #include <random>
 #include <set>
 
@@ -79,9 +80,10 @@ void expectSame(const CompiledScene& c, const std::string& name, double time, bo
   }
 }
 
-TEST(BlockEvaluator, EqualsPerPointOnEveryExample) {
-  int scenes = 0;
-  for (const char* folder : {"/examples", "/examples/hard"}) {
+// Every .sdf of the folders (under the source tree), compiled, to `check`.
+void forEachScene(std::initializer_list<const char*> folders,
+                  const std::function<void(const CompiledScene&, const std::string&)>& check) {
+  for (const char* folder : folders) {
     for (const auto& entry : std::filesystem::directory_iterator(std::string(SDFC_SOURCE_DIR) + folder)) {
       if (entry.path().extension() != ".sdf") continue;
       Diagnostics diags;
@@ -89,10 +91,17 @@ TEST(BlockEvaluator, EqualsPerPointOnEveryExample) {
       options.produce_spirv = false;
       const CompiledScene c = compileFile(entry.path().string(), options, diags);
       ASSERT_TRUE(c.ok) << entry.path() << "\n" << diags.format();
-      for (double time : {0.0, 0.37}) expectSame(c, entry.path().filename().string(), time);
-      ++scenes;
+      check(c, entry.path().filename().string());
     }
   }
+}
+
+TEST(BlockEvaluator, EqualsPerPointOnEveryExample) {
+  int scenes = 0;
+  forEachScene({"/examples", "/examples/hard"}, [&](const CompiledScene& c, const std::string& name) {
+    for (double time : {0.0, 0.37}) expectSame(c, name, time);
+    ++scenes;
+  });
   EXPECT_GE(scenes, 30);
 }
 
@@ -100,18 +109,10 @@ TEST(BlockEvaluator, EqualsPerPointOnEveryExample) {
 // on every example and bench scene, at two times (moving parts are never pruned).
 TEST(BlockEvaluator, PrunedEqualsPerPoint) {
   int pruned = 0;
-  for (const char* folder : {"/examples", "/examples/hard", "/bench/scenes"}) {
-    for (const auto& entry : std::filesystem::directory_iterator(std::string(SDFC_SOURCE_DIR) + folder)) {
-      if (entry.path().extension() != ".sdf") continue;
-      Diagnostics diags;
-      CompileOptions options;
-      options.produce_spirv = false;
-      const CompiledScene c = compileFile(entry.path().string(), options, diags);
-      ASSERT_TRUE(c.ok) << entry.path() << "\n" << diags.format();
-      pruned += buildPruneGrid(c.scene) != nullptr;
-      for (double time : {0.0, 0.37}) expectSame(c, entry.path().filename().string(), time, true);
-    }
-  }
+  forEachScene({"/examples", "/examples/hard", "/bench/scenes"}, [&](const CompiledScene& c, const std::string& name) {
+    pruned += buildPruneGrid(c.scene) != nullptr;
+    for (double time : {0.0, 0.37}) expectSame(c, name, time, true);
+  });
   EXPECT_GE(pruned, 10);  // scenes with a grid, where the pruned path ran
 }
 
