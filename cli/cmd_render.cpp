@@ -409,6 +409,22 @@ int runRender(const CommandLine& cl) {
               << std::lround(compiled.times.spirv * 1000)
               << (compiled.times.spirv_cached ? " from the cache" : "") << "), pipeline in "
               << std::lround(renderer.pipelineSeconds() * 1000) << " ms\n";
+  if (!quiet && cl.prune) {
+    // What --prune did: the grid, or why there is none.
+    const ir::Node* root = compiled.scene.root.get();
+    if (root && root->prune) {
+      const ir::PruneGrid& g = *root->prune;
+      int pruned = 0;
+      for (int b : g.bit) pruned += b >= 0;
+      std::cerr << "sdfc: --prune: " << pruned << " of " << g.parts.size() << " parts on " << g.dims.x << "x"
+                << g.dims.y << "x" << g.dims.z << " cells; a cell near a surface keeps "
+                << std::lround(100 * g.kept_cost_near) << "% of their cost\n";
+    } else {
+      std::cerr << "sdfc: --prune: no grid: the scene's top-level union has fewer than two parts to prune "
+                   "(bounded, not moving with time, not a mesh) or more than "
+                << ir::kPruneMaxParts << " parts\n";
+    }
+  }
   choice = chooseRenderSettings(request, &compiled.scene.render);
   if (!quiet) std::cerr << "sdfc: settings: " << choice.reason << "\n";
   // The driver compiles the kernel at its first draw (lavapipe: LLVM, seconds
