@@ -52,6 +52,8 @@ constexpr std::uint32_t kBvhLeafSize = 4;
 // (count kGridCrowded) leaves its points to the hierarchy. Outside the grid's
 // box every instance is at least `margin` farther than the box.
 constexpr int kGridListMax = 8;
+// A hard grid's octant crowded at kGridListMax lists up to this many (not a sphere cloud's).
+constexpr int kGridListMaxCrowded = 32;
 // A blend grid's cells may be split again, down to this many levels.
 constexpr int kGridMaxSplits = 3;
 constexpr std::int32_t kGridCrowded = -1;

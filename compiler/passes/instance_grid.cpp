@@ -130,9 +130,15 @@ void buildInstanceGrid(ir::InstanceSet& set, const ir::Node& node) {
   // corners than it. Fewer spheres touch a cell (fewer crowded cells) and
   // reaches are longer.
   const double sphere_r = ir::isSphereCloud(set, templ) ? templ.args[0].value : 0;
+  // An octant still crowded at kGridListMax lists up to kGridListMaxCrowded
+  // (a sphere cloud's slots hold kGridListMax): a longer loop costs far less
+  // than the hierarchy's search (a 10,000-part tree: 654 -> 265 CPU ms a
+  // sample; at 64, 298; other families unchanged or faster; bench/results/many_parts.md).
+  const size_t crowded_max = sphere_r > 0 ? size_t(ir::kGridListMax) : size_t(ir::kGridListMaxCrowded);
   // Cell c (main or sub-cell) with box `box` lists the nearest of the main
   // cell `from`'s candidates within `target`.
-  auto listCell = [&](size_t c, const Aabb& box, size_t from, double target) {
+  // `octant`: a sub-cell, the last level, which may take the longer list.
+  auto listCell = [&](size_t c, const Aabb& box, size_t from, double target, bool octant) {
     near.clear();
     for (std::uint32_t k = cand_first[from]; k < cand_first[from + 1]; ++k) {
       // A cloud's instance at offset o is the sphere centred at -o.
@@ -159,11 +165,16 @@ void buildInstanceGrid(ir::InstanceSet& set, const ir::Node& node) {
     }
     double r = target;
     size_t keep = near.size();
-    if (keep > size_t(ir::kGridListMax)) {
-      // The nearest kGridListMax; the rest are at least as far as the first left out.
-      r = near[ir::kGridListMax].first;
-      keep = ir::kGridListMax;
-      while (keep > 0 && near[keep - 1].first >= r) --keep;
+    for (size_t list_max : {size_t(ir::kGridListMax), octant ? crowded_max : size_t(ir::kGridListMax)}) {
+      r = target;
+      keep = near.size();
+      if (keep > list_max) {
+        // The nearest list_max; the rest are at least as far as the first left out.
+        r = near[list_max].first;
+        keep = list_max;
+        while (keep > 0 && near[keep - 1].first >= r) --keep;
+      }
+      if (r > 0) break;
     }
     g.first[c] = static_cast<std::uint32_t>(g.entries.size());
     g.reach[c] = r;
@@ -183,13 +194,14 @@ void buildInstanceGrid(ir::InstanceSet& set, const ir::Node& node) {
       for (int x = 0; x < g.dims.x; ++x) {
         const size_t c = cellIndex(x, y, z);
         const dvec3 lo = g.lo + dvec3(x, y, z) * cell;
-        listCell(c, Aabb{lo, lo + cell}, c, reach);
+        listCell(c, Aabb{lo, lo + cell}, c, reach, false);
       }
   // A crowded cell is split once into its 8 octants, each with its own list
   // and half the reach (a sub-cell's candidates are among its cell's: what
-  // lies within reach / 2 of the octant lies within reach of the cell). Only
-  // an octant still crowded leaves its points to the hierarchy: a dense
-  // clump costs one more lookup, not a traversal.
+  // lies within reach / 2 of the octant lies within reach of the cell). An
+  // octant still crowded takes a longer list; only one crowded even then
+  // leaves its points to the hierarchy: a dense clump costs one more lookup
+  // and a longer loop, not a traversal.
   const double half = 0.5 * cell;
   for (int z = 0; z < g.dims.z; ++z)
     for (int y = 0; y < g.dims.y; ++y)
@@ -206,7 +218,7 @@ void buildInstanceGrid(ir::InstanceSet& set, const ir::Node& node) {
         const dvec3 lo = g.lo + dvec3(x, y, z) * cell;
         for (int o = 0; o < 8; ++o) {
           const dvec3 sub_lo = lo + dvec3(o & 1, (o >> 1) & 1, (o >> 2) & 1) * half;
-          listCell(sub + size_t(o), Aabb{sub_lo, sub_lo + half}, c, kReachInCells * half);
+          listCell(sub + size_t(o), Aabb{sub_lo, sub_lo + half}, c, kReachInCells * half, true);
         }
       }
   if (g.entries.size() > kMaxIndex) g = ir::InstanceGrid{};
