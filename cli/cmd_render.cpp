@@ -414,9 +414,7 @@ int runRender(const CommandLine& cl) {
     const ir::Node* root = compiled.scene.root.get();
     if (root && root->prune) {
       const ir::PruneGrid& g = *root->prune;
-      int pruned = 0;
-      for (int b : g.bit) pruned += b >= 0;
-      std::cerr << "sdfc: --prune: " << pruned << " of " << g.parts.size() << " parts on " << g.dims.x << "x"
+      std::cerr << "sdfc: --prune: " << g.prunedParts() << " of " << g.parts.size() << " parts on " << g.dims.x << "x"
                 << g.dims.y << "x" << g.dims.z << " cells; a cell near a surface keeps "
                 << std::lround(100 * g.kept_cost_near) << "% of their cost\n";
     } else {

@@ -71,16 +71,12 @@ CompiledScene compiledWithPrune(const std::string& name, const std::string& text
 }
 
 // The union over the parts the cell of p lists (every part outside the grid),
-// in float64, as the shader looks it up; -2 material when nothing is listed.
+// in float64; -2 material when nothing is listed.
 EvalResult prunedUnion(const Evaluator& eval, const ir::PruneGrid& g, const dvec3& p, int root_material) {
-  const dvec3 q = (p - g.lo) / g.cell;
-  const bool inside = q.x >= 0 && q.y >= 0 && q.z >= 0 && q.x < g.dims.x && q.y < g.dims.y && q.z < g.dims.z;
-  const glm::ivec3 c = glm::clamp(glm::ivec3(q), glm::ivec3(0), g.dims - 1);
-  const auto& mask = g.masks[size_t(c.x) + size_t(g.dims.x) * (size_t(c.y) + size_t(g.dims.y) * c.z)];
+  const std::array<std::uint32_t, 4> mask = pruneMaskAt(g, p);
   EvalResult best{1e30, -2};
   for (size_t i = 0; i < g.parts.size(); ++i) {
-    const int bit = g.bit[i];
-    if (inside && bit >= 0 && !(mask[bit / ir::kPruneBitsPerWord] >> (bit % ir::kPruneBitsPerWord) & 1)) continue;
+    if (!g.lists(mask, i)) continue;
     const EvalResult r = eval.evalNode(*g.parts[i], p, g.inherited[i] >= 0 ? g.inherited[i] : root_material);
     if (r.distance < best.distance) best = r;
   }
@@ -110,8 +106,7 @@ void expectExactEverywhere(const std::string& what, const std::string& text, dou
       ++differ;
     }
   }
-  size_t pruned_parts = 0;
-  for (int b : g.bit) pruned_parts += b >= 0;
+  const size_t pruned_parts = g.prunedParts();
   std::printf("[ prune    ] %s: %zu of %zu parts pruned on %dx%dx%d cells, a cell keeps %.0f%% of their cost; "
               "%d of %d points differ\n",
               what.c_str(), pruned_parts, g.parts.size(), g.dims.x, g.dims.y, g.dims.z, 100 * g.kept_cost, differ,

@@ -75,8 +75,7 @@ void BlockEvaluator::atPruned(const PointBlock& points, BlockResult& out, Scratc
     for (int k = begin; k < end; ++k) group.set(k - begin, points.at(order[k]));
     bool first = true;
     for (size_t i = 0; i < g.parts.size(); ++i) {
-      const int bit = g.bit[i];
-      if (bit >= 0 && !(mask[bit / ir::kPruneBitsPerWord] >> (bit % ir::kPruneBitsPerWord) & 1u)) continue;
+      if (!g.lists(mask, i)) continue;
       const int inherited = g.inherited[i] >= 0 ? g.inherited[i] : root_material;
       evalNode(*g.parts[i], group, inherited, first ? best : r, scratch, 0);
       if (!first)

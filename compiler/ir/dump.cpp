@@ -234,13 +234,11 @@ std::string dumpNode(const Node& n, int indent) {
   if (n.prune) {
     // What the prune grid (`--prune`) found.
     const PruneGrid& g = *n.prune;
-    size_t pruned = 0;
-    for (int b : g.bit) pruned += b >= 0;
     char buf[400];
     std::snprintf(buf, sizeof buf,
                   "%s# prune grid %dx%dx%d cells of %g over %zu of %zu parts: a cell keeps %.0f%% of their cost "
                   "(%.0f%% near a surface); built in %.0f ms\n",
-                  std::string(indent * 2 + 2, ' ').c_str(), g.dims.x, g.dims.y, g.dims.z, g.cell, pruned,
+                  std::string(indent * 2 + 2, ' ').c_str(), g.dims.x, g.dims.y, g.dims.z, g.cell, g.prunedParts(),
                   g.parts.size(), 100 * g.kept_cost, 100 * g.kept_cost_near, 1000 * g.build_seconds);
     out << buf;
   }

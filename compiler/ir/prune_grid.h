@@ -5,6 +5,7 @@
 // skips the rest (issue 46: each point pays for the parts near it).
 #pragma once
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -36,6 +37,17 @@ struct PruneGrid {
   // cells and over cells near a surface; the time the grid took.
   double kept_cost = 1, kept_cost_near = 1;
   double build_seconds = 0;
+
+  size_t prunedParts() const {
+    size_t n = 0;
+    for (int b : bit) n += b >= 0;
+    return n;
+  }
+  // Whether a cell with `mask` evaluates part i (a part without a bit: everywhere).
+  bool lists(const std::array<std::uint32_t, 4>& mask, size_t i) const {
+    const int b = bit[i];
+    return b < 0 || ((mask[b / kPruneBitsPerWord] >> (b % kPruneBitsPerWord)) & 1u) != 0;
+  }
 };
 
 }  // namespace sdfc::ir
