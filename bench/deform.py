@@ -11,7 +11,8 @@ import argparse, os, re, statistics, subprocess, sys, tempfile
 import numpy as np
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-SCENES = ["examples/deformations.sdf", "bench/deform/displace_octaves.sdf", "examples/morph.sdf",
+SCENES = ["examples/deformations.sdf", "bench/deform/displace_octaves.sdf", "bench/deform/bend_off_axis.sdf",
+          "examples/morph.sdf",
           "examples/profiles_and_twist.sdf"]
 
 

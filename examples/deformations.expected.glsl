@@ -231,14 +231,14 @@ vec3 sampleUniformCone(vec2 u, float one_minus_cos_max) {
 
 
 // ---- scene constants (derived per scene by the compiler) ----
-const float kSceneMaxDist = 215.112663;
+const float kSceneMaxDist = 178.319336;
 const int kSceneMaxSteps = 578;
 const float kSceneHitEps = 7e-07;
 const float kScenePixelCone = 0.000674018952;
 const float kSceneStepScale = 1.0;
 // The marched part of the scene lies in this box.
-const vec3 kSceneBoxLo = vec3(-3.74590155, -0.0760081284, -3.74590155);
-const vec3 kSceneBoxHi = vec3(3.74590155, 1.77600813, 3.74590155);
+const vec3 kSceneBoxLo = vec3(-3.08352314, -0.0760072904, -3.08352314);
+const vec3 kSceneBoxHi = vec3(3.08352314, 1.77600729, 3.08352314);
 const vec3 kSunDir = vec3(0.336860768, 0.842151921, 0.421075961);
 const float kSunCosAngle = 0.999390827;
 const vec3 kSunRadiance = vec3(783.791869);
@@ -335,7 +335,7 @@ float sd_sector(vec3 p) {
   vec3 p1 = vec3(cos(a2) * p0.x - sin(a2) * p0.z, p0.y, sin(a2) * p0.x + cos(a2) * p0.z);
   float d3 = sdBox(p1, vec3(2.0, 0.7, 0.25), 0.05);  // line 19 box
   float r4 = length(p0.xz);
-  float d5 = r4 <= 1.07076861 ? d3 * 0.828864513 : sdBox2(vec2(r4 - 1.00778222, abs(p0.y - 0.0) - 0.35));
+  float d5 = r4 <= 1.07076861 && all(lessThanEqual(abs(p0.xz - vec2(0.0, 0.0)), vec2(1.06850686, 0.377947556))) ? d3 * 0.874015903 : max(sdBox2(vec2(r4 - 1.00778222, abs(p0.y - 0.0) - 0.35)), length(max(abs(p0 - vec3(0.0)) - vec3(1.00552047, 0.35, 0.314961167), 0.0)));
   return d5;
 }
 float sdScene(vec3 p) {
@@ -348,15 +348,15 @@ float sdScene(vec3 p) {
   vec3 p2 = p + vec3(0.0, -0.85, 0.0);  // line 14 transform
   float d3 = sdSphere(p2, 0.8);  // line 15 sphere
   vec3 p4 = p2 * 2.5;  // line 15 displace
-  float d5 = (d3 + 0.12 * (sdGradientNoise(p4) + 0.5 * sdGradientNoise(2.0 * p4) + 0.25 * sdGradientNoise(4.0 * p4)) * 0.571428571) * 0.266371882;
+  float d5 = (d3 + 0.12 * (sdGradientNoise(p4) + 0.5 * sdGradientNoise(2.0 * p4) + 0.25 * sdGradientNoise(4.0 * p4)) * 0.571428571) * 0.364508533;
   float b6 = sdBound(p2, vec3(0.0), vec3(0.926));
   d5 = b6 > 0.0 ? max(d5, b6) : d5;
   d0 = min(d0, d5);
    }
   }
-  float b7 = sdBound(p, vec3(0.0, 0.35, 0.0), vec3(3.74589342, 0.35, 3.74589342)) * 0.828864513;
+  float b7 = sdBound(p, vec3(0.0, 0.35, 0.0), vec3(3.08351585, 0.35, 3.08351585)) * 0.874015903;
   if (subgroupAny(b7 < d0)) {
-   if (b7 > 0.530904276) {
+   if (b7 > 0.437477314) {
     d0 = min(d0, b7);
    } else {
   float i8 = round(atan(p.z, p.x) / 1.25663706);  // line 17 repeat_polar
@@ -383,13 +383,13 @@ vec2 sdSceneMaterial(vec3 p) {
   vec3 p2 = p + vec3(0.0, -0.85, 0.0);  // line 14 transform
   float d3 = sdSphere(p2, 0.8);  // line 15 sphere
   vec3 p4 = p2 * 2.5;  // line 15 displace
-  float d5 = (d3 + 0.12 * (sdGradientNoise(p4) + 0.5 * sdGradientNoise(2.0 * p4) + 0.25 * sdGradientNoise(4.0 * p4)) * 0.571428571) * 0.266371882;
+  float d5 = (d3 + 0.12 * (sdGradientNoise(p4) + 0.5 * sdGradientNoise(2.0 * p4) + 0.25 * sdGradientNoise(4.0 * p4)) * 0.571428571) * 0.364508533;
   float b6 = sdBound(p2, vec3(0.0), vec3(0.926));
   d5 = b6 > 0.0 ? max(d5, b6) : d5;
   vec2 m7 = vec2(d5, 0.0);
   d0 = vec2(min(d0.x, m7.x), m7.x < d0.x ? m7.y : d0.y);
   }
-  float b8 = sdBound(p, vec3(0.0, 0.35, 0.0), vec3(3.74589342, 0.35, 3.74589342)) * 0.828864513;
+  float b8 = sdBound(p, vec3(0.0, 0.35, 0.0), vec3(3.08351585, 0.35, 3.08351585)) * 0.874015903;
   if (subgroupAny(b8 < d0.x)) {
   float i9 = round(atan(p.z, p.x) / 1.25663706);  // line 17 repeat_polar
   float a11 = (i9 - 1.0) * 1.25663706;

@@ -95,7 +95,7 @@ TEST(Bend, LipschitzBoundHoldsAndIsNearlyTight) {
     const double h = 1e-6;
     for (int i = 0; i < 40000; ++i) {
       const dvec3 p(u(rng) * reach, u(rng), u(rng) * reach);
-      if (p.x * p.x + p.z * p.z > reach * reach) continue;
+      if (!deformedAt(b, p)) continue;  // the disc, or a boxed bend's box
       gradient = std::max(gradient, glm::length(gradientOf(raw, p)));
       const dvec3 v = glm::normalize(dvec3(u(rng), u(rng), u(rng)));
       stretch = std::max(stretch, glm::length(bendMap(p + v * h, k) - bendMap(p - v * h, k)) / (2 * h));
@@ -110,37 +110,19 @@ TEST(Bend, LipschitzBoundHoldsAndIsNearlyTight) {
   }
 }
 
-// The bound of eval/noise.h, B = |(B_x, B_y, B_z)|, at a point of the cell.
-double noiseGradientBoundAt(dvec3 f) {
-  auto fade = [](double t) { return t * t * t * (t * (t * 6 - 15) + 10); };
-  auto dfade = [](double t) { return 30 * t * t * (1 - t) * (1 - t); };
-  auto axis = [&](double x, double y, double z) {
-    const double u = fade(x), du = dfade(x);
-    const double alpha[2] = {std::fabs(1 - u - du * x), std::fabs(u - du * (1 - x))};
-    double total = 0;
-    for (int oy = 0; oy < 2; ++oy)
-      for (int oz = 0; oz < 2; ++oz) {
-        const double dy = std::fabs(y - oy), dz = std::fabs(z - oz);
-        const double w = (oy ? fade(y) : 1 - fade(y)) * (oz ? fade(z) : 1 - fade(z));
-        for (int o = 0; o < 2; ++o) total += w * std::max(alpha[o] + du * std::max(dy, dz), du * (dy + dz));
-      }
-    return total;
-  };
-  return glm::length(dvec3(axis(f.x, f.y, f.z), axis(f.y, f.x, f.z), axis(f.z, f.y, f.x)));
-}
-
 TEST(Displace, NoiseBoundsHoldWhenSampled) {
-  // The derived bound over a grid of the cell (noise.h: 6.4952 at 401^3).
-  double derived = 0;
-  for (int i = 0; i <= 60; ++i)
-    for (int j = 0; j <= 60; ++j)
-      for (int l = 0; l <= 60; ++l) derived = std::max(derived, noiseGradientBoundAt(dvec3(i, j, l) / 60.0));
-  EXPECT_NEAR(derived, 3.75 * std::sqrt(3.0), 1e-9);
-  EXPECT_LE(derived, kNoiseGradientBound);
+  // The steepest one-octave gradient, 3.75 (eval/noise.h), is reached by the
+  // real hash: at the centre of cell (-1997, 1893, 53) every corner's
+  // gradient leans along +z (found by a search over cells).
+  const dvec3 centre(-1996.5, 1893.5, 53.5);
+  const dvec3 steepest = gradientOf([](dvec3 p) { return gradientNoise(p); }, centre, 1e-6);
+  EXPECT_NEAR(glm::length(steepest), 3.75, 1e-6);
+  EXPECT_NEAR(steepest.z, 3.75, 1e-6);
+  EXPECT_LE(3.75, fractalGradientBound(1));
   std::mt19937_64 rng(9);
   std::uniform_real_distribution<double> u(-40, 40);
   for (const int octaves : {1, 3, 8}) {
-    const double bound = octaves * kNoiseGradientBound / (2 - std::pow(2.0, 1 - octaves));
+    const double bound = fractalGradientBound(octaves);
     double gradient = 0, range = 0;
     auto n = [&](dvec3 p) { return fractalNoise(p, octaves); };
     for (int i = 0; i < 100000; ++i) {
@@ -160,7 +142,7 @@ TEST(Displace, StretchIsDerivedAndTheDisplacedFieldStaysUnderIt) {
   const ir::Node& d = c.top();
   ASSERT_EQ(d.kind, ir::NodeKind::Displace);
   const double lipschitz = 1 + 0.1 * 3 * fractalGradientBound(2);
-  EXPECT_LE(fractalGradientBound(2), 2 * kNoiseGradientBound / 1.5);
+  EXPECT_LE(fractalGradientBound(2), 2 * fractalGradientBound(1) / 1.5);
   EXPECT_NEAR(d.deform_lipschitz, lipschitz, 1e-12);
   EXPECT_NEAR(d.bounds.hi.x, 1 + 0.1 * kNoiseRangeBound, 1e-12);
   EXPECT_NE(c.messages.find("'displace' gives a distance bound"), std::string::npos) << c.messages;
@@ -236,6 +218,11 @@ TEST(Deformations, BoundsNeverExceedTheDistanceToTheSampledSurface) {
       {"bend(rate: 50) { box(size: [2.2, 0.5, 0.4]) }",
        [=](const Evaluator& e, const ir::Node& c, dvec3 p) { return e.evalNode(c, bendMap(p, k_bend), -1).distance; },
        dvec3(-1.2, -0.3, -1.2), dvec3(1.2, 0.3, 1.2)},
+      // Off the axis: bent within its box (passes/deform.h), the box's
+      // distance outside it.
+      {"bend(rate: 50) { translate([0.5, 0.1, 0.4]) { box(size: [0.8, 0.5, 0.4]) } }",
+       [=](const Evaluator& e, const ir::Node& c, dvec3 p) { return e.evalNode(c, bendMap(p, k_bend), -1).distance; },
+       dvec3(-1.2, -0.3, -1.2), dvec3(1.2, 0.5, 1.2)},
       {"displace(amplitude: 0.15, scale: 2.5, octaves: 2) { box(size: [1.2, 0.8, 1]) }",
        [](const Evaluator& e, const ir::Node& c, dvec3 p) {
          return e.evalNode(c, p, -1).distance + 0.15 * fractalNoise(p * 2.5, 2);
@@ -248,7 +235,7 @@ TEST(Deformations, BoundsNeverExceedTheDistanceToTheSampledSurface) {
     const ir::Node& child = *c.top().children[0];
     const std::vector<dvec3> surface =
         surfacePoints([&](dvec3 p) { return bc.raw(eval, child, p); }, bc.lo, bc.hi, 40, 240);
-    ASSERT_GT(surface.size(), 3000u) << bc.text;
+    ASSERT_GT(surface.size(), 1500u) << bc.text;
     std::mt19937_64 rng(21);
     std::uniform_real_distribution<double> u(0, 1);
     double worst = 0, ratio_sum = 0;
@@ -323,6 +310,9 @@ TEST(DeformationsGpu, RenderedDepthAgreesWithRootFinding) {
        [=](const Evaluator& e, const ir::Node& c, dvec3 p) { return e.evalNode(c, twistMap(p, k_twist), -1).distance; }},
       {"bend", "bend(rate: 60) { box(size: [2, 0.4, 0.5]) }",
        [=](const Evaluator& e, const ir::Node& c, dvec3 p) { return e.evalNode(c, bendMap(p, k_bend), -1).distance; }},
+      // Off the axis: the kernel's boxed form (passes/deform.h).
+      {"bend off the axis", "bend(rate: 60) { translate([0.45, 0.1, 0.35]) { box(size: [1, 0.6, 0.5]) } }",
+       [=](const Evaluator& e, const ir::Node& c, dvec3 p) { return e.evalNode(c, bendMap(p, k_bend), -1).distance; }},
       {"displace", "displace(amplitude: 0.12, scale: 3, octaves: 2) { sphere(radius: 0.8) }",
        [](const Evaluator& e, const ir::Node& c, dvec3 p) {
          return e.evalNode(c, p, -1).distance + 0.12 * fractalNoise(p * 3.0, 2);
@@ -353,6 +343,7 @@ TEST(DeformationsGpu, RenderedDepthAgreesWithRootFinding) {
     const double tan_half = f.cam_origin.w, aspect = double(f.width) / f.height;
     const Evaluator eval(c.scene);
     const ir::Node& child = *c.scene.root->children[0]->children[0];
+    if (std::string(dc.name) == "bend off the axis") EXPECT_TRUE(c.scene.root->children[0]->deform_boxed);
     // The kernel ends a ray within its pixel's footprint of the surface (the
     // hit band, pathtrace.glsl): 4 pixel cones (a cone is a quarter pixel) at t.
     const double footprint = 4 * c.emitted.limits.pixel_cone;

@@ -642,11 +642,22 @@ class SceneWriter {
         std::string c = node(*n.children[0], q, f, mat, mine);
         if (mat && !isIdentifier(c)) c = keep(f, c);
         const std::string r = var(f, "r"), d = var(f, "d");
+        const std::string cylinder = "sdBox2(vec2(" + r + " - " + glslFloat(n.deform_radius) + ", abs(" + p + ".y - " +
+                                     glslFloat((b.lo.y + b.hi.y) / 2) + ") - " + glslFloat((b.hi.y - b.lo.y) / 2) + "))";
         f.code << "  float " << r << " = length(" << p << ".xz);\n";
-        f.code << "  float " << d << " = " << r << " <= " << glslFloat(deformReach(n)) << " ? "
-               << (mat ? c + ".x" : c) << " * " << glslFloat(1 / n.deform_lipschitz) << " : sdBox2(vec2(" << r
-               << " - " << glslFloat(n.deform_radius) << ", abs(" << p << ".y - " << glslFloat((b.lo.y + b.hi.y) / 2)
-               << ") - " << glslFloat((b.hi.y - b.lo.y) / 2) << "));\n";
+        if (n.deform_boxed) {
+          // passes/deform.h: only near its box, the box's distance too outside.
+          const Aabb region = n.bounds.grow(deformMargin(n));
+          const glm::dvec3 centre = n.bounds.center(), half = n.bounds.halfSize();
+          f.code << "  float " << d << " = " << r << " <= " << glslFloat(deformReach(n)) << " && all(lessThanEqual(abs("
+                 << p << ".xz - vec2(" << glslFloat(region.center().x) << ", " << glslFloat(region.center().z)
+                 << ")), vec2(" << glslFloat(region.halfSize().x) << ", " << glslFloat(region.halfSize().z) << "))) ? " << (mat ? c + ".x" : c)
+                 << " * " << glslFloat(1 / n.deform_lipschitz) << " : max(" << cylinder << ", length(max(abs(" << p
+                 << " - " << vec3Literal(centre) << ") - " << vec3Literal(half) << ", 0.0)));\n";
+        } else {
+          f.code << "  float " << d << " = " << r << " <= " << glslFloat(deformReach(n)) << " ? "
+                 << (mat ? c + ".x" : c) << " * " << glslFloat(1 / n.deform_lipschitz) << " : " << cylinder << ";\n";
+        }
         return mat ? "vec2(" + d + ", " + c + ".y)" : d;
       }
       case ir::NodeKind::Displace: {

@@ -341,7 +341,6 @@ void BlockEvaluator::evalNode(const ir::Node& n, const PointBlock& p, int inheri
     case ir::NodeKind::Twist: {
       // The child at every point, then the cylinder's distance outside its
       // reach (passes/deform.h), as the per-point evaluator.
-      const Aabb& b = n.children[0]->bounds;
       const double amount = n.amount.at(t);
       for (int i = 0; i < count; ++i) {
         const dvec3 x = p.at(i);
@@ -349,11 +348,9 @@ void BlockEvaluator::evalNode(const ir::Node& n, const PointBlock& p, int inheri
       }
       child(0, q, out);
       for (int i = 0; i < count; ++i) {
-        const double r = std::sqrt(p.x[i] * p.x[i] + p.z[i] * p.z[i]);
-        if (r > deformReach(n)) {
-          const glm::dvec2 w(r - n.deform_radius,
-                             std::fabs(p.y[i] - (b.lo.y + b.hi.y) / 2) - (b.hi.y - b.lo.y) / 2);
-          out.distance[i] = std::min(std::max(w.x, w.y), 0.0) + glm::length(glm::max(w, glm::dvec2(0)));
+        const dvec3 x = p.at(i);
+        if (!deformedAt(n, x)) {
+          out.distance[i] = deformOutside(n, x);
           out.material[i] = mat;
         } else {
           out.distance[i] /= n.deform_lipschitz;

@@ -299,14 +299,10 @@ EvalResult Evaluator::evalNode(const ir::Node& n, const dvec3& p, int inherited)
     }
     case ir::NodeKind::Twist:
     case ir::NodeKind::Bend: {
-      // Within the radius R that holds the child, the deformed field divided
-      // by its Lipschitz factor; outside, the distance to that cylinder.
-      const Aabb& b = n.children[0]->bounds;
-      const double r = std::sqrt(p.x * p.x + p.z * p.z);
-      if (r > deformReach(n)) {
-        const glm::dvec2 w(r - n.deform_radius, std::fabs(p.y - (b.lo.y + b.hi.y) / 2) - (b.hi.y - b.lo.y) / 2);
-        return {std::min(std::max(w.x, w.y), 0.0) + glm::length(glm::max(w, glm::dvec2(0))), mat};
-      }
+      // Within the radius R that holds the child (and a boxed bend's box),
+      // the deformed field divided by its Lipschitz factor; outside, the
+      // distance to that cylinder (and box): passes/deform.h.
+      if (!deformedAt(n, p)) return {deformOutside(n, p), mat};
       EvalResult e = child(0, n.kind == ir::NodeKind::Twist ? twistPoint(p, n.amount.at(t)) : bendPoint(p, n.amount.at(t)));
       e.distance /= n.deform_lipschitz;
       return e;

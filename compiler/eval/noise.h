@@ -24,33 +24,31 @@ namespace sdfc {
 uint32_t mix32(uint32_t h);
 
 // Bounds on the noise and its gradient, for displace (passes/analyze.cpp).
-// Write n = sum_k w_k c_k, c_k = g_k . (f - o_k), w_k the fade weights. Along
-// x (t = f.x, u = fade(t)), at each (y, z) corner the two x corners give
-// g_0x (1 - u - u' t) + g_1x (u - u' (1 - t)) + u' (a_1 - a_0), a_o the y, z
-// part of c_o. A cube-edge gradient with g_x != 0 has one of g_y, g_z, and
-// with g_x = 0 both, so corner o adds at most
-// max(|alpha_o| + u' max(dy, dz), u' (dy + dz)), dy = |f.y - o.y|; summed with
-// the (y, z) weights this bounds |dn/dx| by B_x(f), and |grad n| by
-// |(B_x, B_y, B_z)|. Its maximum over a 401^3 grid of the cell is 6.4952, at
-// the centre (3.75 sqrt(3)); sampled gradients reach 3.20
-// (tests/deform_test.cpp recomputes both). Likewise |n| <= sum_k w_k (the
-// two largest |f - o_k| components), at most 1.0364 on the grid.
-constexpr double kNoiseGradientBound = 6.5;
+// In a cell, with f the point's place in it and o_k the corners,
+// n = sum_k w_k(f) g_k . (f - o_k), so grad n = sum_k (w_k g_k + (g_k . (f -
+// o_k)) grad w_k), and for a unit direction d, d . grad n = sum_k g_k . v_k
+// with v_k = w_k d + (d . grad w_k)(f - o_k). Whatever the hash puts at the
+// corners, g_k . v_k is at most the sum of the two largest |v_k,i| (a
+// cube-edge gradient has two entries of +-1). Over a box of places, interval
+// arithmetic bounds that sum for one d; directions are covered by patches,
+// each bounded by its centre's value over cos(its angular radius).
+// The largest gradient is 3.75, at the cell's centre along an axis, reached
+// by corner gradients that all lean that way (no bound below it holds for
+// every cell); cut into 128^3 boxes, the cell's bound is 3.9001. The range:
+// |n| <= sum_k w_k (the two largest |f - o_k| components), at most 1.0364.
 constexpr double kNoiseRangeBound = 1.05;
 
 // The fractal sum's gradient, o octaves: grad N(p) = sum_i grad n(2^i p) / W
 // (octave i weighs 0.5^i at frequency 2^i, W = 2 - 2^(1 - o)), so |grad N(p)|
-// <= sum_i B(frac(2^i p)) / W. Octave i + 1 sits at frac(2 f_i): the octaves
-// cannot all be at the cell's centre, where B peaks (at the centre of one
-// octave the next is at a lattice corner, B = sqrt 3). Over a grid of n^3
-// cells, with B's largest value over each cell (every factor of B is
-// non-negative, so each is taken at its largest over the cell), the most the
-// sum reaches along a chain of cells c_0 -> c_1 -> ..., c_(i+1) among the
-// 2 x 2 x 2 cells that doubling maps c_i onto, is a bound for every p:
+// <= sum_i B(frac(2^i p)) / W, B bounding one octave at its place. Octave
+// i + 1 sits at frac(2 f_i): the octaves cannot all be at the cell's centre,
+// where B peaks (at the centre of one octave the next is at a lattice
+// corner). Over a grid of n^3 boxes of places, each bounded as above, the
+// most the sum reaches along a chain of boxes c_0 -> c_1 -> ..., c_(i+1)
+// among the 2 x 2 x 2 that doubling maps c_i onto, is a bound for every p:
 // fractalGradientBoundsByCells(8, n)[o - 1]. kFractalGradientBound is it at
-// n = 128, rounded up (tests/lipschitz_test.cpp recomputes it);
-// fractalGradientBound takes the least of it and o kNoiseGradientBound / W.
-constexpr double kFractalGradientBound[8] = {6.7384, 7.0574, 9.1805, 10.9679, 13.1788, 15.4095, 17.7219, 20.0686};
+// n = 128, rounded up (tests/lipschitz_test.cpp recomputes it).
+constexpr double kFractalGradientBound[8] = {3.9002, 4.5250, 5.8114, 7.1235, 8.5867, 10.1009, 11.6648, 13.2501};
 std::vector<double> fractalGradientBoundsByCells(int octaves, int cells);
 double fractalGradientBound(int octaves);
 

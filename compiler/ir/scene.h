@@ -90,6 +90,9 @@ struct Node {
   // Displace: deform_lipschitz only (the noise's stretch holds everywhere).
   double deform_radius = 0;
   double deform_lipschitz = 1;
+  // Bend: the deformed field is used only near its bounds (passes/deform.h),
+  // where its Lipschitz factor is smaller than over the whole disc.
+  bool deform_boxed = false;
 
   // Primitive polygon: its corners, constant (shapes/polygon.h).
   std::vector<glm::dvec2> points;

@@ -28,16 +28,87 @@ double upper(const ir::Scalar& s) {
 // affine map), so over the disc x^2 + z^2 <= R^2 it peaks on the rim; sampled
 // there, plus the most it can rise between samples (the entries move k times
 // as fast as the point, a norm no faster): R k pi / samples.
+double bendStretchAt(double k, double x, double z) {
+  const double a = 1 - k * z, b = k * x;
+  const double t = a * a + b * b + 1;
+  return std::sqrt((t + std::sqrt(std::max(t * t - 4 * a * a, 0.0))) / 2);
+}
+
 double bendLipschitz(double k, double radius) {
   constexpr int kSamples = 720;
   double best = 1;
   for (int i = 0; i < kSamples; ++i) {
     const double phi = 2 * M_PI * i / kSamples;
-    const double a = 1 - k * radius * std::sin(phi), b = k * radius * std::cos(phi);
-    const double t = a * a + b * b + 1;
-    best = std::max(best, std::sqrt((t + std::sqrt(std::max(t * t - 4 * a * a, 0.0))) / 2));
+    best = std::max(best, bendStretchAt(k, radius * std::cos(phi), radius * std::sin(phi)));
   }
   return best + k * radius * M_PI / kSamples;
+}
+
+// The same over the part of that disc inside a rectangle of x, z (a box's),
+// for every rate in `rate` (radians per unit). The stretch is convex in the
+// point and in the rate, so it peaks at the region's extreme points, at the
+// least or most rate: the rectangle's corners inside the disc, and the rim's
+// points inside the rectangle, sampled as bendLipschitz does (each rim point
+// inside lies within half a sample's spacing of a sample inside the
+// rectangle grown by that much).
+double boxedBendLipschitz(ir::Interval rate, const Aabb& rectangle, double radius) {
+  constexpr int kSamples = 720;
+  const double k = std::max(std::fabs(rate.lo), std::fabs(rate.hi)), slack = M_PI * radius / kSamples;
+  double best = 1;
+  for (const double r : {rate.lo, rate.hi}) {
+    for (const double x : {rectangle.lo.x, rectangle.hi.x})
+      for (const double z : {rectangle.lo.z, rectangle.hi.z})
+        if (x * x + z * z <= radius * radius) best = std::max(best, bendStretchAt(r, x, z));
+    for (int i = 0; i < kSamples; ++i) {
+      const double phi = 2 * M_PI * i / kSamples, x = radius * std::cos(phi), z = radius * std::sin(phi);
+      if (x >= rectangle.lo.x - slack && x <= rectangle.hi.x + slack && z >= rectangle.lo.z - slack &&
+          z <= rectangle.hi.z + slack)
+        best = std::max(best, bendStretchAt(r, x, z));
+    }
+  }
+  return best + k * radius * M_PI / kSamples;
+}
+
+// cos and sin over an interval of angles.
+ir::Interval cosOver(double lo, double hi) {
+  if (hi - lo >= 2 * M_PI) return {-1, 1};
+  ir::Interval r{std::min(std::cos(lo), std::cos(hi)), std::max(std::cos(lo), std::cos(hi))};
+  for (double c = std::ceil(lo / M_PI) * M_PI; c <= hi; c += M_PI) {
+    const double v = std::cos(c);
+    r = {std::min(r.lo, v), std::max(r.hi, v)};
+  }
+  return r;
+}
+ir::Interval sinOver(double lo, double hi) { return cosOver(lo - M_PI / 2, hi - M_PI / 2); }
+
+ir::Interval times(ir::Interval a, ir::Interval b) {
+  const double p[4] = {a.lo * b.lo, a.lo * b.hi, a.hi * b.lo, a.hi * b.hi};
+  return {*std::min_element(p, p + 4), *std::max_element(p, p + 4)};
+}
+
+// The box that bend(rate) bends the child's box b into, within radius R of
+// the y axis: p = R_y(-a) q with a = k p.x (k over `rate`, radians per
+// unit). Cut p.x into slabs; in each, a lies in k times the slab, so
+// p.x = cos(a) q.x + sin(a) q.z and p.z = -sin(a) q.x + cos(a) q.z lie in
+// their interval products over q in b, and a slab whose p.x interval misses
+// it holds no point of the bent box.
+Aabb bentBounds(const Aabb& b, ir::Interval rate, double radius) {
+  constexpr int kSlabs = 512;
+  const ir::Interval qx{b.lo.x, b.hi.x}, qz{b.lo.z, b.hi.z};
+  Aabb held;
+  for (int i = 0; i < kSlabs; ++i) {
+    const double x0 = -radius + 2 * radius * i / kSlabs, x1 = -radius + 2 * radius * (i + 1) / kSlabs;
+    const ir::Interval a = times({x0, x1}, rate);
+    const ir::Interval c = cosOver(a.lo, a.hi), s = sinOver(a.lo, a.hi);
+    const ir::Interval sx = times(c, qx), tx = times(s, qz);
+    const ir::Interval px{sx.lo + tx.lo, sx.hi + tx.hi};
+    if (px.hi < x0 || px.lo > x1) continue;
+    const ir::Interval sz = times(s, qx), tz = times(c, qz);
+    const ir::Interval pz{tz.lo - sz.hi, tz.hi - sz.lo};
+    held = held.unite({glm::dvec3(std::max(x0, px.lo), b.lo.y, pz.lo), glm::dvec3(std::min(x1, px.hi), b.hi.y, pz.hi)});
+  }
+  // Rounding in the products: a hair more.
+  return held.empty() ? held : held.grow(1e-9 * (1 + radius));
 }
 
 class Analyzer {
@@ -315,6 +386,19 @@ class Analyzer {
     n.deform_radius = radius;
     n.deform_lipschitz = bend ? bendLipschitz(k, reach) : (kr + std::sqrt(kr * kr + 4)) / 2;
     n.bounds = {dvec3(-radius, b.lo.y, -radius), dvec3(radius, b.hi.y, radius)};
+    if (bend) {
+      // The bent shape lies in the box its child's box bends into. Where the
+      // stretch over that box grown by the margin (within the disc: a convex
+      // region, as the disc is) is less than over the whole disc, the field
+      // is used only there (passes/deform.h).
+      const ir::Interval degrees = n.amount.range(), rad{degrees.lo * M_PI / 180, degrees.hi * M_PI / 180};
+      n.bounds = n.bounds.intersect(bentBounds(b, rad, radius));
+      const double boxed = boxedBendLipschitz(rad, n.bounds.grow(deformMargin(n)), reach);
+      if (boxed < n.deform_lipschitz) {
+        n.deform_lipschitz = boxed;
+        n.deform_boxed = true;
+      }
+    }
     // At |z| = 1/k the map folds (its Jacobian is singular): points on both
     // sides read the same child point, so the shape shows twice.
     if (bend && k * radius >= 1)
