@@ -268,7 +268,7 @@ vec3 sdAnalyticNormal(int index, vec3 p, out int material) {
 float sdBound(vec3 p, vec3 center, vec3 half_size) {
   return length(max(abs(p - center) - half_size, 0.0));
 }
-// polygon of 11 points: nearest edge, even-odd crossings (shapes/polygon.cpp).
+// polygon of 11 points: nearest edge, even-odd crossings (shapes/polygon.cpp); revolved, so its edges on x = 0.0 are not surface.
 float sdPolygon0(vec3 p) {
   vec2 q = p.xy;
   float d = 1e30;
@@ -312,10 +312,6 @@ float sdPolygon0(vec3 p) {
   w = q - vec2(0.36, 0.35);
   h = w - vec2(-0.36, 0.0) * clamp(dot(w, vec2(-0.36, 0.0)) * 7.71604938, 0.0, 1.0);
   d = min(d, dot(h, h));
-  w = q - vec2(0.0, 0.35);
-  h = w - vec2(0.0, -0.35) * clamp(dot(w, vec2(0.0, -0.35)) * 8.16326531, 0.0, 1.0);
-  d = min(d, dot(h, h));
-  if ((q.y < 0.35) != (q.y < 0.0) && q.x < 0.0 + (q.y - 0.35) * -0.0) s = -s;
   return s * sqrt(d);
 }
 float sdBox2(vec2 q) { return length(max(q, 0.0)) + min(max(q.x, q.y), 0.0); }

@@ -729,6 +729,9 @@ class SceneWriter {
         const std::string q = var(f, "p");
         f.code << "  vec3 " << q << " = vec3(length(" << p << ".xz) - " << n.amount.glsl() << ", " << p
                << ".y, 0.0);" << lineComment(n) << " revolve\n";
+        // A lathe's polygon without its edges on the axis (a polygon has one
+        // material, so the uniform-material path above takes it when `mat`).
+        if (n.lathe && !mat) return polygon(*n.children[0], q, f, -n.amount.value);
         return node(*n.children[0], q, f, mat, mine);
       }
       default: return domain(n, p, f, mat, mine);
@@ -1511,12 +1514,14 @@ class SceneWriter {
     return d;
   }
 
-  // A polygon: one unrolled function per distinct point list.
-  std::string polygon(const ir::Node& n, const std::string& p, Function& f) {
+  // A polygon: one unrolled function per distinct point list (and axis,
+  // when revolved as a lathe: its edges on the axis left out).
+  std::string polygon(const ir::Node& n, const std::string& p, Function& f, double axis = -HUGE_VAL) {
     std::string key;
     for (const glm::dvec2& v : n.points) key += glslFloat(v.x) + "," + glslFloat(v.y) + ";";
+    if (axis > -HUGE_VAL) key += "axis " + glslFloat(axis);
     auto [it, fresh] = polygon_names_.try_emplace(key, "sdPolygon" + std::to_string(polygon_names_.size()));
-    if (fresh) helpers_ << polygonGlsl(it->second, n.points);
+    if (fresh) helpers_ << polygonGlsl(it->second, n.points, axis);
     const std::string d = var(f, "d");
     f.code << lineDirective(n) << "  float " << d << " = " << it->second << "(" << p << ");" << lineComment(n)
            << " polygon\n";

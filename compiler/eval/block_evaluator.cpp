@@ -361,6 +361,15 @@ void BlockEvaluator::evalNode(const ir::Node& n, const PointBlock& p, int inheri
     case ir::NodeKind::Revolve: {
       const double o = n.amount.at(t);
       for (int i = 0; i < count; ++i) q.set(i, dvec3(std::sqrt(p.x[i] * p.x[i] + p.z[i] * p.z[i]) - o, p.y[i], 0));
+      if (n.lathe) {
+        // As the per-point evaluator: the polygon without its edges on the axis.
+        const ir::Node& c = *n.children[0];
+        for (int i = 0; i < count; ++i) {
+          out.distance[i] = polygonDistance(c.points, glm::dvec2(q.x[i], q.y[i]), -n.amount.value);
+          out.material[i] = c.material >= 0 ? c.material : mat;
+        }
+        return;
+      }
       child(0, q, out);
       return;
     }

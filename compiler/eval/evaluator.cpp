@@ -334,8 +334,12 @@ EvalResult Evaluator::evalNode(const ir::Node& n, const dvec3& p, int inherited)
       }
       return best;
     }
-    case ir::NodeKind::Revolve:
-      return child(0, dvec3(std::sqrt(p.x * p.x + p.z * p.z) - n.amount.at(t), p.y, 0));
+    case ir::NodeKind::Revolve: {
+      const dvec3 q(std::sqrt(p.x * p.x + p.z * p.z) - n.amount.at(t), p.y, 0);
+      const ir::Node& c = *n.children[0];
+      if (n.lathe) return {polygonDistance(c.points, glm::dvec2(q.x, q.y), -n.amount.value), c.material >= 0 ? c.material : mat};
+      return child(0, q);
+    }
     case ir::NodeKind::Morph: {
       const double w = n.amount.at(t);
       EvalResult a = child(0, p), b = child(1, p);

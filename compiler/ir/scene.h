@@ -94,6 +94,11 @@ struct Node {
   // where its Lipschitz factor is smaller than over the whole disc.
   bool deform_boxed = false;
 
+  // Revolve: its profile is a polygon with edges on the axis (a lathe's
+  // profile), which the solid does not have as surface: they are left out
+  // of its distance (passes/analyze.cpp), which keeps it exact inside.
+  bool lathe = false;
+
   // Primitive polygon: its corners, constant (shapes/polygon.h).
   std::vector<glm::dvec2> points;
 

@@ -487,6 +487,13 @@ class Analyzer {
     const double r = std::max({std::fabs(p.bounds.lo.x + o.lo), std::fabs(p.bounds.hi.x + o.hi),
                                std::fabs(p.bounds.lo.x + o.hi), std::fabs(p.bounds.hi.x + o.lo)});
     n.bounds = {dvec3(-r, p.bounds.lo.y, -r), dvec3(r, p.bounds.hi.y, r)};
+    // A polygon's edges on the axis sweep no surface: inside, the distance
+    // to them (the distance to the axis) is less than the depth, so they are
+    // left out (shapes/primitives.h). A shell of the solid had a wall along
+    // its axis.
+    if (p.kind == ir::NodeKind::Primitive && p.primitive == PrimitiveKind::Polygon && n.amount.isConst())
+      for (size_t i = 0; i < p.points.size(); ++i)
+        n.lathe = n.lathe || (p.points[i].x == -n.amount.value && p.points[(i + 1) % p.points.size()].x == -n.amount.value);
     if (p.bounds.lo.x + o.lo >= 0) return;
     if (n.amount.isConst() && n.amount.value == 0 && mirrorSymmetricX(p)) return;
     n.exact = false;

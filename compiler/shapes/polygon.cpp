@@ -39,13 +39,14 @@ std::string vec2Literal(dvec2 v) { return "vec2(" + literal(v.x) + ", " + litera
 
 }  // namespace
 
-double polygonDistance(const std::vector<dvec2>& v, dvec2 p) {
+double polygonDistance(const std::vector<dvec2>& v, dvec2 p, double axis) {
   // The nearest edge gives the distance; the crossings of a ray from p
   // towards +x give the side (even-odd).
   double best = 1e300;
   bool inside = false;
   for (size_t i = 0; i < v.size(); ++i) {
     const dvec2 a = v[i], b = v[(i + 1) % v.size()];
+    if (a.x == axis && b.x == axis) continue;
     const dvec2 e = b - a, w = p - a;
     const double t = std::clamp(glm::dot(w, e) / glm::dot(e, e), 0.0, 1.0);
     const dvec2 h = w - e * t;
@@ -97,12 +98,14 @@ std::string polygonProblem(const std::vector<dvec2>& v) {
   return "";
 }
 
-std::string polygonGlsl(const std::string& name, const std::vector<dvec2>& v) {
+std::string polygonGlsl(const std::string& name, const std::vector<dvec2>& v, double axis) {
   std::ostringstream g;
-  g << "// polygon of " << v.size() << " points: nearest edge, even-odd crossings (shapes/polygon.cpp).\n";
+  g << "// polygon of " << v.size() << " points: nearest edge, even-odd crossings (shapes/polygon.cpp)"
+    << (axis > -HUGE_VAL ? "; revolved, so its edges on x = " + literal(axis + 0.0) + " are not surface" : "") << ".\n";
   g << "float " << name << "(vec3 p) {\n  vec2 q = p.xy;\n  float d = 1e30;\n  float s = 1.0;\n  vec2 w, h;\n";
   for (size_t i = 0; i < v.size(); ++i) {
     const dvec2 a = v[i], b = v[(i + 1) % v.size()];
+    if (a.x == axis && b.x == axis) continue;
     const dvec2 e = b - a;
     g << "  w = q - " << vec2Literal(a) << ";\n";
     g << "  h = w - " << vec2Literal(e) << " * clamp(dot(w, " << vec2Literal(e) << ") * "

@@ -2,6 +2,7 @@
 // constants kept in the node; this file holds what the catalogue entry
 // cannot: the simplicity check and the GLSL written per polygon.
 #pragma once
+#include <cmath>
 #include <glm/glm.hpp>
 #include <string>
 #include <vector>
@@ -14,7 +15,8 @@ namespace sdfc {
 std::string polygonProblem(const std::vector<glm::dvec2>& points);
 
 // A GLSL function `float <name>(vec3 p)` for this polygon, unrolled per edge
-// (a loop would count against lavapipe's loop cap at every march step).
-std::string polygonGlsl(const std::string& name, const std::vector<glm::dvec2>& points);
+// (a loop would count against lavapipe's loop cap at every march step);
+// edges on x = `axis` left out, as polygonDistance does.
+std::string polygonGlsl(const std::string& name, const std::vector<glm::dvec2>& points, double axis = -HUGE_VAL);
 
 }  // namespace sdfc

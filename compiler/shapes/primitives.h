@@ -2,6 +2,7 @@
 // (parameters, exact float64 distance, GLSL, bounds), so adding a primitive
 // is one edit here and nowhere else.
 #pragma once
+#include <cmath>
 #include <glm/glm.hpp>
 #include <string>
 #include <vector>
@@ -71,8 +72,11 @@ const char* triangleGlsl();
 
 // polygon(points): exact signed distance to the closed polygon through
 // `points` (inside by the even-odd rule; the checker accepts only simple
-// polygons, where that is the inside), at p.xy; and its flat bounds.
-double polygonDistance(const std::vector<glm::dvec2>& points, glm::dvec2 p);
+// polygons, where that is the inside), at p.xy; and its flat bounds. Edges
+// lying on the line x = `axis` are left out: a lathe's profile, revolved
+// about that line, has no surface there (p.x >= axis, where such an edge
+// never changes the side either).
+double polygonDistance(const std::vector<glm::dvec2>& points, glm::dvec2 p, double axis = -HUGE_VAL);
 Aabb polygonBounds(const std::vector<glm::dvec2>& points);
 // Most points a polygon takes: its GLSL is unrolled, one edge a few lines.
 constexpr size_t kMaxPolygonPoints = 64;
