@@ -409,9 +409,9 @@ class Analyzer {
   }
 
   // displace: g = d(p) + a N(s p), N the fractal noise. |grad N(s p)| <= s
-  // G_o with G_o = fractalGradientBound(o) for o octaves (eval/noise.h: at
-  // most o G / (2 - 2^(1 - o)), G = kNoiseGradientBound, and less where the
-  // octaves cannot peak together). So g is
+  // G_o with G_o = fractalGradientBound(o) for o octaves (eval/noise.h: the
+  // most the octaves' bounds add up to along the chain of places they can
+  // take together, whatever gradients the hash puts at the corners). So g is
   // (L_child + |a| s G_o)-Lipschitz everywhere; dividing by 1 + |a| s G_o keeps
   // it under L_child (>= 1, which the root's step scale covers). N stays within
   // kNoiseRangeBound, so the surface moves at most |a| times that.
