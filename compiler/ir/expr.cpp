@@ -59,11 +59,6 @@ double lower(double v) { return std::isnan(v) ? -kInf : v; }
 double higher(double v) { return std::isnan(v) ? kInf : v; }
 double product(double a, double b) { return a == 0 || b == 0 ? 0 : a * b; }
 
-Interval multiply(Interval a, Interval b) {
-  const double c[] = {product(a.lo, b.lo), product(a.lo, b.hi), product(a.hi, b.lo), product(a.hi, b.hi)};
-  return {*std::min_element(c, c + 4), *std::max_element(c, c + 4)};
-}
-
 // Structural equality, so that `time * time` is known to be a square.
 bool sameExpr(const Expr& a, const Expr& b) {
   if (&a == &b) return true;
@@ -201,6 +196,11 @@ ExprRef asExpr(const Scalar& s) {
 }
 
 }  // namespace
+
+Interval multiply(Interval a, Interval b) {
+  const double c[] = {product(a.lo, b.lo), product(a.lo, b.hi), product(a.hi, b.lo), product(a.hi, b.hi)};
+  return {*std::min_element(c, c + 4), *std::max_element(c, c + 4)};
+}
 
 bool Interval::bounded() const { return std::isfinite(lo) && std::isfinite(hi); }
 

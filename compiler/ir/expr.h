@@ -26,6 +26,8 @@ struct Interval {
   double lo = 0, hi = 0;
   bool bounded() const;
 };
+// The product's range (0 * inf = 0, so an unbounded factor never gives NaN).
+Interval multiply(Interval a, Interval b);
 
 struct Scalar {
   double value = 0;  // the value when constant (or at time 0)

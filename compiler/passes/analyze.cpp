@@ -81,11 +81,6 @@ ir::Interval cosOver(double lo, double hi) {
 }
 ir::Interval sinOver(double lo, double hi) { return cosOver(lo - M_PI / 2, hi - M_PI / 2); }
 
-ir::Interval times(ir::Interval a, ir::Interval b) {
-  const double p[4] = {a.lo * b.lo, a.lo * b.hi, a.hi * b.lo, a.hi * b.hi};
-  return {*std::min_element(p, p + 4), *std::max_element(p, p + 4)};
-}
-
 // The box that bend(rate) bends the child's box b into, within radius R of
 // the y axis: p = R_y(-a) q with a = k p.x (k over `rate`, radians per
 // unit). Cut p.x into slabs; in each, a lies in k times the slab, so
@@ -98,12 +93,12 @@ Aabb bentBounds(const Aabb& b, ir::Interval rate, double radius) {
   Aabb held;
   for (int i = 0; i < kSlabs; ++i) {
     const double x0 = -radius + 2 * radius * i / kSlabs, x1 = -radius + 2 * radius * (i + 1) / kSlabs;
-    const ir::Interval a = times({x0, x1}, rate);
+    const ir::Interval a = ir::multiply({x0, x1}, rate);
     const ir::Interval c = cosOver(a.lo, a.hi), s = sinOver(a.lo, a.hi);
-    const ir::Interval sx = times(c, qx), tx = times(s, qz);
+    const ir::Interval sx = ir::multiply(c, qx), tx = ir::multiply(s, qz);
     const ir::Interval px{sx.lo + tx.lo, sx.hi + tx.hi};
     if (px.hi < x0 || px.lo > x1) continue;
-    const ir::Interval sz = times(s, qx), tz = times(c, qz);
+    const ir::Interval sz = ir::multiply(s, qx), tz = ir::multiply(c, qz);
     const ir::Interval pz{tz.lo - sz.hi, tz.hi - sz.lo};
     held = held.unite({glm::dvec3(std::max(x0, px.lo), b.lo.y, pz.lo), glm::dvec3(std::min(x1, px.hi), b.hi.y, pz.hi)});
   }
