@@ -41,8 +41,9 @@ constexpr int kLanes = 8;
 // steps +10%, the chess set's +19%) and splits the code the driver schedules.
 // Measured in CPU time at 320x180, 16 spp (bench/results/bounds_plan.md): at
 // 3 the castle keeps 4 checks and runs 0.94x, at 5 it keeps 3 (0.98x), at 8
-// none; the chess set keeps 5 checks at 8 and runs 2.55x (all 62: 2.67x),
-// and a flat union of 32 cheap pieces that loses 19% with its checks keeps none.
+// none; the chess set keeps 36 checks at 8 and runs 2.83x (all: 2.78x; it
+// kept 5 while a polygon was counted 0.2 a point), and a flat union of 32
+// cheap pieces that loses 19% with its checks keeps none.
 constexpr double kCheckCost = 8;
 // Fewer group steps than this at a union tell too little: no check there.
 constexpr double kMinVisits = 24;
