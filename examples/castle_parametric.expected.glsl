@@ -361,13 +361,13 @@ float sd_crown(vec3 p) {
   return d1;
 }
 // tower  // line 35
-float sd_tower(vec3 p) {
+float sd_tower(vec3 p, float cut) {
   float d0 = 1e30;  // line 35 union
   vec3 p1 = p + vec3(0.0, -2.5, 0.0);  // line 36 transform
   float d2 = sdCylinder(p1, 0.95, 5.0);  // line 36 cylinder
   d0 = min(d0, d2);
   float b3 = sdBound(p, vec3(0.0, 5.4, 0.0), vec3(1.3, 0.7, 1.3));
-  if (subgroupAny(b3 < d0)) {
+  if (subgroupAny(b3 < min(d0, cut))) {
    if (b3 > 0.196723156) {
     d0 = min(d0, b3);
    } else {
@@ -431,13 +431,13 @@ float sd_walls(vec3 p) {
   return d0;
 }
 // pointed  // line 42
-float sd_pointed(vec3 p) {
+float sd_pointed(vec3 p, float cut) {
   float d0 = 1e30;  // line 42 union
   vec3 p1 = p + vec3(0.0, -2.0, 0.0);  // line 43 transform
   float d2 = sdBox(p1, vec3(1.4, 4.0, 1.4), 0.0);  // line 43 box
   d0 = min(d0, d2);
   float b3 = sdBound(p, vec3(0.0, 5.0, 0.0), vec3(0.75, 1.0, 0.75));
-  if (subgroupAny(b3 < d0)) {
+  if (subgroupAny(b3 < min(d0, cut))) {
    if (b3 > 0.145773797) {
     d0 = min(d0, b3);
    } else {
@@ -479,18 +479,18 @@ float sdScene(vec3 p) {
    } else {
   float d2 = 1e30;  // line 88 union
   float b3 = sdBound(p, vec3(0.0, 4.15, 0.0), vec3(6.3, 4.15, 6.3));
-  if (subgroupAny(b3 < d2)) {
+  if (subgroupAny(b3 < min(d2, d0))) {
    if (b3 > 0.982865708) {
     d2 = min(d2, b3);
    } else {
   vec3 p4 = p - 2.0 * min(dot(p, vec3(1.0, 0.0, 0.0)) - 0.0, 0.0) * vec3(1.0, 0.0, 0.0);  // line 91 reflect
   vec3 p5 = p4 - 2.0 * min(dot(p4, vec3(0.0, 0.0, 1.0)) - 0.0, 0.0) * vec3(0.0, 0.0, 1.0);  // line 91 reflect
   vec3 p6 = p5 + vec3(-5.0, 0.0, -5.0);  // line 91 transform
-  d2 = min(d2, sd_tower(p6));
+  d2 = min(d2, sd_tower(p6, min(d2, d0)));
    }
   }
   float b7 = sdBound(p, vec3(0.0, 1.75, 0.0), vec3(5.35, 1.75, 5.35));
-  if (subgroupAny(b7 < d2)) {
+  if (subgroupAny(b7 < min(d2, d0))) {
    if (b7 > 0.776579037) {
     d2 = min(d2, b7);
    } else {
@@ -498,13 +498,13 @@ float sdScene(vec3 p) {
    }
   }
   float b8 = sdBound(p, vec3(0.0, 3.0, 5.2), vec3(2.25, 3.0, 0.75));
-  if (subgroupAny(b8 < d2)) {
+  if (subgroupAny(b8 < min(d2, d0))) {
    if (b8 > 0.382426464) {
     d2 = min(d2, b8);
    } else {
   vec3 p9 = p - 2.0 * min(dot(p, vec3(1.0, 0.0, 0.0)) - 0.0, 0.0) * vec3(1.0, 0.0, 0.0);  // line 93 reflect
   vec3 p10 = p9 + vec3(-1.5, 0.0, -5.2);  // line 93 transform
-  d2 = min(d2, sd_pointed(p10));
+  d2 = min(d2, sd_pointed(p10, min(d2, d0)));
    }
   }
   d2 = min(d2, sd_keep(p));
@@ -524,14 +524,14 @@ float sdScene(vec3 p) {
   return d0;
 }
 // tower  // line 35
-vec2 sdm_tower(vec3 p, float inherited) {
+vec2 sdm_tower(vec3 p, float inherited, float cut) {
   vec2 d0 = vec2(1e30, -1.0);  // line 35 union
   vec3 p1 = p + vec3(0.0, -2.5, 0.0);  // line 36 transform
   float d2 = sdCylinder(p1, 0.95, 5.0);  // line 36 cylinder
   vec2 m3 = vec2(d2, inherited);
   d0 = vec2(min(d0.x, m3.x), m3.x < d0.x ? m3.y : d0.y);
   float b4 = sdBound(p, vec3(0.0, 5.4, 0.0), vec3(1.3, 0.7, 1.3));
-  if (subgroupAny(b4 < d0.x)) {
+  if (subgroupAny(b4 < min(d0.x, cut))) {
   vec3 p5 = p + vec3(0.0, -5.4, 0.0);  // line 37 transform
   vec2 m6 = vec2(sd_crown(p5), inherited);
   d0 = vec2(min(d0.x, m6.x), m6.x < d0.x ? m6.y : d0.y);
@@ -543,14 +543,14 @@ vec2 sdm_tower(vec3 p, float inherited) {
   return d0;
 }
 // pointed  // line 42
-vec2 sdm_pointed(vec3 p, float inherited) {
+vec2 sdm_pointed(vec3 p, float inherited, float cut) {
   vec2 d0 = vec2(1e30, -1.0);  // line 42 union
   vec3 p1 = p + vec3(0.0, -2.0, 0.0);  // line 43 transform
   float d2 = sdBox(p1, vec3(1.4, 4.0, 1.4), 0.0);  // line 43 box
   vec2 m3 = vec2(d2, inherited);
   d0 = vec2(min(d0.x, m3.x), m3.x < d0.x ? m3.y : d0.y);
   float b4 = sdBound(p, vec3(0.0, 5.0, 0.0), vec3(0.75, 1.0, 0.75));
-  if (subgroupAny(b4 < d0.x)) {
+  if (subgroupAny(b4 < min(d0.x, cut))) {
   vec3 p5 = p + vec3(0.0, -4.0, 0.0);  // line 44 transform
   float d6;  // line 45 intersect
   vec3 p7 = p5 + vec3(0.0, -1.0, 0.0);  // line 46 transform
@@ -588,23 +588,23 @@ vec2 sdSceneMaterial(vec3 p) {
   if (subgroupAny(b1 < d0.x)) {
   vec2 d2 = vec2(1e30, -1.0);  // line 88 union
   float b3 = sdBound(p, vec3(0.0, 4.15, 0.0), vec3(6.3, 4.15, 6.3));
-  if (subgroupAny(b3 < d2.x)) {
+  if (subgroupAny(b3 < min(d2.x, d0.x))) {
   vec3 p4 = p - 2.0 * min(dot(p, vec3(1.0, 0.0, 0.0)) - 0.0, 0.0) * vec3(1.0, 0.0, 0.0);  // line 91 reflect
   vec3 p5 = p4 - 2.0 * min(dot(p4, vec3(0.0, 0.0, 1.0)) - 0.0, 0.0) * vec3(0.0, 0.0, 1.0);  // line 91 reflect
   vec3 p6 = p5 + vec3(-5.0, 0.0, -5.0);  // line 91 transform
-  vec2 m7 = sdm_tower(p6, 0.0);
+  vec2 m7 = sdm_tower(p6, 0.0, min(d2.x, d0.x));
   d2 = vec2(min(d2.x, m7.x), m7.x < d2.x ? m7.y : d2.y);
   }
   float b8 = sdBound(p, vec3(0.0, 1.75, 0.0), vec3(5.35, 1.75, 5.35));
-  if (subgroupAny(b8 < d2.x)) {
+  if (subgroupAny(b8 < min(d2.x, d0.x))) {
   vec2 m9 = vec2(sd_walls(p), 0.0);
   d2 = vec2(min(d2.x, m9.x), m9.x < d2.x ? m9.y : d2.y);
   }
   float b10 = sdBound(p, vec3(0.0, 3.0, 5.2), vec3(2.25, 3.0, 0.75));
-  if (subgroupAny(b10 < d2.x)) {
+  if (subgroupAny(b10 < min(d2.x, d0.x))) {
   vec3 p11 = p - 2.0 * min(dot(p, vec3(1.0, 0.0, 0.0)) - 0.0, 0.0) * vec3(1.0, 0.0, 0.0);  // line 93 reflect
   vec3 p12 = p11 + vec3(-1.5, 0.0, -5.2);  // line 93 transform
-  vec2 m13 = sdm_pointed(p12, 0.0);
+  vec2 m13 = sdm_pointed(p12, 0.0, min(d2.x, d0.x));
   d2 = vec2(min(d2.x, m13.x), m13.x < d2.x ? m13.y : d2.y);
   }
   vec2 m14 = sdm_keep(p, 0.0);

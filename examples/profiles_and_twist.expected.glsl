@@ -345,33 +345,40 @@ float sdScene(vec3 p) {
     d0 = min(d0, b1);
    } else {
   float d2 = 1e30;  // line 13 union
-  vec3 p3 = p + vec3(3.0, 0.0, 0.0);  // line 14 transform
-  vec3 p4 = vec3(length(p3.xz) - 0.0, p3.y, 0.0);  // line 14 revolve
-  float d5 = sdPolygon0(p4);  // line 10 polygon
-  d2 = min(d2, d5);
-  vec3 p6 = p + vec3(1.0, -0.6, 0.0);  // line 15 transform
-  vec3 p7 = vec3(p6.xy, 0.0);  // line 16 extrude
-  float d8;  // line 17 subtract
-  float d9 = sdRect(p7, vec2(1.2, 1.2), 0.25);  // line 17 rect
-  d8 = d9;
-  float d10 = sdCircle(p7, 0.3);  // line 17 circle
-  d8 = max(d8, -d10);
-  vec2 w11 = vec2(d8, abs(p6.z) - 0.15);
-  float d12 = min(max(w11.x, w11.y), 0.0) + length(max(w11, 0.0));
-  d2 = min(d2, d12);
-  vec3 p13 = p + vec3(-1.0, -0.2, 0.0);  // line 20 transform
-  vec3 p14 = vec3(length(p13.xz) - 0.5, p13.y, 0.0);  // line 20 revolve
-  float d15 = sdHexagon(p14, 0.2);  // line 20 hexagon
-  d2 = min(d2, d15);
+  float b3 = sdBound(p, vec3(-3.0, 0.86, 0.0), vec3(0.6, 0.86, 0.6));
+  if (subgroupAny(b3 < min(d2, d0))) {
+   if (b3 > 0.120813906) {
+    d2 = min(d2, b3);
+   } else {
+  vec3 p4 = p + vec3(3.0, 0.0, 0.0);  // line 14 transform
+  vec3 p5 = vec3(length(p4.xz) - 0.0, p4.y, 0.0);  // line 14 revolve
+  float d6 = sdPolygon0(p5);  // line 10 polygon
+  d2 = min(d2, d6);
+   }
+  }
+  vec3 p7 = p + vec3(1.0, -0.6, 0.0);  // line 15 transform
+  vec3 p8 = vec3(p7.xy, 0.0);  // line 16 extrude
+  float d9;  // line 17 subtract
+  float d10 = sdRect(p8, vec2(1.2, 1.2), 0.25);  // line 17 rect
+  d9 = d10;
+  float d11 = sdCircle(p8, 0.3);  // line 17 circle
+  d9 = max(d9, -d11);
+  vec2 w12 = vec2(d9, abs(p7.z) - 0.15);
+  float d13 = min(max(w12.x, w12.y), 0.0) + length(max(w12, 0.0));
+  d2 = min(d2, d13);
+  vec3 p14 = p + vec3(-1.0, -0.2, 0.0);  // line 20 transform
+  vec3 p15 = vec3(length(p14.xz) - 0.5, p14.y, 0.0);  // line 20 revolve
+  float d16 = sdHexagon(p15, 0.2);  // line 20 hexagon
+  d2 = min(d2, d16);
   d0 = min(d0, d2);
    }
   }
-  vec3 p16 = p + vec3(-3.0, -1.0, 0.0);  // line 22 transform
-  vec3 p17 = sdRotateInverse(p16, vec3(0.0, 1.0, 0.0), radians(90.0 * p16.y));  // line 22 twist
-  float d18 = sdBox(p17, vec3(0.7, 2.0, 0.7), 0.0);  // line 22 box
-  float r19 = length(p16.xz);
-  float d20 = r19 <= 0.525910669 ? d18 * 0.668897908 : sdBox2(vec2(r19 - 0.494974747, abs(p16.y - 0.0) - 1.0));
-  d0 = min(d0, d20);
+  vec3 p17 = p + vec3(-3.0, -1.0, 0.0);  // line 22 transform
+  vec3 p18 = sdRotateInverse(p17, vec3(0.0, 1.0, 0.0), radians(90.0 * p17.y));  // line 22 twist
+  float d19 = sdBox(p18, vec3(0.7, 2.0, 0.7), 0.0);  // line 22 box
+  float r20 = length(p17.xz);
+  float d21 = r20 <= 0.525910669 ? d19 * 0.668897908 : sdBox2(vec2(r20 - 0.494974747, abs(p17.y - 0.0) - 1.0));
+  d0 = min(d0, d21);
   return d0;
 }
 vec2 sdSceneMaterial(vec3 p) {
@@ -379,34 +386,41 @@ vec2 sdSceneMaterial(vec3 p) {
   float b1 = sdBound(p, vec3(-0.934529946, 0.86, 0.0), vec3(2.66547005, 0.86, 0.730940108));
   if (subgroupAny(b1 < d0.x)) {
   float d2 = 1e30;  // line 13 union
-  vec3 p3 = p + vec3(3.0, 0.0, 0.0);  // line 14 transform
-  vec3 p4 = vec3(length(p3.xz) - 0.0, p3.y, 0.0);  // line 14 revolve
-  float d5 = sdPolygon0(p4);  // line 10 polygon
-  d2 = min(d2, d5);
-  vec3 p6 = p + vec3(1.0, -0.6, 0.0);  // line 15 transform
-  vec3 p7 = vec3(p6.xy, 0.0);  // line 16 extrude
-  float d8;  // line 17 subtract
-  float d9 = sdRect(p7, vec2(1.2, 1.2), 0.25);  // line 17 rect
-  d8 = d9;
-  float d10 = sdCircle(p7, 0.3);  // line 17 circle
-  d8 = max(d8, -d10);
-  vec2 w11 = vec2(d8, abs(p6.z) - 0.15);
-  float d12 = min(max(w11.x, w11.y), 0.0) + length(max(w11, 0.0));
-  d2 = min(d2, d12);
-  vec3 p13 = p + vec3(-1.0, -0.2, 0.0);  // line 20 transform
-  vec3 p14 = vec3(length(p13.xz) - 0.5, p13.y, 0.0);  // line 20 revolve
-  float d15 = sdHexagon(p14, 0.2);  // line 20 hexagon
-  d2 = min(d2, d15);
-  vec2 m16 = vec2(d2, 0.0);
-  d0 = vec2(min(d0.x, m16.x), m16.x < d0.x ? m16.y : d0.y);
+  float b3 = sdBound(p, vec3(-3.0, 0.86, 0.0), vec3(0.6, 0.86, 0.6));
+  if (subgroupAny(b3 < min(d2, d0.x))) {
+   if (b3 > 0.120813906) {
+    d2 = min(d2, b3);
+   } else {
+  vec3 p4 = p + vec3(3.0, 0.0, 0.0);  // line 14 transform
+  vec3 p5 = vec3(length(p4.xz) - 0.0, p4.y, 0.0);  // line 14 revolve
+  float d6 = sdPolygon0(p5);  // line 10 polygon
+  d2 = min(d2, d6);
+   }
   }
-  vec3 p17 = p + vec3(-3.0, -1.0, 0.0);  // line 22 transform
-  vec3 p18 = sdRotateInverse(p17, vec3(0.0, 1.0, 0.0), radians(90.0 * p17.y));  // line 22 twist
-  float d19 = sdBox(p18, vec3(0.7, 2.0, 0.7), 0.0);  // line 22 box
-  float r20 = length(p17.xz);
-  float d21 = r20 <= 0.525910669 ? d19 * 0.668897908 : sdBox2(vec2(r20 - 0.494974747, abs(p17.y - 0.0) - 1.0));
-  vec2 m22 = vec2(d21, 1.0);
-  d0 = vec2(min(d0.x, m22.x), m22.x < d0.x ? m22.y : d0.y);
+  vec3 p7 = p + vec3(1.0, -0.6, 0.0);  // line 15 transform
+  vec3 p8 = vec3(p7.xy, 0.0);  // line 16 extrude
+  float d9;  // line 17 subtract
+  float d10 = sdRect(p8, vec2(1.2, 1.2), 0.25);  // line 17 rect
+  d9 = d10;
+  float d11 = sdCircle(p8, 0.3);  // line 17 circle
+  d9 = max(d9, -d11);
+  vec2 w12 = vec2(d9, abs(p7.z) - 0.15);
+  float d13 = min(max(w12.x, w12.y), 0.0) + length(max(w12, 0.0));
+  d2 = min(d2, d13);
+  vec3 p14 = p + vec3(-1.0, -0.2, 0.0);  // line 20 transform
+  vec3 p15 = vec3(length(p14.xz) - 0.5, p14.y, 0.0);  // line 20 revolve
+  float d16 = sdHexagon(p15, 0.2);  // line 20 hexagon
+  d2 = min(d2, d16);
+  vec2 m17 = vec2(d2, 0.0);
+  d0 = vec2(min(d0.x, m17.x), m17.x < d0.x ? m17.y : d0.y);
+  }
+  vec3 p18 = p + vec3(-3.0, -1.0, 0.0);  // line 22 transform
+  vec3 p19 = sdRotateInverse(p18, vec3(0.0, 1.0, 0.0), radians(90.0 * p18.y));  // line 22 twist
+  float d20 = sdBox(p19, vec3(0.7, 2.0, 0.7), 0.0);  // line 22 box
+  float r21 = length(p18.xz);
+  float d22 = r21 <= 0.525910669 ? d20 * 0.668897908 : sdBox2(vec2(r21 - 0.494974747, abs(p18.y - 0.0) - 1.0));
+  vec2 m23 = vec2(d22, 1.0);
+  d0 = vec2(min(d0.x, m23.x), m23.x < d0.x ? m23.y : d0.y);
   return d0;
 }
 int sdMaterialId(vec3 p) { return int(sdSceneMaterial(p).y); }

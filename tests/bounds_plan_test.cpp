@@ -149,5 +149,67 @@ TEST(BoundsPlan, PlannedChecksDrawTheSameDepth) {
   EXPECT_EQ(validationMessageCount(), 0);
 }
 
+// Nested hard unions take what the unions above them have so far (their
+// "cut"): a box beyond it is skipped. Rows of distinct pieces (definitions,
+// each a union, under translations, rotations and a reflection), each piece
+// its own material: with every check (and so every cut) the kernel draws the
+// depth and the albedo that the one without checks draws.
+TEST(BoundsPlan, CutsFromEnclosingUnionsChangeNoDepthNorMaterial) {
+  std::string s = "render(size: [160, 90])\ncamera(position: [0, 4, 7], target: [0, 0.5, 0], fov: 60)\n"
+                  "sun(direction: [0.3, 1, 0.2])\n";
+  const char* colours[] = {"[0.9, 0.2, 0.2]", "[0.2, 0.9, 0.2]", "[0.2, 0.2, 0.9]", "[0.9, 0.9, 0.2]"};
+  for (int m = 0; m < 4; ++m) s += "let m" + std::to_string(m) + " = diffuse(albedo: " + colours[m] + ")\n";
+  s += "let piece(r, m) = union(material: m) { cylinder(radius: r, height: 0.3) "
+       "translate([0, 0.5, 0]) { sphere(radius: r * 0.8) } "
+       "revolve { polygon(points: [[0, 0.1], [0.2, 0.1], [0.1, 0.6], [0, 0.6]]) } }\n"
+       "let row(m, n) = union { translate([-1.5, 0, 0]) { piece(0.3, m) } translate([-0.5, 0, 0]) { piece(0.25, n) } "
+       "rotate(axis: [0, 1, 0], degrees: 30) { translate([0.5, 0, 0]) { piece(0.2, m) } } "
+       "translate([1.5, 0, 0]) { piece(0.35, n) } }\n"
+       "scene {\n  box(size: [6, 0.1, 6], material: m3)\n"
+       "  translate([0, 0, -1.5]) { row(m0, m1) }\n  translate([0, 0, 0]) { row(m1, m2) }\n"
+       "  reflect(normal: [0, 0, 1]) { translate([0, 0, 1.5]) { row(m2, m0) } }\n}\n";
+  CompileOptions all = cpuOptions();
+  all.emit.bounding_volumes = true;
+  CompileOptions none = cpuOptions();
+  none.emit.planned_bounds = false;
+  const CompiledScene checked = compileText(s, all), plain = compileText(s, none);
+  // The cut reaches the pieces' functions through the rows'.
+  EXPECT_NE(checked.emitted.glsl.find("float sd_row(vec3 p, float cut)"), std::string::npos) << checked.emitted.glsl;
+  EXPECT_NE(checked.emitted.glsl.find(" < min(d0, cut))) {"), std::string::npos);
+  EXPECT_EQ(plain.emitted.glsl.find("float cut"), std::string::npos);
+  VulkanContext context;
+  createContext(context);
+  auto view = [&](const CompiledScene& c, uint32_t v) {
+    Renderer r(context, c);
+    RenderOverrides o;
+    o.width = 160;
+    o.height = 90;
+    o.spp = 1;
+    o.view = v;
+    return r.render(cameraFor(c.scene), renderSettingsFor(c, o)).color;
+  };
+  const FloatImage da = view(checked, gpu::kViewDepth), db = view(plain, gpu::kViewDepth);
+  const FloatImage aa = view(checked, gpu::kViewAlbedo), ab = view(plain, gpu::kViewAlbedo);
+  destroyContext(context);
+  ASSERT_EQ(da.rgba.size(), db.rgba.size());
+  int hits = 0, depth_differ = 0, albedo_differ = 0;
+  for (size_t i = 0; i < da.rgba.size(); i += 4) {
+    const float a = da.rgba[i], b = db.rgba[i];
+    if (!(b > 0 && b < 1e6f)) continue;
+    ++hits;
+    if (std::abs(a - b) > 2e-3f * std::max(1.0f, std::abs(b))) ++depth_differ;
+    for (int c = 0; c < 3; ++c)
+      if (std::abs(aa.rgba[i + c] - ab.rgba[i + c]) > 1e-4f) {
+        ++albedo_differ;
+        break;
+      }
+  }
+  EXPECT_GT(hits, 2000);
+  // Grazing rays may pass a silhouette by another sequence of steps.
+  EXPECT_LE(depth_differ, hits / 100) << depth_differ << " of " << hits;
+  EXPECT_LE(albedo_differ, hits / 100) << albedo_differ << " of " << hits;
+  EXPECT_EQ(validationMessageCount(), 0);
+}
+
 }  // namespace
 }  // namespace sdfc

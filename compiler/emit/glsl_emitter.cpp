@@ -356,6 +356,10 @@ class SceneWriter {
   const ir::PruneGrid* prune_ = nullptr;
   const ir::Node* prune_root_ = nullptr;
   int pruned_checks_ = 0;
+  // What the caller's hard union has so far, for the node emitted next: a
+  // value at or above it cannot lower that union (see csg); "" where there is
+  // no such caller. node() takes it, so only the node emitted next sees it.
+  std::string cut_;
 
   // The masks as vec4s of exact integers (24 bits a float: the web page's
   // float texture reads them too), and sdPruneMask, which looks p's up:
@@ -568,10 +572,13 @@ class SceneWriter {
   std::string node(const ir::Node& n, const std::string& p, Function& f, bool mat,
                    const std::string& inherited) {
     const std::string mine = n.material >= 0 ? glslFloat(n.material) : inherited;
+    const std::string cut = std::move(cut_);
+    cut_.clear();
     // A material-uniform subtree needs no material tracking inside.
     if (mat) {
       const int u = uniformMaterial(n, -3);
       if (u != kMixed) {
+        cut_ = cut;
         const std::string d = node(n, p, f, false, mine);
         const std::string m = var(f, "m");
         f.code << "  vec2 " << m << " = vec2(" << d << ", "
@@ -580,12 +587,12 @@ class SceneWriter {
       }
     }
     // Named definitions become functions, called at each use.
-    if (!n.definition.empty()) return callFunction(n, p, f, mat, mine);
+    if (!n.definition.empty()) return callFunction(n, p, f, mat, mine, "", cut);
     switch (n.kind) {
       case ir::NodeKind::Primitive: return primitive(n, p, f);
       case ir::NodeKind::Union:
       case ir::NodeKind::Intersect:
-      case ir::NodeKind::Subtract: return csg(n, p, f, mat, mine);
+      case ir::NodeKind::Subtract: return csg(n, p, f, mat, mine, cut);
       case ir::NodeKind::Morph: {
         const std::string a = node(*n.children[0], p, f, mat, mine);
         const std::string b = node(*n.children[1], p, f, mat, mine);
@@ -734,9 +741,10 @@ class SceneWriter {
         if (n.lathe && !mat) return polygon(*n.children[0], q, f, -n.amount.value);
         return node(*n.children[0], q, f, mat, mine);
       }
-      default: return domain(n, p, f, mat, mine);
+      default: return domain(n, p, f, mat, mine, cut);
     }
   }
+
 
   // ---- instances: data, a hierarchy and one loop (docs/design/large_scenes.md) ----
 
@@ -1443,8 +1451,10 @@ class SceneWriter {
   // Emits `n` as a function the first time (named after `label`, the
   // definition's name by default) and returns a call of it at `p`.
   std::string callFunction(const ir::Node& n, const std::string& p, Function& f, bool mat,
-                           const std::string& inherited, std::string label = "") {
+                           const std::string& inherited, std::string label = "", const std::string& cut = "") {
     if (label.empty()) label = n.definition;
+    // A hard union's function takes its caller's cut (1e30: none).
+    const bool takes_cut = takesCut(n);
     auto key = std::make_pair(&n, mat);
     auto it = node_functions_.find(key);
     std::string name;
@@ -1462,13 +1472,14 @@ class SceneWriter {
       g.code << lineDirective(n);
       g.code << "// " << label << lineComment(n) << "\n";
       g.code << (mat ? "vec2 " : "float ") << name << "(vec3 p" << (mat ? ", float inherited" : "")
-             << ") {\n";
+             << (takes_cut ? ", float cut" : "") << ") {\n";
+      if (takes_cut) cut_ = "cut";
       const std::string r = node(copy, "p", g, mat, mat ? "inherited" : "-1.0");
       g.code << "  return " << r << ";\n}\n";
       functions_ << g.code.str();
       ++function_count_;
     }
-    return name + "(" + p + (mat ? ", " + inherited : "") + ")";
+    return name + "(" + p + (mat ? ", " + inherited : "") + (takes_cut ? ", " + (cut.empty() ? std::string("1e30") : cut) : "") + ")";
   }
 
   // A primitive's GLSL function and the shared helpers it calls, once each.
@@ -1592,9 +1603,33 @@ class SceneWriter {
     return d;
   }
 
+  // Whether csg() uses a caller's cut for `n`: a hard union (whose value only
+  // lowers its caller's) with a box check in it or in a hard union below it
+  // (through rigid transforms), where the cut can skip a child.
+  bool takesCut(const ir::Node& n) {
+    if (n.kind != ir::NodeKind::Union || !n.smooth.isConst() || n.smooth.value > 0) return false;
+    auto it = takes_cut_.find(&n);
+    if (it != takes_cut_.end()) return it->second;
+    bool uses = false;
+    for (const ir::NodeRef& c : n.children) {
+      const ir::Node* below = c.get();
+      while (keepsDistances(*below) && below->children.size() == 1) below = below->children[0].get();
+      uses = uses || boxChecked(*c) || takesCut(*below);
+    }
+    return takes_cut_[&n] = uses;
+  }
+  std::map<const ir::Node*, bool> takes_cut_;
+
+  // Whether a union's child `c` gets a box check (csg).
+  bool boxChecked(const ir::Node& c) const {
+    return (options_.bounding_volumes || (options_.planned_bounds && c.box_check)) &&
+           boxCheckCandidate(c, options_.bound_cost_threshold);
+  }
+
   std::string csg(const ir::Node& n, const std::string& p, Function& f, bool mat,
-                  const std::string& inherited) {
+                  const std::string& inherited, std::string cut = "") {
     const bool smooth = !n.smooth.isConst() || n.smooth.value > 0;
+    if (!takesCut(n)) cut.clear();
     std::string k;
     if (smooth) {
       needHelper("smooth", kSmoothHelpers);
@@ -1650,8 +1685,7 @@ class SceneWriter {
       //    cannot be the minimum: skip it (exact; within k when smooth);
       //  - a child whose box is farther than a margin contributes the box
       //    distance instead of its own (a lower bound; exact near surfaces).
-      const bool bound = (options_.bounding_volumes || (options_.planned_bounds && c.box_check)) && is_union &&
-                         boxCheckCandidate(c, options_.bound_cost_threshold);
+      const bool bound = is_union && boxChecked(c);
       std::string b;
       if (bound) {
         needHelper("sdBound", kAabbHelper);
@@ -1667,13 +1701,19 @@ class SceneWriter {
         // subgroupAny makes the condition uniform: lavapipe (and GPUs) then
         // branch around the subtree when every lane of the group may skip it;
         // a per-lane condition would only mask the lanes and run it anyway.
-        f.code << "  if (subgroupAny(" << b << " < " << dist << (smooth ? " + " + k : "") << ")) {\n";
+        // A caller's cut skips more: a child whose box is beyond it cannot
+        // lower the caller's union, whatever it does to this one.
+        const std::string reach = cut.empty() ? dist : "min(" + dist + ", " + cut + ")";
+        f.code << "  if (subgroupAny(" << b << " < " << reach << (smooth ? " + " + k : "") << ")) {\n";
         if (!mat) {
           f.code << "   if (" << b << " > " << glslFloat(margin) << (smooth ? " + " + k : "") << ") {\n";
           f.code << "    " << acc << " = min(" << acc << ", " << b << ");\n";
           f.code << "   } else {\n";
         }
       }
+      // A hard union's child that is a hard union (under rigid transforms)
+      // may skip what cannot lower this union so far, nor its caller's.
+      if (takesCut(n)) cut_ = cut.empty() ? dist : "min(" + dist + ", " + cut + ")";
       std::string r = node(c, p, f, mat, operands[i].inherited);
       if (mat && !isIdentifier(r)) {
         // The material pair is used three times below: a call written out
@@ -1713,7 +1753,7 @@ class SceneWriter {
   }
 
   std::string domain(const ir::Node& n, const std::string& p, Function& f, bool mat,
-                     const std::string& inherited) {
+                     const std::string& inherited, const std::string& cut = "") {
     const ir::Node& c = *n.children[0];
     const std::string q = var(f, "p");
     std::string scale;  // multiplies the child's distance
@@ -1767,6 +1807,7 @@ class SceneWriter {
       case ir::NodeKind::Repeat: return repeat(n, p, f, mat, inherited);
       default: break;
     }
+    if (keepsDistances(n)) cut_ = cut;
     const std::string r = node(c, q, f, mat, inherited);
     if (scale.empty()) return r;
     if (!mat) return "(" + r + " * " + scale + ")";

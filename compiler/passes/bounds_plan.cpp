@@ -66,11 +66,20 @@ class Planner {
  public:
   Planner(const ir::Scene& scene, double threshold) : eval_(scene), threshold_(threshold) {}
 
+  using Lanes = std::array<double, kLanes>;
+  static Lanes none() {
+    Lanes l;
+    l.fill(1e30);
+    return l;
+  }
+
   // The group's distances at its points (lanes that are off get nothing).
-  std::array<double, kLanes> walk(const ir::Node& n, const Group& g) {
-    std::array<double, kLanes> out{};
+  // `cut`: what the caller's hard union has so far, as the emitter passes it
+  // (GlslEmitter::csg): a hard union skips a child whose box lies beyond it.
+  Lanes walk(const ir::Node& n, const Group& g, const Lanes& cut = none()) {
+    Lanes out{};
     switch (n.kind) {
-      case ir::NodeKind::Union: return unite(n, g);
+      case ir::NodeKind::Union: return unite(n, g, false, cut);
       case ir::NodeKind::Intersect:
       case ir::NodeKind::Subtract: {
         const double k = n.smooth.at(0);
@@ -88,7 +97,7 @@ class Planner {
       case ir::NodeKind::Affine: {
         Group h = g;
         for (int l = 0; l < kLanes; ++l) h.p[l] = n.linear * g.p[l] + n.offset;
-        out = walk(*n.children[0], h);
+        out = walk(*n.children[0], h, keepsDistances(n) ? cut : none());
         for (double& d : out) d *= n.scale;
         return out;
       }
@@ -99,7 +108,7 @@ class Planner {
           const double side = glm::dot(g.p[l], nn) - n.amount.value;
           if (side < 0) h.p[l] = g.p[l] - 2 * side * nn;
         }
-        return walk(*n.children[0], h);
+        return walk(*n.children[0], h, cut);
       }
       default:
         // Anything else is evaluated whole: no check is planned inside it.
@@ -112,10 +121,11 @@ class Planner {
     }
   }
 
-  std::array<double, kLanes> unite(const ir::Node& n, const Group& g, bool skip_planes = false) {
+  Lanes unite(const ir::Node& n, const Group& g, bool skip_planes = false, const Lanes& cut_in = none()) {
     const double k = n.smooth.at(0);
-    std::array<double, kLanes> acc;
-    acc.fill(1e30);
+    const bool hard = n.smooth.isConst() && n.smooth.value <= 0;
+    const Lanes cut = hard ? cut_in : none();
+    Lanes acc = none();
     for (const ir::NodeRef& cref : n.children) {
       const ir::Node& c = *cref;
       if (skip_planes && isPlane(c)) continue;
@@ -131,21 +141,27 @@ class Planner {
         for (int l = 0; l < kLanes; ++l) {
           if (!g.on[l]) continue;
           b[l] = c.bounds.distance(g.p[l]) / stretch;
-          near = near || b[l] < acc[l] + k;
+          near = near || b[l] < std::min(acc[l], cut[l]) + k;
           inner = inner || b[l] <= margin;
         }
         ChildStats& s = stats_[&c];
         s.visits += 1;
         work_ += 1;
         v = b;  // beyond the margin, or at least the union so far plus k
+        Lanes reach = none();
+        if (hard)
+          for (int l = 0; l < kLanes; ++l) reach[l] = std::min(acc[l], cut[l]);
         if (near && inner) {
           s.evaluations += 1;
-          const std::array<double, kLanes> exact = walk(c, g);
+          const Lanes exact = walk(c, g, reach);
           for (int l = 0; l < kLanes; ++l)
             if (b[l] <= margin) v[l] = exact[l];
         }
       } else {
-        v = walk(c, g);
+        Lanes reach = none();
+        if (hard)
+          for (int l = 0; l < kLanes; ++l) reach[l] = std::min(acc[l], cut[l]);
+        v = walk(c, g, reach);
       }
       for (int l = 0; l < kLanes; ++l)
         if (g.on[l]) acc[l] = k > 0 ? smoothMin(acc[l], v[l], k) : std::min(acc[l], v[l]);

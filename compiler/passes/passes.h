@@ -7,6 +7,7 @@
 //  rebaseToCamera: (compile only) a far scene moves to the camera's frame.
 //  deriveMarchLimits: max distance, step budget and hit epsilon per scene.
 #pragma once
+#include <cmath>
 #include <functional>
 #include "diag/diagnostics.h"
 #include "ir/scene.h"
@@ -59,6 +60,20 @@ inline bool boxCheckCandidate(const ir::Node& c, double cost_threshold) {
   return c.cost >= cost_threshold && c.bounds.finite();
 }
 inline double boxCheckMargin(const ir::Node& c) { return 0.1 * glm::length(c.bounds.halfSize()); }
+// Whether `n` hands its child's distance up unchanged: a translation, a
+// rotation, a reflection, a rigid transform. A hard union's cut (what it has so
+// far, which the emitter passes down to a nested hard union's box checks)
+// holds through it.
+inline bool keepsDistances(const ir::Node& n) {
+  if (n.kind == ir::NodeKind::Translate || n.kind == ir::NodeKind::Rotate || n.kind == ir::NodeKind::Reflect)
+    return true;
+  if (n.kind != ir::NodeKind::Affine || n.scale != 1) return false;
+  const glm::dmat3 gram = glm::transpose(n.linear) * n.linear;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      if (std::abs(gram[i][j] - (i == j ? 1.0 : 0.0)) > 1e-9) return false;
+  return true;
+}
 // A scene far from the world origin, seen from near by, is moved to the
 // camera's frame (passes/rebase.cpp): scene.origin says where that frame is.
 // How far the scene lies from its camera: the distance to the nearest surface
