@@ -357,7 +357,9 @@ def test_ctrl_c_raises_keyboard_interrupt(scene_file):
     # uninterrupted, passes of tens of ms): at 4000 spp it took 2 s, and on a
     # loaded machine it once ended before the signal arrived.
     child = textwrap.dedent(f"""\
-        import sys, time, sdfc
+        import signal, sys, time, sdfc
+        # A job started in the background inherits SIGINT ignored: a terminal's Ctrl-C is not.
+        signal.signal(signal.SIGINT, signal.default_int_handler)
         s = sdfc.load({scene_file!r})
         def progress(done, total):
             print("pass", done, flush=True)
