@@ -1,5 +1,7 @@
 #include "cli_support.h"
 
+#include <CLI/CLI.hpp>
+
 #include "diag/warnings.h"
 #include "api/scene.h"
 #include "image_io.h"
