@@ -52,9 +52,10 @@ struct SurfaceCell {
   uint8_t patch_count = 0;
 };
 
-struct UnionFind {
+// Union-find over a cell's 12 edges (which crossings form one patch).
+struct EdgeUnionFind {
   std::array<int8_t, 12> parent;
-  UnionFind() { std::iota(parent.begin(), parent.end(), int8_t{0}); }
+  EdgeUnionFind() { std::iota(parent.begin(), parent.end(), int8_t{0}); }
   int find(int x) {
     while (parent[x] != x) x = parent[x] = parent[parent[x]];
     return x;
@@ -321,7 +322,7 @@ TriangleMesh dualContour(const BlockEvaluator& block, const SignGrid& grid, cons
   // Joins the cell's crossings into patches; faces in `flip` (bit a * 2 + side)
   // take the pairing the centre does not. Returns the ambiguous faces whose
   // two segments ended in one patch.
-  auto joinPatches = [&](const ivec3& cell, const CellCrossings& cc, unsigned flip, UnionFind& uf) {
+  auto joinPatches = [&](const ivec3& cell, const CellCrossings& cc, unsigned flip, EdgeUnionFind& uf) {
     unsigned tunnels = 0;
     int ambiguous[6][2];  // fe[0], fe[2] of each face with four crossings
     for (auto& f : ambiguous) f[0] = f[1] = -1;
@@ -373,7 +374,7 @@ TriangleMesh dualContour(const BlockEvaluator& block, const SignGrid& grid, cons
     parallelFor(cell_keys.size(), 256, threads, [&](size_t begin, size_t end, int) {
       for (size_t ci = begin; ci < end; ++ci) {
         const ivec3 cell = cellOf(cell_keys[ci]);
-        UnionFind uf;
+        EdgeUnionFind uf;
         tunnels[ci] = uint8_t(joinPatches(cell, crossingsOf(cell), 0, uf));
       }
     });
@@ -407,7 +408,7 @@ TriangleMesh dualContour(const BlockEvaluator& block, const SignGrid& grid, cons
         if ((tunnelsOf(other) >> (f ^ 1)) & 1) flip |= 1u << f;
       }
       if (flip) ++flipped_faces;
-      UnionFind uf;
+      EdgeUnionFind uf;
       if (options.split_patches) joinPatches(cell, cc, flip, uf);
       sc.patch.fill(-1);
       int root_patch[12];

@@ -13,10 +13,6 @@ float squaredDistance3(const float* a, const float* b) {
   return dx * dx + dy * dy + dz * dz;
 }
 
-void requireSameSize(const FloatImage& a, const FloatImage& b, const char* what) {
-  if (a.width != b.width || a.height != b.height || a.rgba.size() != b.rgba.size())
-    throw std::invalid_argument(std::string("denoise: ") + what + " size differs from colour");
-}
 
 // Guide values of one pixel, gathered once.
 struct Guide {
@@ -78,8 +74,8 @@ FloatImage bilateralFilter(const FloatImage& color, const BilateralParams& param
 
 FloatImage atrousFilter(const FloatImage& color, const FloatImage& normal_depth,
                         const FloatImage& albedo_steps, const ATrousParams& params) {
-  requireSameSize(color, normal_depth, "normal/depth");
-  requireSameSize(color, albedo_steps, "albedo");
+  requireSameSize(color, normal_depth, "denoise: normal/depth size differs from colour");
+  requireSameSize(color, albedo_steps, "denoise: albedo size differs from colour");
   const int w = int(color.width), h = int(color.height);
   constexpr float kAlbedoFloor = 1e-3f;  // keeps black albedo from dividing by zero
   auto isHit = [&](size_t i) { return normal_depth.rgba[i * 4 + 3] >= 0.0f; };

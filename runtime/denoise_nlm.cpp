@@ -332,19 +332,15 @@ bool crossFilter(const Plane& ua, const Plane& ub, const Plane& ga, const Plane&
   return !stopped;
 }
 
-void requireSameSize(const FloatImage& a, const FloatImage& b, const char* what) {
-  if (a.width != b.width || a.height != b.height || a.rgba.size() != b.rgba.size())
-    throw std::invalid_argument(std::string("nlm: ") + what + " size differs from the first half");
-}
 
 }  // namespace
 
 FloatImage nlmDenoise(const SampleHalves& halves, const FloatImage& normal_depth,
                       const FloatImage& albedo_steps, const NlmParams& params,
                       SampleHalves* filtered) {
-  requireSameSize(halves.a, halves.b, "second half");
-  requireSameSize(halves.a, normal_depth, "normal/depth");
-  requireSameSize(halves.a, albedo_steps, "albedo");
+  requireSameSize(halves.a, halves.b, "nlm: second half size differs from the first half");
+  requireSameSize(halves.a, normal_depth, "nlm: normal/depth size differs from the first half");
+  requireSameSize(halves.a, albedo_steps, "nlm: albedo size differs from the first half");
   const double n_a = halves.samples_a, n_b = halves.samples_b;
   if (!(n_a > 0 && n_b > 0)) throw std::invalid_argument("nlm: needs samples in both halves");
   const int w = int(halves.a.width), h = int(halves.a.height);

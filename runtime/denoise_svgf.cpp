@@ -20,10 +20,6 @@ constexpr float kB3[5] = {1.0f / 16, 1.0f / 4, 3.0f / 8, 1.0f / 4, 1.0f / 16};
 // (in demodulated units, about irradiance) still mix.
 constexpr float kLuminanceEpsilon = 1e-4f;
 
-void requireSameSize(const FloatImage& a, const FloatImage& b, const char* what) {
-  if (a.width != b.width || a.height != b.height || a.rgba.size() != b.rgba.size())
-    throw std::invalid_argument(std::string("svgf: ") + what + " size differs from colour");
-}
 
 float demodulator(const Features& f, size_t i, int c) {
   return f.hit[i] ? std::max(f.albedo[i * 3 + c], kAlbedoFloor) : 1.0f;
@@ -33,7 +29,7 @@ float demodulator(const Features& f, size_t i, int c) {
 
 FloatImage varianceFromHalves(const FloatImage& half_a, uint32_t samples_a,
                               const FloatImage& half_b, uint32_t samples_b) {
-  requireSameSize(half_a, half_b, "second half");
+  requireSameSize(half_a, half_b, "svgf: second half size differs from colour");
   FloatImage out(half_a.width, half_a.height);
   const double n = double(samples_a) + double(samples_b);
   const double scale = n > 0 ? double(samples_a) * double(samples_b) / (n * n) : 0.0;
@@ -52,9 +48,9 @@ FloatImage varianceFromHalves(const FloatImage& half_a, uint32_t samples_a,
 FloatImage svgfFilter(const FloatImage& color, const FloatImage& variance,
                       const FloatImage& normal_depth, const FloatImage& albedo_steps,
                       const SvgfParams& params) {
-  requireSameSize(color, variance, "variance");
-  requireSameSize(color, normal_depth, "normal/depth");
-  requireSameSize(color, albedo_steps, "albedo");
+  requireSameSize(color, variance, "svgf: variance size differs from colour");
+  requireSameSize(color, normal_depth, "svgf: normal/depth size differs from colour");
+  requireSameSize(color, albedo_steps, "svgf: albedo size differs from colour");
   const int w = int(color.width), h = int(color.height);
   const size_t n = color.pixelCount();
   const Features f(normal_depth, albedo_steps);

@@ -2,6 +2,8 @@
 #pragma once
 #include <cstddef>
 #include <cstdint>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 namespace sdfc {
@@ -19,5 +21,12 @@ struct FloatImage {
   float* at(uint32_t x, uint32_t y) { return &rgba[(size_t(y) * width + x) * 4]; }
   const float* at(uint32_t x, uint32_t y) const { return &rgba[(size_t(y) * width + x) * 4]; }
 };
+
+// The denoisers' check of their inputs: throws std::invalid_argument(message)
+// unless b has a's size.
+inline void requireSameSize(const FloatImage& a, const FloatImage& b, const std::string& message) {
+  if (a.width != b.width || a.height != b.height || a.rgba.size() != b.rgba.size())
+    throw std::invalid_argument(message);
+}
 
 }  // namespace sdfc

@@ -60,9 +60,9 @@ bool readWhole(const std::string& path, std::string& text, std::string& why) {
 
 // Welds corners by their exact coordinates while triangles are added, checks
 // each vertex, and drops triangles of no area.
-class Builder {
+class TriangleBuilder {
  public:
-  explicit Builder(MeshFile& out) : out_(out) {}
+  explicit TriangleBuilder(MeshFile& out) : out_(out) {}
 
   // `where`: how a message names the triangle ("line 12", "triangle 7").
   bool add(const dvec3 (&corner)[3], const std::string& where) {
@@ -170,7 +170,7 @@ size_t lineAt(const std::string& text, size_t offset) {
 bool readBinaryStl(const std::string& text, MeshFile& out) {
   std::uint32_t count;
   std::memcpy(&count, text.data() + 80, 4);
-  Builder b(out);
+  TriangleBuilder b(out);
   for (std::uint32_t i = 0; i < count; ++i) {
     const char* rec = text.data() + 84 + size_t(i) * 50 + 12;  // after the normal
     float f[9];
@@ -200,7 +200,7 @@ bool parseNumber(const std::string& s, size_t begin, size_t end, double& v) {
 }
 
 bool readAsciiStl(const std::string& text, MeshFile& out) {
-  Builder b(out);
+  TriangleBuilder b(out);
   size_t pos = 0, wb, we;
   dvec3 corner[3];
   int corners = 0;
@@ -238,7 +238,7 @@ bool readAsciiStl(const std::string& text, MeshFile& out) {
 // v x y z, and f i j k ... with i, i/t, i//n or i/t/n (1-based; negative:
 // from the last vertex so far); a polygon is fanned from its first corner.
 bool readObj(const std::string& text, MeshFile& out) {
-  Builder b(out);
+  TriangleBuilder b(out);
   std::vector<dvec3> v;
   std::vector<long> face;
   size_t line_start = 0, line = 0;
@@ -333,7 +333,7 @@ bool accessorValue(const tinygltf::Model& model, const tinygltf::Accessor& acc, 
 // takes corners 3 at a time; a strip (5) makes triangle i of corners i, i + 1,
 // i + 2, the first two swapped on odd i so that all face alike; a fan (6) of
 // corners 0, i + 1, i + 2. Points and lines (0 to 3) have no surface.
-bool readGltfMesh(const tinygltf::Model& model, const tinygltf::Mesh& mesh, const glm::dmat4& m, Builder& b,
+bool readGltfMesh(const tinygltf::Model& model, const tinygltf::Mesh& mesh, const glm::dmat4& m, TriangleBuilder& b,
                   MeshFile& out) {
   // A mirroring transform turns the faces inside out: their corners are
   // taken in the other order (glTF's rule for a negative determinant).
@@ -398,7 +398,7 @@ bool readGltf(const std::string& path, const std::string& text, bool binary, Mes
     out.error = "not a valid " + std::string(binary ? "GLB" : "glTF") + " file: " + (err.empty() ? "unknown reason" : err);
     return false;
   }
-  Builder b(out);
+  TriangleBuilder b(out);
   // The default scene's node tree with its transforms; with no scenes, every mesh as it is.
   if (model.scenes.empty()) {
     for (const tinygltf::Mesh& mesh : model.meshes)

@@ -53,9 +53,9 @@ bool mayBeAnalytic(const ir::Node& n) {
   return s->kind == ir::NodeKind::Primitive && s->primitive == PrimitiveKind::Sphere && s->definition.empty();
 }
 
-class Builder {
+class PruneGridBuilder {
  public:
-  Builder(const ir::Scene& scene, ir::PruneGrid& g, std::vector<int> pruned)
+  PruneGridBuilder(const ir::Scene& scene, ir::PruneGrid& g, std::vector<int> pruned)
       : eval_(scene), g_(g), pruned_(std::move(pruned)) {
     for (int i : pruned_) lipschitz_.push_back(std::max(1.0, g_.parts[i]->lipschitz));
     for (int i : pruned_) cost_.push_back(std::max(g_.parts[i]->cost, 1e-3));
@@ -179,7 +179,7 @@ std::shared_ptr<const ir::PruneGrid> buildPruneGrid(const ir::Scene& scene) {
   // Centred on the parts' box (the last cells may reach past it).
   g->lo = box.center() - dvec3(g->dims) * g->cell * 0.5;
   g->masks.assign(size_t(g->dims.x) * g->dims.y * g->dims.z, {0, 0, 0, 0});
-  Builder builder(scene, *g, pruned);
+  PruneGridBuilder builder(scene, *g, pruned);
   std::vector<int> all(pruned.size());
   for (size_t k = 0; k < all.size(); ++k) all[k] = int(k);
   builder.block(ivec3(0), g->dims, all);
