@@ -91,20 +91,20 @@ json item(const std::string& label, int kind, const std::string& detail, const s
   return j;
 }
 
-constexpr int kFunction = 3, kField = 5, kVariable = 6, kKeyword = 14, kConstant = 21, kModule = 9;
+constexpr int kItemFunction = 3, kItemField = 5, kItemVariable = 6, kItemKeyword = 14, kItemConstant = 21, kItemModule = 9;
 
 void addLets(const Analysis& a, json& out, size_t offset) {
   if (const ast::Statement* def = a.enclosingDefinition(offset))
     if (const CalleeDoc* c = a.callee(def->name))
-      for (const ParamDoc& p : c->params) out.push_back(item(p.name, kVariable, p.label(), "0", "parameter of `" + def->name + "`"));
+      for (const ParamDoc& p : c->params) out.push_back(item(p.name, kItemVariable, p.label(), "0", "parameter of `" + def->name + "`"));
   for (const auto& [name, s] : a.lets) {
     if (s->has_params) {
-      if (const CalleeDoc* c = a.callee(name)) out.push_back(item(name, kFunction, c->signature(), "1", c->markdown()));
+      if (const CalleeDoc* c = a.callee(name)) out.push_back(item(name, kItemFunction, c->signature(), "1", c->markdown()));
       continue;
     }
     std::string value = a.text().substr(s->range.begin, s->range.end - s->range.begin);
     if (value.find('\n') != std::string::npos) value = value.substr(0, value.find('\n')) + " ...";
-    out.push_back(item(name, kVariable, value, "1"));
+    out.push_back(item(name, kItemVariable, value, "1"));
   }
 }
 
@@ -115,7 +115,7 @@ void addCallees(json& out, bool shapes, bool values, bool settings) {
                        c.kind == CalleeKind::Field;
     const bool setting = c.kind == CalleeKind::Setting || c.kind == CalleeKind::Scene;
     if ((shape && shapes) || (value && values) || (setting && settings))
-      out.push_back(item(c.name, c.kind == CalleeKind::Scene ? kModule : kFunction, c.signature(), "2",
+      out.push_back(item(c.name, c.kind == CalleeKind::Scene ? kItemModule : kItemFunction, c.signature(), "2",
                          c.markdown()));
   }
 }
@@ -132,14 +132,14 @@ json completion(const Analysis& a, size_t offset) {
         if (const CalleeDoc* callee = a.callee(c.callee))
           for (const ParamDoc& p : callee->params)
             if (!c.given.count(p.name))
-              out.push_back(item(p.name, kField, p.label(), "0",
+              out.push_back(item(p.name, kItemField, p.label(), "0",
                                  p.required ? "required" : (p.fallback.empty() ? "optional" : "default " + p.fallback),
                                  p.name + ": "));
       [[fallthrough]];
     case Where::Vector:
       addLets(a, out, offset);
-      out.push_back(item("time", kConstant, "scene time in seconds", "1"));
-      out.push_back(item("pi", kConstant, "3.14159265358979", "1"));
+      out.push_back(item("time", kItemConstant, "scene time in seconds", "1"));
+      out.push_back(item("pi", kItemConstant, "3.14159265358979", "1"));
       addCallees(out, true, true, false);
       break;
     case Where::Block:
@@ -152,7 +152,7 @@ json completion(const Analysis& a, size_t offset) {
         addCallees(out, true, true, false);
         break;
       }
-      out.push_back(item("let", kKeyword, "let name = value", "0"));
+      out.push_back(item("let", kItemKeyword, "let name = value", "0"));
       addCallees(out, false, false, true);
       break;
   }

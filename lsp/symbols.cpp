@@ -4,7 +4,7 @@
 namespace sdfc::lsp {
 namespace {
 
-constexpr int kNamespace = 3, kProperty = 7, kFunction = 12, kVariable = 13, kObject = 19;
+constexpr int kSymbolNamespace = 3, kSymbolProperty = 7, kSymbolFunction = 12, kSymbolVariable = 13, kSymbolObject = 19;
 
 json symbol(const Analysis& a, const std::string& name, int kind, const SourceRange& range,
             const SourceRange& selection, const std::string& detail = "") {
@@ -21,9 +21,9 @@ json tree(const Analysis& a, const ast::Expr& e, int depth) {
     for (const ast::ExprPtr& c : e.children) {
       if (c->kind == ast::ExprKind::Call) children.push_back(tree(a, *c, depth + 1));
       else if (c->kind == ast::ExprKind::Name)
-        children.push_back(symbol(a, c->name, kVariable, c->range, c->range, "let shape"));
+        children.push_back(symbol(a, c->name, kSymbolVariable, c->range, c->range, "let shape"));
     }
-  json s = symbol(a, e.name, e.name == "scene" ? kNamespace : kObject, e.range, e.name_range);
+  json s = symbol(a, e.name, e.name == "scene" ? kSymbolNamespace : kSymbolObject, e.range, e.name_range);
   if (!children.empty()) s["children"] = children;
   return s;
 }
@@ -36,12 +36,12 @@ json documentSymbols(const Analysis& a) {
     if (!s.value) continue;
     const ast::Expr& e = *s.value;
     if (s.is_let) {
-      json sym = symbol(a, s.name, e.kind == ast::ExprKind::Call && !e.children.empty() ? kFunction : kVariable,
+      json sym = symbol(a, s.name, e.kind == ast::ExprKind::Call && !e.children.empty() ? kSymbolFunction : kSymbolVariable,
                         s.range, s.name_range);
       if (e.kind == ast::ExprKind::Call && e.has_block) sym["children"] = json::array({tree(a, e, 0)});
       out.push_back(sym);
     } else if (e.kind == ast::ExprKind::Call) {
-      out.push_back(e.name == "scene" ? tree(a, e, 0) : symbol(a, e.name, kProperty, e.range, e.name_range));
+      out.push_back(e.name == "scene" ? tree(a, e, 0) : symbol(a, e.name, kSymbolProperty, e.range, e.name_range));
     }
   }
   return out;

@@ -8,7 +8,7 @@
 namespace sdfc {
 namespace {
 
-std::string trim(std::string_view s) {
+std::string trimBlanks(std::string_view s) {
   size_t b = s.find_first_not_of(" \t\r");
   if (b == std::string_view::npos) return "";
   size_t e = s.find_last_not_of(" \t\r");
@@ -34,12 +34,12 @@ std::string filterFeatures(std::string_view text, const std::set<std::string>& d
   int number = 0;
   while (std::getline(in, line)) {
     ++number;
-    const std::string t = trim(line);
+    const std::string t = trimBlanks(line);
     auto fail = [&](const std::string& why) {
       throw std::runtime_error("kernel line " + std::to_string(number) + ": " + why);
     };
     if (t.rfind("#if", 0) == 0) {
-      std::string cond = trim(std::string_view(t).substr(t.find_first_of(" \t") == std::string::npos
+      std::string cond = trimBlanks(std::string_view(t).substr(t.find_first_of(" \t") == std::string::npos
                                                              ? t.size()
                                                              : t.find_first_of(" \t")));
       const bool is_ifdef = t.rfind("#ifdef", 0) == 0, is_ifndef = t.rfind("#ifndef", 0) == 0;

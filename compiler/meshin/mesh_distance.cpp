@@ -55,7 +55,7 @@ double triangleSolidAngle(const dvec3& p, const dvec3& a0, const dvec3& b0, cons
 
 namespace {
 
-struct Builder {
+struct TriangleBvhBuilder {
   const std::vector<dvec3>& centroid;
   std::vector<std::uint32_t>& order;
   std::vector<MeshBvhNode>& nodes;
@@ -100,7 +100,7 @@ MeshDistance::MeshDistance(const InputMesh& mesh) {
   std::iota(order.begin(), order.end(), 0u);
   nodes_.reserve(2 * (n / kMeshLeafSize + 1));
   nodes_.push_back({});
-  Builder b{centroid, order, nodes_};
+  TriangleBvhBuilder b{centroid, order, nodes_};
   if (n > 0) b.build(0, 0, static_cast<std::uint32_t>(n), 1);
   depth_ = b.depth;
   corners_.resize(3 * n);

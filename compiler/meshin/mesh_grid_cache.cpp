@@ -15,9 +15,9 @@ namespace {
 
 // An entry: this magic, the key's 32 hex digits, the value count and a
 // checksum (the key function over the values' bytes), then the values.
-constexpr char kMagic[8] = {'S', 'D', 'F', 'C', 'G', 'R', 'D', '1'};
-constexpr size_t kKeyDigits = 32;
-constexpr size_t kHeaderBytes = sizeof kMagic + kKeyDigits + 8 + kKeyDigits;
+constexpr char kGridMagic[8] = {'S', 'D', 'F', 'C', 'G', 'R', 'D', '1'};
+constexpr size_t kGridKeyDigits = 32;
+constexpr size_t kGridHeaderBytes = sizeof kGridMagic + kGridKeyDigits + 8 + kGridKeyDigits;
 
 std::string checksum(const std::vector<float>& values) {
   return spirvCacheKey(std::string(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(float)),
@@ -37,7 +37,7 @@ std::string meshGridCacheKey(const MeshDistance& mesh, const MeshGridLayout& l, 
 
 std::string meshGridCachePath(const std::string& key) {
   const std::string dir = sdfcCacheDirectory();
-  return dir.empty() || key.size() != kKeyDigits ? "" : dir + "/mesh-grid/" + key + ".grid";
+  return dir.empty() || key.size() != kGridKeyDigits ? "" : dir + "/mesh-grid/" + key + ".grid";
 }
 
 std::optional<std::vector<float>> loadCachedMeshGrid(const std::string& key, size_t corners) {
@@ -46,22 +46,22 @@ std::optional<std::vector<float>> loadCachedMeshGrid(const std::string& key, siz
   std::ifstream in(path, std::ios::binary);
   if (!in) return std::nullopt;
   const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (bytes.size() != kHeaderBytes + corners * sizeof(float)) return std::nullopt;
-  if (std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0) return std::nullopt;
-  if (bytes.compare(sizeof kMagic, kKeyDigits, key) != 0) return std::nullopt;
+  if (bytes.size() != kGridHeaderBytes + corners * sizeof(float)) return std::nullopt;
+  if (std::memcmp(bytes.data(), kGridMagic, sizeof kGridMagic) != 0) return std::nullopt;
+  if (bytes.compare(sizeof kGridMagic, kGridKeyDigits, key) != 0) return std::nullopt;
   std::uint64_t count = 0;
-  std::memcpy(&count, bytes.data() + sizeof kMagic + kKeyDigits, 8);
+  std::memcpy(&count, bytes.data() + sizeof kGridMagic + kGridKeyDigits, 8);
   if (count != corners) return std::nullopt;
   std::vector<float> values(corners);
-  std::memcpy(values.data(), bytes.data() + kHeaderBytes, corners * sizeof(float));
-  if (bytes.compare(sizeof kMagic + kKeyDigits + 8, kKeyDigits, checksum(values)) != 0) return std::nullopt;
+  std::memcpy(values.data(), bytes.data() + kGridHeaderBytes, corners * sizeof(float));
+  if (bytes.compare(sizeof kGridMagic + kGridKeyDigits + 8, kGridKeyDigits, checksum(values)) != 0) return std::nullopt;
   return values;
 }
 
 void storeCachedMeshGrid(const std::string& key, const std::vector<float>& values) {
   const std::string path = meshGridCachePath(key);
   if (path.empty()) return;
-  std::string bytes(kMagic, sizeof kMagic);
+  std::string bytes(kGridMagic, sizeof kGridMagic);
   bytes += key;
   const std::uint64_t count = values.size();
   bytes.append(reinterpret_cast<const char*>(&count), 8);

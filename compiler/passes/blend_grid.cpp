@@ -37,7 +37,7 @@ using glm::dvec3;
 // Cells per instance, and the list length above which a cell is split into
 // octants (half the interval width): 4 and 8 took the least CPU time on
 // 1,000-part molecules and kit-bashes among 1-16 and 4-16.
-constexpr double kCellsPerInstance = 4.0;
+constexpr double kBlendCellsPerInstance = 4.0;
 constexpr size_t kSplitAbove = 8;
 // Cell-centre evaluations a build may spend: per member and in all. A
 // 10,000-sphere molecule spends 450 per member, a kit-bash 470, a 1,000-twig
@@ -56,13 +56,6 @@ constexpr size_t kMaxList = 128;
 // hierarchy alone (a blend radius comparable with the whole set).
 constexpr size_t kMaxCandidates = 4096;
 constexpr size_t kMaxIndex = (size_t(1) << 24) - 1;
-
-double gapSquared(const Aabb& a, const Aabb& b) {
-  const dvec3 gap = glm::max(glm::max(a.lo - b.hi, b.lo - a.hi), dvec3(0));
-  return glm::dot(gap, gap);
-}
-
-double boxBoxDistance(const Aabb& a, const Aabb& b) { return std::sqrt(gapSquared(a, b)); }
 
 struct Interval {
   double lo, hi;
@@ -151,7 +144,7 @@ class SliceBuilder {
     const double rr = r * r;
     if (within) {
       for (std::uint32_t i : *within)
-        if (gapSquared(sh_.boxes[i], box) < rr) out.push_back(i);
+        if (sh_.boxes[i].gapSquared(box) < rr) out.push_back(i);
       return;
     }
     stack_.assign(1, 0);
@@ -159,14 +152,14 @@ class SliceBuilder {
       const std::uint32_t ni = stack_.back();
       stack_.pop_back();
       const ir::BvhNode& node = sh_.set.nodes[ni];
-      if (gapSquared(node.box, box) >= rr) continue;
+      if (node.box.gapSquared(box) >= rr) continue;
       if (node.count == 0) {
         stack_.push_back(ni + 1);
         stack_.push_back(node.first);
         continue;
       }
       for (std::uint32_t i = node.first; i < node.first + node.count; ++i)
-        if (gapSquared(sh_.boxes[i], box) < rr) out.push_back(i);
+        if (sh_.boxes[i].gapSquared(box) < rr) out.push_back(i);
     }
   }
 
@@ -216,7 +209,7 @@ class SliceBuilder {
   bool far(const Aabb& box, size_t c) {
     if (!sh_.all_exact) return false;
     nearest(box, 1, candidates_);
-    const double g = boxBoxDistance(sh_.boxes[candidates_[0]], box);
+    const double g = sh_.boxes[candidates_[0]].distance(box);
     if (g - 1.25 * sh_.k < 0.5 * glm::length(box.hi - box.lo)) return false;
     Slice& s = *out_;
     s.first[c] = static_cast<std::uint32_t>(s.entries.size());
@@ -231,7 +224,7 @@ class SliceBuilder {
     using Entry = std::pair<double, std::int64_t>;  // gap squared; node index, or -1 - member
     std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
     const std::vector<ir::BvhNode>& nodes = sh_.set.nodes;
-    queue.push({gapSquared(nodes[0].box, box), 0});
+    queue.push({nodes[0].box.gapSquared(box), 0});
     while (!queue.empty() && out.size() < count) {
       const auto [gap, id] = queue.top();
       queue.pop();
@@ -241,12 +234,12 @@ class SliceBuilder {
       }
       const ir::BvhNode& node = nodes[size_t(id)];
       if (node.count == 0) {
-        queue.push({gapSquared(nodes[size_t(id) + 1].box, box), id + 1});
-        queue.push({gapSquared(nodes[node.first].box, box), node.first});
+        queue.push({nodes[size_t(id) + 1].box.gapSquared(box), id + 1});
+        queue.push({nodes[node.first].box.gapSquared(box), node.first});
         continue;
       }
       for (std::uint32_t i = node.first; i < node.first + node.count; ++i)
-        queue.push({gapSquared(sh_.boxes[i], box), -1 - std::int64_t(i)});
+        queue.push({sh_.boxes[i].gapSquared(box), -1 - std::int64_t(i)});
     }
   }
 
@@ -287,7 +280,7 @@ class SliceBuilder {
         // A cell apart from an exact member's box: the member is at least that
         // far (a box touching the cell bounds nothing: the member may be
         // inside; a bound's value may lie below its box's distance).
-        const double apart = sh_.exact[set.instances[i].templ] ? boxBoxDistance(sh_.boxes[i], box) : 0;
+        const double apart = sh_.exact[set.instances[i].templ] ? sh_.boxes[i].distance(box) : 0;
         values_[j] = {apart > 0 ? std::max(v - spread, apart) : v - spread, v + spread};
         least_hi = std::min(least_hi, values_[j].hi);
       }
@@ -356,8 +349,8 @@ class BlendGridBuilder {
     std::nth_element(sizes.begin(), sizes.begin() + n / 2, sizes.end());
     const double typical = std::max(sizes[n / 2], 1e-9);
     const dvec3 extent = glm::max(bounds.hi - bounds.lo, dvec3(typical));
-    const double max_cells = std::min<double>(kCellsPerInstance * double(n) + 4096, double(kMaxIndex));
-    double cell = std::max(std::cbrt(extent.x * extent.y * extent.z / (kCellsPerInstance * double(n))), 0.5 * typical);
+    const double max_cells = std::min<double>(kBlendCellsPerInstance * double(n) + 4096, double(kMaxIndex));
+    double cell = std::max(std::cbrt(extent.x * extent.y * extent.z / (kBlendCellsPerInstance * double(n))), 0.5 * typical);
     // The box is the bounds grown by 1.25 k plus half a cell: outside it every
     // member is that far, the blend at least half a cell (a positive bound).
     dvec3 dims;

@@ -27,20 +27,15 @@ using glm::dvec3;
 // Cells per instance (about one instance per cell keeps lists short) and the
 // reach a cell aims for, in cells: larger steps in empty space against longer
 // lists.
-constexpr double kCellsPerInstance = 1.0;
+constexpr double kGridCellsPerInstance = 1.0;
 constexpr double kReachInCells = 0.5;
 // Floats index the lists on the GPU: exact below 2^24.
-constexpr size_t kMaxIndex = (size_t(1) << 24) - 1;
+constexpr size_t kGridMaxIndex = (size_t(1) << 24) - 1;
 // A sphere cloud's cells become fixed slots in the shader's data (96 bytes a
 // cell, glsl_emitter.cpp). At most this many cells keep a million spheres'
 // data (122 MB with their records and hierarchy) within the 128 MiB storage
 // buffer range every Vulkan device has; there a cell holds 1.3 spheres.
 constexpr double kMaxSphereCloudCells = 800000;
-
-double boxBoxDistance(const Aabb& a, const Aabb& b) {
-  const dvec3 gap = glm::max(glm::max(a.lo - b.hi, b.lo - a.hi), dvec3(0));
-  return glm::length(gap);
-}
 
 // Distance from a ball of radius r centred at c to a box, 0 where they touch.
 double ballBoxDistance(const Aabb& box, const dvec3& c, double r) {
@@ -67,14 +62,14 @@ void buildInstanceGrid(ir::InstanceSet& set, const ir::Node& node) {
   }
   std::nth_element(sizes.begin(), sizes.begin() + n / 2, sizes.end());
   const double typical = std::max(sizes[n / 2], 1e-9);
-  // Cubic cells, about kCellsPerInstance per instance over the bounds (each
+  // Cubic cells, about kGridCellsPerInstance per instance over the bounds (each
   // axis counted at least one typical instance wide), never smaller than a
   // typical instance.
   const dvec3 extent = glm::max(bounds.hi - bounds.lo, dvec3(typical));
-  double max_cells = std::min<double>(4.0 * double(n) + 4096, double(kMaxIndex));
+  double max_cells = std::min<double>(4.0 * double(n) + 4096, double(kGridMaxIndex));
   if (ir::isSphereCloud(set, templ)) max_cells = std::min(max_cells, kMaxSphereCloudCells);
   double cell =
-      std::max(std::cbrt(extent.x * extent.y * extent.z / std::min(kCellsPerInstance * double(n), max_cells)), typical);
+      std::max(std::cbrt(extent.x * extent.y * extent.z / std::min(kGridCellsPerInstance * double(n), max_cells)), typical);
   glm::dvec3 dims;
   for (;;) {
     g.margin = kReachInCells * cell;
@@ -143,7 +138,7 @@ void buildInstanceGrid(ir::InstanceSet& set, const ir::Node& node) {
     for (std::uint32_t k = cand_first[from]; k < cand_first[from + 1]; ++k) {
       // A cloud's instance at offset o is the sphere centred at -o.
       const double d = sphere_r > 0 ? ballBoxDistance(box, -set.instances[cand[k]].offset, sphere_r)
-                                    : boxBoxDistance(box, boxes[cand[k]]);
+                                    : box.distance(boxes[cand[k]]);
       if (d < target) near.push_back({d, cand[k]});
     }
     std::sort(near.begin(), near.end());
@@ -221,7 +216,7 @@ void buildInstanceGrid(ir::InstanceSet& set, const ir::Node& node) {
           listCell(sub + size_t(o), Aabb{sub_lo, sub_lo + half}, c, kReachInCells * half, true);
         }
       }
-  if (g.entries.size() > kMaxIndex) g = ir::InstanceGrid{};
+  if (g.entries.size() > kGridMaxIndex) g = ir::InstanceGrid{};
 }
 
 ir::GridCellAt instanceGridCellAt(const ir::InstanceGrid& g, const glm::dvec3& p) {

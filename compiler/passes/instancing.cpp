@@ -445,7 +445,7 @@ class Former {
 
 // Median split along the widest axis of the centres: depth stays
 // ceil(log2(n / leaf)) + 1, which bounds the shader's stack.
-struct Builder {
+struct BvhBuilder {
   std::vector<Aabb> boxes;
   std::vector<dvec3> centres;
   std::vector<std::uint32_t> order;
@@ -499,7 +499,7 @@ Aabb instanceBounds(const ir::InstanceSet& set, size_t i, const ir::Node& n) {
 
 void buildInstanceHierarchy(ir::InstanceSet& set, const ir::Node& node) {
   const size_t n = set.size();
-  Builder b;
+  BvhBuilder b;
   b.boxes.resize(n);
   b.centres.resize(n);
   for (size_t i = 0; i < n; ++i) {

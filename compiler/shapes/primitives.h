@@ -21,6 +21,12 @@ struct Aabb {
   Aabb grow(double r) const { return {lo - r, hi + r}; }
   // From p to the box (0 inside): a lower bound on the distance to anything in it.
   double distance(const glm::dvec3& p) const { return glm::length(glm::max(glm::max(lo - p, p - hi), glm::dvec3(0))); }
+  // Between two boxes (0 where they touch or overlap), squared and not.
+  double gapSquared(const Aabb& o) const {
+    const glm::dvec3 gap = glm::max(glm::max(lo - o.hi, o.lo - hi), glm::dvec3(0));
+    return glm::dot(gap, gap);
+  }
+  double distance(const Aabb& o) const { return std::sqrt(gapSquared(o)); }
 };
 
 // Vector2: a 2-vector [x, y] (profiles); Points: a constant list of them

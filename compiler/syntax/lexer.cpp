@@ -42,7 +42,7 @@ namespace {
 
 bool isIdentStart(char c) { return std::isalpha(static_cast<unsigned char>(c)) || c == '_'; }
 bool isIdentChar(char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; }
-bool isDigit(char c) { return c >= '0' && c <= '9'; }
+bool isDecimalDigit(char c) { return c >= '0' && c <= '9'; }
 bool isNonAscii(char c) { return static_cast<unsigned char>(c) >= 0x80; }
 
 // The UTF-8 sequence at s[i]: its code point and length, or length 0 when
@@ -166,18 +166,18 @@ std::vector<Token> lex(const SourceFile& file, Diagnostics& diags, std::vector<C
       tokens.push_back(t);
       continue;
     }
-    if (isDigit(c) || (c == '.' && i + 1 < s.size() && isDigit(s[i + 1]))) {
-      while (i < s.size() && isDigit(s[i])) ++i;
+    if (isDecimalDigit(c) || (c == '.' && i + 1 < s.size() && isDecimalDigit(s[i + 1]))) {
+      while (i < s.size() && isDecimalDigit(s[i])) ++i;
       if (i < s.size() && s[i] == '.') {
         ++i;
-        while (i < s.size() && isDigit(s[i])) ++i;
+        while (i < s.size() && isDecimalDigit(s[i])) ++i;
       }
       if (i < s.size() && (s[i] == 'e' || s[i] == 'E')) {
         size_t j = i + 1;
         if (j < s.size() && (s[j] == '+' || s[j] == '-')) ++j;
-        if (j < s.size() && isDigit(s[j])) {
+        if (j < s.size() && isDecimalDigit(s[j])) {
           i = j;
-          while (i < s.size() && isDigit(s[i])) ++i;
+          while (i < s.size() && isDecimalDigit(s[i])) ++i;
         }
       }
       // A letter glued to a number ("2x", "1e") is a typo, not two tokens.
@@ -214,7 +214,7 @@ std::vector<Token> lex(const SourceFile& file, Diagnostics& diags, std::vector<C
     if (kind == TokenKind::Invalid) {
       // Group a run of bad bytes into one message (random input stays readable).
       while (i < s.size() && punctuation(s[i]) == TokenKind::Invalid && !isIdentStart(s[i]) &&
-             !isNonAscii(s[i]) && !isDigit(s[i]) && !std::isspace(static_cast<unsigned char>(s[i])))
+             !isNonAscii(s[i]) && !isDecimalDigit(s[i]) && !std::isspace(static_cast<unsigned char>(s[i])))
         ++i;
       const unsigned char shown = static_cast<unsigned char>(c);
       std::string what = std::isprint(shown) ? std::string("'") + c + "'" : "byte 0x" + [&] {
