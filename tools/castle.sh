@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# Sets up and builds (tools/setup.sh), then renders the castle to castle.png.
+# Sets up and builds the program (tools/setup.sh sdfc: not the tests, which
+# tools/test.sh builds), then renders the castle to castle.png.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-./tools/setup.sh
+./tools/setup.sh sdfc
 ./build/cli/sdfc render examples/castle.sdf -o castle.png "$@"
 echo "castle.png written"

@@ -2,6 +2,9 @@
 # Installs what sdfc needs from Debian 12 (skipped when already present) and
 # builds it into ./build. Safe to run again.
 #
+#   tools/setup.sh [TARGET...]   build only these CMake targets (castle.sh: sdfc);
+#                                everything when none is named
+#
 # Every package is listed explicitly and installed with --no-install-recommends,
 # so this list is the whole truth: tools/fresh_machine_check.sh proves it on a
 # bare Debian root.
@@ -86,4 +89,8 @@ fi
 
 say "configuring and building into build/"
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo > /dev/null
-cmake --build build
+if [ $# -gt 0 ]; then
+  cmake --build build --target "$@"
+else
+  cmake --build build
+fi
