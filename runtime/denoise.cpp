@@ -13,7 +13,6 @@ float squaredDistance3(const float* a, const float* b) {
   return dx * dx + dy * dy + dz * dz;
 }
 
-
 // Guide values of one pixel, gathered once.
 struct Guide {
   const float* normal_depth;

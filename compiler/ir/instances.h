@@ -5,6 +5,7 @@
 // first and stop when no box can hold anything nearer (docs/design/large_scenes.md).
 #pragma once
 #include <glm/glm.hpp>
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -56,6 +57,9 @@ constexpr int kGridListMax = 8;
 constexpr int kGridListMaxCrowded = 32;
 // A blend grid's cells may be split again, down to this many levels.
 constexpr int kGridMaxSplits = 3;
+// The largest entry index a grid may hold: the shader reads indices as floats,
+// exact below 2^24.
+constexpr std::size_t kGridMaxEntry = (std::size_t(1) << 24) - 1;
 constexpr std::int32_t kGridCrowded = -1;
 constexpr std::int32_t kGridSplit = -2;
 

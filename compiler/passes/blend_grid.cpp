@@ -55,7 +55,6 @@ constexpr size_t kMaxList = 128;
 // Beyond this many members within reach of one cell the set keeps its
 // hierarchy alone (a blend radius comparable with the whole set).
 constexpr size_t kMaxCandidates = 4096;
-constexpr size_t kMaxIndex = (size_t(1) << 24) - 1;
 
 struct Interval {
   double lo, hi;
@@ -116,7 +115,7 @@ class SliceBuilder {
         if (sh_.failed.load(std::memory_order_relaxed)) return false;
         if (far(Aabb{lo, lo + g.cell}, c)) continue;
         if (!cellList(Aabb{lo, lo + g.cell}, c, 0)) return false;
-        if (out.entries.size() > kMaxIndex) return false;
+        if (out.entries.size() > ir::kGridMaxEntry) return false;
       }
     return true;
   }
@@ -349,7 +348,7 @@ class BlendGridBuilder {
     std::nth_element(sizes.begin(), sizes.begin() + n / 2, sizes.end());
     const double typical = std::max(sizes[n / 2], 1e-9);
     const dvec3 extent = glm::max(bounds.hi - bounds.lo, dvec3(typical));
-    const double max_cells = std::min<double>(kBlendCellsPerInstance * double(n) + 4096, double(kMaxIndex));
+    const double max_cells = std::min<double>(kBlendCellsPerInstance * double(n) + 4096, double(ir::kGridMaxEntry));
     double cell = std::max(std::cbrt(extent.x * extent.y * extent.z / (kBlendCellsPerInstance * double(n))), 0.5 * typical);
     // The box is the bounds grown by 1.25 k plus half a cell: outside it every
     // member is that far, the blend at least half a cell (a positive bound).
@@ -414,7 +413,7 @@ class BlendGridBuilder {
       entries += s.entries.size();
       octants += s.count.size() - s.cells;
     }
-    if (sh_.failed || evaluations > sh_.budget || entries > kMaxIndex) return false;
+    if (sh_.failed || evaluations > sh_.budget || entries > ir::kGridMaxEntry) return false;
     g.first.resize(sh_.cells + octants);
     g.count.resize(sh_.cells + octants);
     g.reach.resize(sh_.cells + octants);

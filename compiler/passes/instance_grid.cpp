@@ -29,8 +29,6 @@ using glm::dvec3;
 // lists.
 constexpr double kGridCellsPerInstance = 1.0;
 constexpr double kReachInCells = 0.5;
-// Floats index the lists on the GPU: exact below 2^24.
-constexpr size_t kGridMaxIndex = (size_t(1) << 24) - 1;
 // A sphere cloud's cells become fixed slots in the shader's data (96 bytes a
 // cell, glsl_emitter.cpp). At most this many cells keep a million spheres'
 // data (122 MB with their records and hierarchy) within the 128 MiB storage
@@ -39,7 +37,7 @@ constexpr double kMaxSphereCloudCells = 800000;
 
 // Distance from a ball of radius r centred at c to a box, 0 where they touch.
 double ballBoxDistance(const Aabb& box, const dvec3& c, double r) {
-  return std::max(glm::length(glm::max(glm::max(box.lo - c, c - box.hi), dvec3(0))) - r, 0.0);
+  return std::max(box.distance(c) - r, 0.0);
 }
 
 }  // namespace
@@ -66,7 +64,7 @@ void buildInstanceGrid(ir::InstanceSet& set, const ir::Node& node) {
   // axis counted at least one typical instance wide), never smaller than a
   // typical instance.
   const dvec3 extent = glm::max(bounds.hi - bounds.lo, dvec3(typical));
-  double max_cells = std::min<double>(4.0 * double(n) + 4096, double(kGridMaxIndex));
+  double max_cells = std::min<double>(4.0 * double(n) + 4096, double(ir::kGridMaxEntry));
   if (ir::isSphereCloud(set, templ)) max_cells = std::min(max_cells, kMaxSphereCloudCells);
   double cell =
       std::max(std::cbrt(extent.x * extent.y * extent.z / std::min(kGridCellsPerInstance * double(n), max_cells)), typical);
@@ -216,7 +214,7 @@ void buildInstanceGrid(ir::InstanceSet& set, const ir::Node& node) {
           listCell(sub + size_t(o), Aabb{sub_lo, sub_lo + half}, c, kReachInCells * half, true);
         }
       }
-  if (g.entries.size() > kGridMaxIndex) g = ir::InstanceGrid{};
+  if (g.entries.size() > ir::kGridMaxEntry) g = ir::InstanceGrid{};
 }
 
 ir::GridCellAt instanceGridCellAt(const ir::InstanceGrid& g, const glm::dvec3& p) {
