@@ -98,6 +98,23 @@ TEST(Instances, NestedSetsStayWithinTheCountedTraversals) {
   EXPECT_NEAR(Evaluator(c.scene).distance(dvec3(3, 1, 0)), -0.2, 1e-12);
 }
 
+// 400 spheres of varied radii, overlapping in a 10-unit cube, in `op`;
+// with `materials`, every other one red.
+std::string overlappingSpheres(const std::string& op, bool materials) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-5, 5), r(0.2, 0.7);
+  std::ostringstream s;
+  s << "let red = diffuse(albedo: [0.8, 0.1, 0.1])\nlet blue = diffuse(albedo: [0.1, 0.1, 0.8])\nscene {\n  " << op
+    << " {\n";
+  for (int i = 0; i < 400; ++i) {
+    s << "    translate([" << u(rng) << ", " << u(rng) << ", " << u(rng) << "]) { sphere(radius: " << r(rng);
+    if (materials) s << ", material: " << (i % 2 ? "red" : "blue");
+    s << ") }\n";
+  }
+  s << "  }\n}\n";
+  return s.str();
+}
+
 TEST(Instances, HierarchyEqualsBruteForceAtRandomPoints) {
   const CompiledScene data = checked(mixedScene(), 32);
   const CompiledScene inline_form = checked(mixedScene(), 0);
@@ -113,6 +130,30 @@ TEST(Instances, HierarchyEqualsBruteForceAtRandomPoints) {
     near_surface += std::fabs(b.distance) < 0.3;
   }
   EXPECT_GT(near_surface, 100);  // the points probe the instances, not only empty space
+}
+
+// Inside overlapping parts the value is the deepest part's: a box's
+// distance of 0 inside it is no lower bound there, so the search takes the
+// signed box distance (a hard union of 400 overlapping spheres; with the
+// unsigned one, 3 points in 4,000 read up to 0.3 too shallow).
+TEST(Instances, HierarchyIsExactInsideOverlappingParts) {
+  for (bool materials : {false, true}) {
+    const CompiledScene data = checked(overlappingSpheres("union", materials), 32);
+    const CompiledScene inline_form = checked(overlappingSpheres("union", materials), 0);
+    ASSERT_EQ(countKind(*data.scene.root, ir::NodeKind::Instances), 1);
+    const Evaluator fast(data.scene), brute(inline_form.scene);
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<double> u(-5.5, 5.5);
+    int inside = 0;
+    for (int i = 0; i < 20000; ++i) {
+      const dvec3 p(u(rng), u(rng), u(rng));
+      const EvalResult a = fast.at(p), b = brute.at(p);
+      ASSERT_NEAR(a.distance, b.distance, 1e-12 * (1 + std::fabs(b.distance))) << i;
+      EXPECT_EQ(a.material, b.material) << i;
+      inside += b.distance < 0;
+    }
+    EXPECT_GT(inside, 1000);
+  }
 }
 
 // A dense cloud: 600 spheres in a 4 x 2 x 4 box, so that many grid cells
@@ -579,6 +620,45 @@ TEST_F(InstancesGpu, ShaderDistancesMatchTheEvaluator) {
   EXPECT_GT(near, 50);
   EXPECT_LT(worst, tolerance);
   EXPECT_LE(material_mismatch, 2);
+}
+
+// Spheres of varied radii (a molecule): with no material of their own the
+// radius rides in the offset's w (records of one vec4, which the blend lists
+// copy); with materials it keeps a vec4 of its own. Either way, in a hard and
+// a smooth union (through their grids) and a blend that moves with time
+// (through the hierarchy, whose boxes are signed distances), the shader's
+// distances and materials are the evaluator's, inside the parts too.
+TEST_F(InstancesGpu, SphereRadiiInTheOffsetMatchTheEvaluator) {
+  for (const char* op : {"union", "union(smooth: 0.08)", "union(smooth: 0.08 + 0.01 * sin(time))"})
+    for (bool materials : {false, true}) {
+      const CompiledScene c = compiled(overlappingSpheres(op, materials), 32, false);
+      ASSERT_EQ(c.emitted.stats.instance_sets, 1) << op;
+      EXPECT_EQ(c.emitted.glsl.find("Grid of") == std::string::npos, std::string(op).find("time") != std::string::npos)
+          << op;
+      const std::string said = materials ? "records of 2 vec4" : "records of 1 vec4";
+      EXPECT_NE(c.emitted.glsl.find(said), std::string::npos) << op << ": " << said;
+      const std::string source = test::pointShaderSource(c.emitted);
+      const SpirvResult spirv = glslToSpirv(source, ShaderStage::Fragment, "radii.points.frag");
+      ASSERT_TRUE(spirv.ok()) << spirv.log;
+      const test::GpuPoints gpu =
+          test::runPoints(*context_, spirv.words, glm::vec3(0), glm::vec3(6.0f), 42, 0, c.emitted.scene_data);
+      const Evaluator eval(c.scene);
+      const double tolerance = 64.0 / 8388608.0 * 16;
+      int near = 0, inside = 0, material_mismatch = 0;
+      for (size_t i = 0; i < gpu.points.size(); ++i) {
+        const EvalResult e = eval.at(dvec3(gpu.points[i]));
+        EXPECT_LE(gpu.distances[i], e.distance + tolerance) << op << " " << i;
+        inside += e.distance < 0;
+        if (std::fabs(e.distance) >= 0.1) continue;
+        ++near;
+        EXPECT_NEAR(gpu.distances[i], e.distance, tolerance) << op << " " << i;
+        // Without materials the evaluator says -1 (none), the shader 0 (the default).
+        if (materials) material_mismatch += gpu.materials[i] != e.material;
+      }
+      EXPECT_GT(near, 50) << op;
+      EXPECT_GT(inside, 50) << op;
+      EXPECT_LE(material_mismatch, 2) << op;
+    }
 }
 
 std::string boxField(int count) {

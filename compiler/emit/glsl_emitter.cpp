@@ -93,6 +93,14 @@ float sdBoxDistance(vec3 p, vec3 lo, vec3 hi) {
   return length(max(max(lo - p, p - hi), 0.0));
 }
 )";
+const char* kSignedBoxDistanceHelper = R"(// Signed distance from p to the box [lo, hi], negative inside: a lower
+// bound on anything in it, inside too (a shape within the box is no deeper
+// at p than the box is), which a union's interior values need.
+float sdBoxSignedDistance(vec3 p, vec3 lo, vec3 hi) {
+  vec3 e = max(lo - p, p - hi);
+  return length(max(e, 0.0)) + min(max(e.x, max(e.y, e.z)), 0.0);
+}
+)";
 const char* kAabbHelper = R"(// Distance to an axis-aligned box from outside (0 inside): a cheap lower bound
 // on the distance to anything the box contains.
 float sdBound(vec3 p, vec3 center, vec3 half_size) {
@@ -493,6 +501,9 @@ class SceneWriter {
     int stride = 1;      // vec4 per record
     bool affine = false; // records hold a 3x4 map and a scale
     int param_vec4 = 0;  // vec4 of primitive parameters after the placement
+    // One parameter and no material of its own (a molecule's radii): it rides
+    // in the offset's w, records of one vec4.
+    bool param_in_w = false;
     // A mixed set (several templates): each record carries its template index,
     // in the affine placement's fourth vec4 (scale, material, template, 0)
     // where there is one (templ_in_placement), else after its parameters at
@@ -768,7 +779,10 @@ class SceneWriter {
     // kit-bash's records of 4 parameters take 5 vec4, not 6 (kit-bash 1,000
     // 401 -> 387 ms a sample; docs/design/large_scenes.md, "Cost per part").
     l.templ_in_placement = l.mixed && l.affine;
-    l.param_vec4 = (set.param_count + (l.mixed && !l.templ_in_placement ? 1 : 0) + 3) / 4;
+    l.param_in_w = !l.affine && !l.mixed && set.param_count == 1 &&
+                   std::all_of(set.instances.begin(), set.instances.end(),
+                               [](const ir::Instance& i) { return i.material < 0; });
+    l.param_vec4 = l.param_in_w ? 0 : (set.param_count + (l.mixed && !l.templ_in_placement ? 1 : 0) + 3) / 4;
     l.stride = (l.affine ? 4 : 1) + l.param_vec4;
     // Indices are stored as float values: exact below 2^24.
     l.nodes = data_.size() / 4;
@@ -791,7 +805,8 @@ class SceneWriter {
           pushVec4(float(m[0][row]), float(m[1][row]), float(m[2][row]), float(inst.offset[row]));
         pushVec4(float(scale), float(inst.material), l.templ_in_placement ? float(inst.templ) : 0, 0);
       } else {
-        pushVec4(float(inst.offset.x), float(inst.offset.y), float(inst.offset.z), float(inst.material));
+        pushVec4(float(inst.offset.x), float(inst.offset.y), float(inst.offset.z),
+                 l.param_in_w ? float(set.paramsOf(i)[0]) : float(inst.material));
       }
       for (int v = 0; v < l.param_vec4; ++v) {
         float c[4] = {0, 0, 0, 0};
@@ -1291,13 +1306,22 @@ class SceneWriter {
       g.code << "  vec3 q = vec3(dot(r0.xyz, p) + r0.w, dot(r1.xyz, p) + r1.w, dot(r2.xyz, p) + r2.w);\n";
       material = "e.y";
       scale = "e.x";
+    } else if (l.param_in_w) {
+      g.code << "  vec4 r0 = sd_data[rec];\n  vec3 q = p + r0.xyz;\n";
     } else {
       g.code << "  vec3 q = p + sd_data[rec].xyz;\n";
     }
-    if (mat) g.code << "  float m = " << material << " >= 0.0 ? " << material << " : inherited;\n";
+    if (mat) {
+      if (l.param_in_w)
+        g.code << "  float m = inherited;\n";
+      else
+        g.code << "  float m = " << material << " >= 0.0 ? " << material << " : inherited;\n";
+    }
     const int base = l.affine ? 4 : 1;
     for (int v = 0; v < l.param_vec4; ++v) g.code << "  vec4 a" << v << " = sd_data[rec + " << base + v << "];\n";
-    auto slot = [](int j) { return "a" + std::to_string(j / 4) + "." + "xyzw"[j % 4]; };
+    auto slot = [&l](int j) {
+      return l.param_in_w ? std::string("r0.w") : "a" + std::to_string(j / 4) + "." + "xyzw"[j % 4];
+    };
     // Template t's value at q: its primitive with this record's parameters,
     // or its code.
     auto value = [&](const ir::Node& templ) {
@@ -1349,7 +1373,7 @@ class SceneWriter {
     // With a grid the hierarchy is its fallback, under its own name.
     const std::string tree = l.grid ? name + "_tree" : name;
     if (helper_names_.insert(name).second) {
-      needHelper("sdBoxDistance", kBoxDistanceHelper);
+      needHelper("sdBoxSignedDistance", kSignedBoxDistanceHelper);
       const bool smooth = !n.smooth.isConst() || n.smooth.value > 0;
       if (smooth) needHelper("smooth", kSmoothHelpers);
       const std::string one = instanceFunction(n, l, mat);
@@ -1371,7 +1395,7 @@ class SceneWriter {
       g.code << "  // Stack: node, its box distance, and the least box distance at or below.\n";
       g.code << "  int sn[" << stack << "];\n  float sd[" << stack << "], sm[" << stack << "];\n";
       g.code << "  vec4 a = sd_data[" << nb << "], b = sd_data[" << nb << " + 1];\n";
-      g.code << "  sn[0] = 0;\n  sd[0] = sdBoxDistance(p, a.xyz, b.xyz);\n  sm[0] = sd[0];\n  int sp = 1;\n";
+      g.code << "  sn[0] = 0;\n  sd[0] = sdBoxSignedDistance(p, a.xyz, b.xyz);\n  sm[0] = sd[0];\n  int sp = 1;\n";
       if (options_.with_kernel) {
         g.code << "  for (int it = loopZero(); it < int(frame.traversal_visits) && sp > 0; it++) {\n";
         g.code << "    g_loop_iterations++;\n";
@@ -1395,9 +1419,9 @@ class SceneWriter {
       g.code << "    int first = int(a.w), count = int(b.w);\n";
       g.code << "    if (count == 0) {\n";
       g.code << "      int l = ni + 1, r = first;\n";
-      g.code << "      float dl = sdBoxDistance(p, sd_data[" << nb << " + 2 * l].xyz, sd_data[" << nb
+      g.code << "      float dl = sdBoxSignedDistance(p, sd_data[" << nb << " + 2 * l].xyz, sd_data[" << nb
              << " + 2 * l + 1].xyz);\n";
-      g.code << "      float dr = sdBoxDistance(p, sd_data[" << nb << " + 2 * r].xyz, sd_data[" << nb
+      g.code << "      float dr = sdBoxSignedDistance(p, sd_data[" << nb << " + 2 * r].xyz, sd_data[" << nb
              << " + 2 * r + 1].xyz);\n";
       g.code << "      bool left_near = dl <= dr;\n";
       g.code << "      int nn = left_near ? l : r, nf = left_near ? r : l;\n";

@@ -92,7 +92,7 @@ EvalResult Evaluator::evalInstances(const ir::Node& n, const dvec3& p, int inher
   };
   std::vector<Entry> stack;
   stack.reserve(2 * set.depth + 2);
-  stack.push_back({0, set.nodes[0].box.distance(p)});
+  stack.push_back({0, set.nodes[0].box.signedDistance(p)});
   while (!stack.empty()) {
     const Entry e = stack.back();
     stack.pop_back();
@@ -100,8 +100,9 @@ EvalResult Evaluator::evalInstances(const ir::Node& n, const dvec3& p, int inher
     const ir::BvhNode& node = set.nodes[e.node];
     if (node.count == 0) {
       const std::uint32_t l = e.node + 1, r = node.first;
-      const double dl = set.nodes[l].box.distance(p), dr = set.nodes[r].box.distance(p);
-      if (dl < dr) {
+      const double dl = set.nodes[l].box.signedDistance(p), dr = set.nodes[r].box.signedDistance(p);
+      // On a tie the left child first, as the kernel does.
+      if (dl <= dr) {
         stack.push_back({r, dr});
         stack.push_back({l, dl});
       } else {
@@ -153,7 +154,7 @@ EvalResult Evaluator::evalBlend(const ir::Node& n, const dvec3& p, int inherited
       const ir::BvhNode& node = set.nodes[stack.back()];
       const std::uint32_t ni = stack.back();
       stack.pop_back();
-      if (node.box.distance(p) >= m + k) continue;
+      if (node.box.signedDistance(p) >= m + k) continue;
       if (node.count == 0) {
         stack.push_back(node.first);
         stack.push_back(ni + 1);

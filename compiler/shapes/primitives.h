@@ -2,6 +2,7 @@
 // (parameters, exact float64 distance, GLSL, bounds), so adding a primitive
 // is one edit here and nowhere else.
 #pragma once
+#include <algorithm>
 #include <cmath>
 #include <glm/glm.hpp>
 #include <string>
@@ -21,6 +22,12 @@ struct Aabb {
   Aabb grow(double r) const { return {lo - r, hi + r}; }
   // From p to the box (0 inside): a lower bound on the distance to anything in it.
   double distance(const glm::dvec3& p) const { return glm::length(glm::max(glm::max(lo - p, p - hi), glm::dvec3(0))); }
+  // Negative inside (the distance to the nearest face): a lower bound on any
+  // shape within the box, at points inside it too.
+  double signedDistance(const glm::dvec3& p) const {
+    const glm::dvec3 e = glm::max(lo - p, p - hi);
+    return glm::length(glm::max(e, glm::dvec3(0))) + std::min(std::max(e.x, std::max(e.y, e.z)), 0.0);
+  }
   // Between two boxes (0 where they touch or overlap), squared and not.
   double gapSquared(const Aabb& o) const {
     const glm::dvec3 gap = glm::max(glm::max(lo - o.hi, o.lo - hi), glm::dvec3(0));
