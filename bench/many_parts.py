@@ -263,6 +263,15 @@ def row_line(r, size):
             f"{us_hit:.1f} | {ns_step:.0f} | {r.get('off', '-')} | {r.get('early', '-')} | {r.get('missed', '-')} |")
 
 
+def resumed_repeats(rows, repeats):
+    """" (of 3: tree, holes)" for resumed rows measured with another --repeats."""
+    other = {}
+    for r in rows:
+        if r.get("repeats", repeats) != repeats:
+            other.setdefault(r["repeats"], []).append(r["family"])
+    return "".join(f" (of {k}: {', '.join(dict.fromkeys(v))}, resumed from an earlier run)" for k, v in sorted(other.items()))
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--sdfc", default=os.path.join(ROOT, "build", "cli", "sdfc"))
@@ -309,7 +318,7 @@ def main():
     emit()
     machine = sb.machine_info(args.sdfc)
     emit(f"Machine: {machine['cpu']}, {machine['cores']} cores, {machine['device']}, {machine['driver']}. Size {args.size}, {args.spp} spp, no denoiser, "
-         f"smooth {args.smooth} where the family blends; medians of {args.repeats}.")
+         f"smooth {args.smooth} where the family blends; medians of {args.repeats}{resumed_repeats(rows, args.repeats)}.")
     emit()
     emit("CPU ms/sample is the sampling's alone (the process's CPU at the given spp less a 1 spp run's, over "
          "spp - 1; since 2026-12-06); process CPU ms/spp, the figure before, also counts the compile, the "
@@ -356,7 +365,8 @@ def main():
                     per[name]["cpu"].append(1000 * (cpu - cpu_one) / (args.spp - 1))
                     per[name]["process"].append(1000 * cpu / args.spp)
             for name, exe in todo:
-                row = dict(family=fam, parts=n, binary=name, smooth=smooth, framing=args.framing)
+                row = dict(family=fam, parts=n, binary=name, smooth=smooth, framing=args.framing,
+                           repeats=args.repeats)
                 if name in refused:
                     row["refused"] = refused[name]
                     rows.append(row)
@@ -421,9 +431,34 @@ def main():
     os.makedirs(os.path.dirname(args.out), exist_ok=True)
     with open(args.out, "w") as f:
         f.write("\n".join(lines) + "\n")
+    # In family order, resumed rows among them (the headline keeps this order).
+    order = {fam: i for i, fam in enumerate(families)}
+    rows.sort(key=lambda r: order.get(r["family"], len(order)))
     with open(os.path.splitext(args.out)[0] + ".json", "w") as f:
         json.dump(rows, f, indent=1)
     print(f"wrote {args.out}")
+    if os.path.abspath(args.out) == os.path.join(HERE, "results", "many_parts.md"):
+        update_headline()
+
+
+def update_headline():
+    """Replaces bench/RESULTS.md's many-parts section with the headline of the
+    page just written (bench/run.py writes the same section when it runs)."""
+    import run  # noqa: E402  (bench/run.py: the headline's one definition)
+    report = os.path.join(HERE, "RESULTS.md")
+    title = "## Many distinct parts (headline of results/many_parts.md)"
+    if not os.path.exists(report):
+        return
+    with open(report) as f:
+        text = f.read()
+    start = text.find(title)
+    if start < 0:
+        return
+    end = text.find("\n## ", start + len(title))
+    end = len(text) if end < 0 else end + 1
+    with open(report, "w") as f:
+        f.write(text[:start] + "\n".join(run.many_parts_headline()) + "\n" + text[end:])
+    print(f"updated {report}")
 
 
 if __name__ == "__main__":
