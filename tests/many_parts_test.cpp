@@ -144,10 +144,11 @@ TEST(ManyParts, MixedSetEqualsTheInlineCode) {
   }
 }
 
-// Parts of the given kinds (every other one rotated, some scaled), overlapping
+// Parts of the given kinds (every other one rotated, with `scaled` some scaled), overlapping
 // in a 6-unit cube, combined by `form`: a union, holes cut from a box, a
 // union intersected with a ball, or two unions (one moved) in a union.
-std::string overlappingParts(const std::vector<std::string>& kinds, int n, const std::string& form, unsigned seed) {
+std::string overlappingParts(const std::vector<std::string>& kinds, int n, const std::string& form, unsigned seed,
+                             bool scaled = true) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(-3, 3), size(0.2, 0.9), unit(-1, 1), angle(0, 180), scale(0.5, 1.5);
   std::vector<std::string> parts;
@@ -164,7 +165,8 @@ std::string overlappingParts(const std::vector<std::string>& kinds, int n, const
     if (i % 2 == 1)
       shape = "rotate(axis: [" + std::to_string(unit(rng)) + ", " + std::to_string(unit(rng)) + ", " +
               std::to_string(unit(rng) + 1.5) + "], degrees: " + std::to_string(angle(rng)) + ") { " + shape + " }";
-    if (i % 5 == 2) shape = "scale(" + std::to_string(scale(rng)) + ") { " + shape + " }";
+    const double factor = scale(rng);
+    if (scaled && i % 5 == 2) shape = "scale(" + std::to_string(factor) + ") { " + shape + " }";
     parts.push_back("translate([" + std::to_string(u(rng)) + ", " + std::to_string(u(rng)) + ", " +
                     std::to_string(u(rng)) + "]) { " + shape + " }");
   }
@@ -254,33 +256,44 @@ TEST(ManyParts, BlendGridListsAreInKindOrder) {
 }
 
 // A mixed set of rotated parts keeps each record's template index in its
-// placement's free slot (scale, material, template, 0): kinds of at most 4
-// parameters take 5 vec4 a record, not 6 (a vec4 less to load per list entry).
+// placement's free slot: with rotations alone, a unit quaternion and then
+// (offset, template), 3 vec4 a record with the box's 4 parameters; with
+// scales too, a 3x4 map and (scale, material, template, 0), 5 vec4 (not 6).
 TEST(ManyParts, MixedRecordsCarryTheirTemplateInThePlacement) {
-  for (const char* op : {"union", "union(smooth: 0.1)"}) {
-    const CompiledScene c = checkedParts(mixedParts(5, 60, op, 3), 32);
-    ASSERT_TRUE(c.ok);
-    const ir::Node* set = findSet(*c.scene.root);
-    ASSERT_NE(set, nullptr);
-    const ir::InstanceSet& members = *set->instances;
-    ASSERT_EQ(set->children.size(), 5u) << op;
-    ASSERT_EQ(members.param_count, 4) << op;  // the box's size and rounding
-    const std::string& glsl = c.emitted.glsl;
-    const std::string said = "records of 5 vec4 at sd_data[";
-    const size_t at = glsl.find(said);
-    ASSERT_NE(at, std::string::npos) << op;
-    ASSERT_NE(glsl.find("int t = int(e.z);"), std::string::npos) << op;
-    const size_t records = std::stoul(glsl.substr(at + said.size()));
-    const std::vector<float>& data = c.emitted.scene_data;
-    ASSERT_LE((records + members.size() * 5) * 4, data.size());
-    std::set<std::int32_t> seen;
-    for (size_t i = 0; i < members.size(); ++i) {
-      const float* e = &data[(records + i * 5 + 3) * 4];
-      ASSERT_EQ(e[2], float(members.instances[i].templ)) << op << ", record " << i;
-      seen.insert(members.instances[i].templ);
+  for (bool scaled : {false, true})
+    for (const char* op : {"union", "union(smooth: 0.1)"}) {
+      std::string text = mixedParts(5, 60, op, 3);
+      if (scaled) {
+        // Every part scaled: `{ rotate(` gains a `scale(1.25) {` and its closing brace.
+        for (size_t at = 0; (at = text.find("{ rotate(", at)) != std::string::npos; at += 20) {
+          text.replace(at, 9, "{ scale(1.25) { rotate(");
+          const size_t end = text.find(" } }\n", at);
+          text.replace(end, 5, " } } }\n");
+        }
+      }
+      const CompiledScene c = checkedParts(text, 32);
+      ASSERT_TRUE(c.ok);
+      const ir::Node* set = findSet(*c.scene.root);
+      ASSERT_NE(set, nullptr);
+      const ir::InstanceSet& members = *set->instances;
+      ASSERT_EQ(set->children.size(), 5u) << op;
+      ASSERT_EQ(members.param_count, 4) << op;  // the box's size and rounding
+      const std::string& glsl = c.emitted.glsl;
+      const size_t stride = scaled ? 5 : 3, templ_at = scaled ? 3 * 4 + 2 : 1 * 4 + 3;
+      const std::string said = "records of " + std::to_string(stride) + " vec4 at sd_data[";
+      const size_t at = glsl.find(said);
+      ASSERT_NE(at, std::string::npos) << op << ": " << said;
+      ASSERT_NE(glsl.find(scaled ? "int t = int(e.z);" : "int t = int(r1.w);"), std::string::npos) << op;
+      const size_t records = std::stoul(glsl.substr(at + said.size()));
+      const std::vector<float>& data = c.emitted.scene_data;
+      ASSERT_LE((records + members.size() * stride) * 4, data.size());
+      std::set<std::int32_t> seen;
+      for (size_t i = 0; i < members.size(); ++i) {
+        ASSERT_EQ(data[(records + i * stride) * 4 + templ_at], float(members.instances[i].templ)) << op << ", record " << i;
+        seen.insert(members.instances[i].templ);
+      }
+      EXPECT_EQ(seen.size(), 5u) << op;
     }
-    EXPECT_EQ(seen.size(), 5u) << op;
-  }
 }
 
 // A smooth set's blend grid (passes/blend_grid.cpp) lists, per cell, every
@@ -645,9 +658,13 @@ TEST_F(ManyPartsGpu, SetDistancesInsideThePartsAreTheEvaluators) {
       options.emit.bounding_volumes = false;
       options.camera_frame = false;
       Diagnostics diags;
-      const CompiledScene c = compileSource("parts.sdf", overlappingParts(kinds, n, form, seed++), options, diags);
+      // Intersected, the parts only rotate: records of a quaternion (the others hold 3x4 maps).
+      const bool scaled = std::string(form) != "intersect";
+      const CompiledScene c =
+          compileSource("parts.sdf", overlappingParts(kinds, n, form, seed++, scaled), options, diags);
       ASSERT_TRUE(c.ok) << diags.format();
       ASSERT_GE(c.emitted.stats.instance_sets, 1);
+      EXPECT_NE(c.emitted.glsl.find(scaled ? "r2 = sd_data[rec + 2]" : "cross(r0.xyz, p)"), std::string::npos) << form;
       const SpirvResult spirv =
           glslToSpirv(test::pointShaderSource(c.emitted), ShaderStage::Fragment, "parts.points.frag");
       ASSERT_TRUE(spirv.ok()) << spirv.log;

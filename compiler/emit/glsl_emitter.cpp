@@ -3,6 +3,7 @@
 #include <cctype>
 #include <cmath>
 #include <functional>
+#include <glm/gtc/quaternion.hpp>
 #include <iterator>
 #include <map>
 #include <optional>
@@ -37,7 +38,11 @@ using glm::dvec3;
 
 // Hierarchy visits per evaluation when the scene code is emitted without the
 // kernel (test shaders): with the kernel the renderer sets frame.traversal_visits.
-constexpr int kSceneOnlyVisits = 256;
+// Enough that a blend list of up to 63 members is folded from its list, as
+// the kernel does where loops are not capped (with 256, lists beyond 15 took
+// the hierarchy, whose fold is in visit order), and within 22.3.6's 65,535
+// iterations for the few evaluations a test shader makes.
+constexpr int kSceneOnlyVisits = 4096;
 // A hierarchy node nearest of all left on the stack, whose box is farther than
 // this times its diagonal, ends the traversal with its box distance d: the true
 // distance D is then at most d + diagonal <= 2d, a march step at least half of
@@ -504,6 +509,9 @@ class SceneWriter {
     // One parameter and no material of its own (a molecule's radii): it rides
     // in the offset's w, records of one vec4.
     bool param_in_w = false;
+    // Affine records of rotations alone (no scale, no material of their own):
+    // a unit quaternion, then (offset, template), 2 vec4 instead of 4.
+    bool rotor = false;
     // A mixed set (several templates): each record carries its template index,
     // in the affine placement's fourth vec4 (scale, material, template, 0)
     // where there is one (templ_in_placement), else after its parameters at
@@ -766,6 +774,18 @@ class SceneWriter {
     data_.push_back(w);
   }
 
+  // The unit quaternion of a placement that only rotates (scale 1, a proper
+  // rotation to within float64 rounding), else none.
+  static std::optional<glm::dquat> rotorOf(const ir::InstanceTransform& t) {
+    if (t.scale != 1 || glm::determinant(t.linear) <= 0) return std::nullopt;
+    const glm::dquat r = glm::normalize(glm::quat_cast(t.linear));
+    const glm::dmat3 back = glm::mat3_cast(r);
+    for (int c = 0; c < 3; ++c)
+      for (int k = 0; k < 3; ++k)
+        if (std::fabs(back[c][k] - t.linear[c][k]) > 1e-12) return std::nullopt;
+    return r;
+  }
+
   // Appends the set's hierarchy and records to the scene data, once per node.
   const InstanceLayout& instanceLayout(const ir::Node& n) {
     auto it = instance_layouts_.find(&n);
@@ -782,8 +802,11 @@ class SceneWriter {
     l.param_in_w = !l.affine && !l.mixed && set.param_count == 1 &&
                    std::all_of(set.instances.begin(), set.instances.end(),
                                [](const ir::Instance& i) { return i.material < 0; });
+    l.rotor = l.affine && std::all_of(set.instances.begin(), set.instances.end(), [&](const ir::Instance& i) {
+      return i.material < 0 && (i.transform < 0 || rotorOf(set.transforms[i.transform]).has_value());
+    });
     l.param_vec4 = l.param_in_w ? 0 : (set.param_count + (l.mixed && !l.templ_in_placement ? 1 : 0) + 3) / 4;
-    l.stride = (l.affine ? 4 : 1) + l.param_vec4;
+    l.stride = (l.rotor ? 2 : l.affine ? 4 : 1) + l.param_vec4;
     // Indices are stored as float values: exact below 2^24.
     l.nodes = data_.size() / 4;
     for (const ir::BvhNode& b : set.nodes) {
@@ -794,7 +817,11 @@ class SceneWriter {
     data_.reserve(data_.size() + set.size() * l.stride * 4);
     for (size_t i = 0; i < set.size(); ++i) {
       const ir::Instance& inst = set.instances[i];
-      if (l.affine) {
+      if (l.rotor) {
+        const glm::dquat r = inst.transform >= 0 ? *rotorOf(set.transforms[inst.transform]) : glm::dquat(1, 0, 0, 0);
+        pushVec4(float(r.x), float(r.y), float(r.z), float(r.w));
+        pushVec4(float(inst.offset.x), float(inst.offset.y), float(inst.offset.z), l.mixed ? float(inst.templ) : 0);
+      } else if (l.affine) {
         glm::dmat3 m(1.0);
         double scale = 1;
         if (inst.transform >= 0) {
@@ -1301,7 +1328,13 @@ class SceneWriter {
            << ") {\n";
     std::string material = "sd_data[rec].w";
     std::string scale;
-    if (l.affine) {
+    if (l.rotor) {
+      // q = r p r* + offset for the unit quaternion r = (r0.xyz, r0.w).
+      g.code << "  vec4 r0 = sd_data[rec], r1 = sd_data[rec + 1];\n";
+      g.code << "  vec3 c = 2.0 * cross(r0.xyz, p);\n";
+      g.code << "  vec3 q = p + r0.w * c + cross(r0.xyz, c) + r1.xyz;\n";
+      material = "";
+    } else if (l.affine) {
       g.code << "  vec4 r0 = sd_data[rec], r1 = sd_data[rec + 1], r2 = sd_data[rec + 2], e = sd_data[rec + 3];\n";
       g.code << "  vec3 q = vec3(dot(r0.xyz, p) + r0.w, dot(r1.xyz, p) + r1.w, dot(r2.xyz, p) + r2.w);\n";
       material = "e.y";
@@ -1312,12 +1345,12 @@ class SceneWriter {
       g.code << "  vec3 q = p + sd_data[rec].xyz;\n";
     }
     if (mat) {
-      if (l.param_in_w)
+      if (l.param_in_w || l.rotor)
         g.code << "  float m = inherited;\n";
       else
         g.code << "  float m = " << material << " >= 0.0 ? " << material << " : inherited;\n";
     }
-    const int base = l.affine ? 4 : 1;
+    const int base = l.rotor ? 2 : l.affine ? 4 : 1;
     for (int v = 0; v < l.param_vec4; ++v) g.code << "  vec4 a" << v << " = sd_data[rec + " << base + v << "];\n";
     auto slot = [&l](int j) {
       return l.param_in_w ? std::string("r0.w") : "a" + std::to_string(j / 4) + "." + "xyzw"[j % 4];
@@ -1351,7 +1384,7 @@ class SceneWriter {
       // One branch per template: lanes in lockstep run the branches some lane
       // takes, and a branch no lane takes is skipped.
       r = var(g, "part");
-      g.code << "  int t = int(" << (l.templ_in_placement ? std::string("e.z") : slot(set.param_count)) << ");\n";
+      g.code << "  int t = int(" << (l.rotor ? std::string("r1.w") : l.templ_in_placement ? std::string("e.z") : slot(set.param_count)) << ");\n";
       g.code << "  " << (mat ? "vec2 " : "float ") << r << ";\n";
       for (size_t t = 0; t < n.children.size(); ++t) {
         g.code << "  " << (t == 0 ? "" : "} else ") << (t + 1 < n.children.size() ? "if (t == " + std::to_string(t) + ") " : "") << "{\n";
