@@ -115,21 +115,34 @@ std::string overlappingSpheres(const std::string& op, bool materials) {
   return s.str();
 }
 
-TEST(Instances, HierarchyEqualsBruteForceAtRandomPoints) {
-  const CompiledScene data = checked(mixedScene(), 32);
-  const CompiledScene inline_form = checked(mixedScene(), 0);
+// The set's float64 value against the inline code's (brute force) at `count`
+// random points in the cube of half-edge `half`: equal to 1e-12, materials
+// too. Returns how many points lay near a surface (within 0.3) and inside.
+struct Probed {
+  int near = 0, inside = 0;
+};
+Probed expectEqualsInline(const std::string& text, double half, int count, unsigned seed) {
+  const CompiledScene data = checked(text, 32), inline_form = checked(text, 0);
+  EXPECT_GE(countKind(*data.scene.root, ir::NodeKind::Instances), 1);
   const Evaluator fast(data.scene), brute(inline_form.scene);
-  std::mt19937 rng(11);
-  std::uniform_real_distribution<double> u(-8, 8);
-  int near_surface = 0;
-  for (int i = 0; i < 4000; ++i) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-half, half);
+  Probed probed;
+  for (int i = 0; i < count; ++i) {
     const dvec3 p(u(rng), u(rng), u(rng));
     const EvalResult a = fast.at(p), b = brute.at(p);
-    ASSERT_NEAR(a.distance, b.distance, 1e-12 * (1 + std::fabs(b.distance))) << i;
+    EXPECT_NEAR(a.distance, b.distance, 1e-12 * (1 + std::fabs(b.distance))) << i;
     EXPECT_EQ(a.material, b.material) << i;
-    near_surface += std::fabs(b.distance) < 0.3;
+    if (testing::Test::HasFailure()) break;
+    probed.near += std::fabs(b.distance) < 0.3;
+    probed.inside += b.distance < 0;
   }
-  EXPECT_GT(near_surface, 100);  // the points probe the instances, not only empty space
+  return probed;
+}
+
+TEST(Instances, HierarchyEqualsBruteForceAtRandomPoints) {
+  // The points probe the instances, not only empty space.
+  EXPECT_GT(expectEqualsInline(mixedScene(), 8, 4000, 11).near, 100);
 }
 
 // Inside overlapping parts the value is the deepest part's: a box's
@@ -137,23 +150,8 @@ TEST(Instances, HierarchyEqualsBruteForceAtRandomPoints) {
 // signed box distance (a hard union of 400 overlapping spheres; with the
 // unsigned one, 3 points in 4,000 read up to 0.3 too shallow).
 TEST(Instances, HierarchyIsExactInsideOverlappingParts) {
-  for (bool materials : {false, true}) {
-    const CompiledScene data = checked(overlappingSpheres("union", materials), 32);
-    const CompiledScene inline_form = checked(overlappingSpheres("union", materials), 0);
-    ASSERT_EQ(countKind(*data.scene.root, ir::NodeKind::Instances), 1);
-    const Evaluator fast(data.scene), brute(inline_form.scene);
-    std::mt19937 rng(3);
-    std::uniform_real_distribution<double> u(-5.5, 5.5);
-    int inside = 0;
-    for (int i = 0; i < 20000; ++i) {
-      const dvec3 p(u(rng), u(rng), u(rng));
-      const EvalResult a = fast.at(p), b = brute.at(p);
-      ASSERT_NEAR(a.distance, b.distance, 1e-12 * (1 + std::fabs(b.distance))) << i;
-      EXPECT_EQ(a.material, b.material) << i;
-      inside += b.distance < 0;
-    }
-    EXPECT_GT(inside, 1000);
-  }
+  for (bool materials : {false, true})
+    EXPECT_GT(expectEqualsInline(overlappingSpheres("union", materials), 5.5, 20000, 3).inside, 1000);
 }
 
 // A dense cloud: 600 spheres in a 4 x 2 x 4 box, so that many grid cells
