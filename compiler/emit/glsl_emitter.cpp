@@ -1333,7 +1333,6 @@ class SceneWriter {
       g.code << "  vec4 r0 = sd_data[rec], r1 = sd_data[rec + 1];\n";
       g.code << "  vec3 c = 2.0 * cross(r0.xyz, p);\n";
       g.code << "  vec3 q = p + r0.w * c + cross(r0.xyz, c) + r1.xyz;\n";
-      material = "";
     } else if (l.affine) {
       g.code << "  vec4 r0 = sd_data[rec], r1 = sd_data[rec + 1], r2 = sd_data[rec + 2], e = sd_data[rec + 3];\n";
       g.code << "  vec3 q = vec3(dot(r0.xyz, p) + r0.w, dot(r1.xyz, p) + r1.w, dot(r2.xyz, p) + r2.w);\n";
