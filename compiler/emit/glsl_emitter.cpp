@@ -802,8 +802,12 @@ class SceneWriter {
     l.param_in_w = !l.affine && !l.mixed && set.param_count == 1 &&
                    std::all_of(set.instances.begin(), set.instances.end(),
                                [](const ir::Instance& i) { return i.material < 0; });
+    // Each shared transform's quaternion, computed once (none where it does more than rotate).
+    std::vector<std::optional<glm::dquat>> rotors;
+    if (l.affine)
+      for (const ir::InstanceTransform& t : set.transforms) rotors.push_back(rotorOf(t));
     l.rotor = l.affine && std::all_of(set.instances.begin(), set.instances.end(), [&](const ir::Instance& i) {
-      return i.material < 0 && (i.transform < 0 || rotorOf(set.transforms[i.transform]).has_value());
+      return i.material < 0 && (i.transform < 0 || rotors[i.transform].has_value());
     });
     l.param_vec4 = l.param_in_w ? 0 : (set.param_count + (l.mixed && !l.templ_in_placement ? 1 : 0) + 3) / 4;
     l.stride = (l.rotor ? 2 : l.affine ? 4 : 1) + l.param_vec4;
@@ -818,7 +822,7 @@ class SceneWriter {
     for (size_t i = 0; i < set.size(); ++i) {
       const ir::Instance& inst = set.instances[i];
       if (l.rotor) {
-        const glm::dquat r = inst.transform >= 0 ? *rotorOf(set.transforms[inst.transform]) : glm::dquat(1, 0, 0, 0);
+        const glm::dquat r = inst.transform >= 0 ? *rotors[inst.transform] : glm::dquat(1, 0, 0, 0);
         pushVec4(float(r.x), float(r.y), float(r.z), float(r.w));
         pushVec4(float(inst.offset.x), float(inst.offset.y), float(inst.offset.z), l.mixed ? float(inst.templ) : 0);
       } else if (l.affine) {
