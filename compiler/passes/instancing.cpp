@@ -42,13 +42,24 @@ bool containsInstances(const ir::Node& n) {
   return false;
 }
 
+// A union of one child is that child (a min or a blend of one value is
+// the value): `union(material: m) { part }`, the way a part is given its own
+// colour, is peeled like a transform, its material the part's unless the
+// part names its own.
+bool wrapper(const ir::Node& n) {
+  return n.definition.empty() &&
+         ((n.kind == ir::NodeKind::Affine) || (n.kind == ir::NodeKind::Union && n.children.size() == 1));
+}
+
 bool peel(const ir::NodeRef& child, Peeled& out) {
   ir::NodeRef n = child;
-  while (n->kind == ir::NodeKind::Affine && n->definition.empty()) {
-    // Outer map first: local2 = A2 (A1 p + b1) + b2.
-    out.offset = n->linear * out.offset + n->offset;
-    out.linear = n->linear * out.linear;
-    out.scale *= n->scale;
+  while (wrapper(*n)) {
+    if (n->kind == ir::NodeKind::Affine) {
+      // Outer map first: local2 = A2 (A1 p + b1) + b2.
+      out.offset = n->linear * out.offset + n->offset;
+      out.linear = n->linear * out.linear;
+      out.scale *= n->scale;
+    }
     if (n->material >= 0) out.material = n->material;
     n = n->children[0];
   }
