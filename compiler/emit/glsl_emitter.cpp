@@ -1448,8 +1448,13 @@ class SceneWriter {
       // smooth minimum lowers by at most k / 4 and none acts below m - k), so
       // a smooth set takes this exit only where that is at least half of m:
       // a positive bound, never a hit.
+      // Nor where what the nodes above take off (ir::Node::lowered: a round
+      // of the set) could bring the bound to 0.
+      const std::string floor = n.lowered > 0 ? " && sm[sp] > " + glslFloat(1.01 * n.lowered) +
+                                                    (smooth ? " + 1.25 * k" : "")
+                                              : "";
       g.code << "    if (sm[sp] >= sd[sp] && sd[sp] > " << glslFloat(kFarBoxFactor) << " * distance(a.xyz, b.xyz)"
-             << (smooth ? " && sm[sp] >= 2.5 * k" : "") << ") {\n";
+             << (smooth ? " && sm[sp] >= 2.5 * k" : "") << floor << ") {\n";
       g.code << "      " << best << " = min(" << best << ", sm[sp]" << (smooth ? " - 1.25 * k" : "") << ");\n";
       g.code << "      sp = 0;\n      break;\n    }\n";
       g.code << "    int first = int(a.w), count = int(b.w);\n";

@@ -117,6 +117,13 @@ struct Node {
   bool exact = true;
   double lipschitz = 1.0;
   double cost = 0;
+  // The most the nodes above may lower this node's field before the march
+  // compares it with 0 (a round's radius, a shell's half wall, a displace's
+  // amplitude, 1.25 k of a smooth blend), in this node's units. Where the
+  // node stands in a lower bound for its field (an instance grid's reach, a
+  // hierarchy's box, a union's box check), the bound must exceed this, or
+  // the field above would cross 0 where the surface is not (passes/analyze.cpp).
+  double lowered = 0;
   // Filled by passes/bounds_plan.cpp on a CPU device: the union above checks
   // this child's box first (box_check), and the share of the sampled steps
   // that would skip it (-1: not sampled).

@@ -733,8 +733,67 @@ PolarSectors polarSectors(const ir::Node& n) {
   return s;
 }
 
+namespace {
+
+void clearLowered(ir::Node& n, std::unordered_set<const ir::Node*>& seen) {
+  if (!seen.insert(&n).second) return;
+  n.lowered = 0;
+  for (const ir::NodeRef& c : n.children) clearLowered(*c, seen);
+}
+
+// ir::Node::lowered, top down: what each node above may take off its value.
+// A shared node (a `let` shape used twice) keeps the most of its uses.
+void markLowered(ir::Node& n, double by, std::unordered_set<const ir::Node*>& seen) {
+  if (!seen.insert(&n).second && by <= n.lowered) return;
+  n.lowered = std::max(n.lowered, by);
+  double below = by;
+  switch (n.kind) {
+    case ir::NodeKind::Round:
+    case ir::NodeKind::Shell:
+    case ir::NodeKind::Displace:
+      // child - r, |child| - r, child + a noise (|noise| <= 1).
+      below += std::max(std::fabs(n.amount.range().lo), std::fabs(n.amount.range().hi));
+      break;
+    case ir::NodeKind::Union:
+    case ir::NodeKind::Intersect:
+    case ir::NodeKind::Subtract:
+    case ir::NodeKind::Instances:
+      // A smooth blend lowers (raises) the nearest value by at most 1.25 k
+      // (docs/language.md).
+      if (!n.smooth.isConst() || n.smooth.value > 0) below += 1.25 * std::fabs(n.smooth.range().hi);
+      break;
+    case ir::NodeKind::Scale: {
+      // s child(p / s): the child's units are 1 / s of these.
+      const double s = n.amount.range().lo;
+      below = s > 0 ? below / s : below;
+      break;
+    }
+    case ir::NodeKind::ScaleNonUniform: {
+      const double s = std::min({n.vec.x.range().lo, n.vec.y.range().lo, n.vec.z.range().lo});
+      below = s > 0 ? below / s : below;
+      break;
+    }
+    case ir::NodeKind::Affine:
+      below = n.scale > 0 ? below / n.scale : below;
+      break;
+    default:
+      // Twist and bend divide their child's field by a stretch that analyze
+      // finds below them (bottom up): an offset above a deformation above a
+      // set is not carried through them here (docs/design/large_scenes.md).
+      break;
+  }
+  if (!std::isfinite(below)) below = by;
+  for (const ir::NodeRef& c : n.children) markLowered(*c, below, seen);
+}
+
+}  // namespace
+
 void analyze(ir::Scene& scene, Diagnostics& diags) {
   if (!scene.root) return;
+  std::unordered_set<const ir::Node*> seen;
+  clearLowered(*scene.root, seen);
+  seen.clear();
+  markLowered(*scene.root, 0, seen);
   Analyzer analyzer(scene, diags);
   analyzer.visit(*scene.root);
 }

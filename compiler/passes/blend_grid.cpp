@@ -73,6 +73,9 @@ struct Shared {
   const std::vector<double>& lipschitz;
   const std::vector<bool>& exact;
   bool all_exact;
+  // What the nodes above may take off the set's value (ir::Node::lowered):
+  // a far cell's bound and the margin must exceed it.
+  double lowered = 0;
   std::vector<Aabb> boxes;
   double slack = 0;
   size_t budget = 0;
@@ -209,7 +212,7 @@ class SliceBuilder {
     if (!sh_.all_exact) return false;
     nearest(box, 1, candidates_);
     const double g = sh_.boxes[candidates_[0]].distance(box);
-    if (g - 1.25 * sh_.k < 0.5 * glm::length(box.hi - box.lo)) return false;
+    if (g - 1.25 * sh_.k < std::max(0.5 * glm::length(box.hi - box.lo), 1.01 * sh_.lowered)) return false;
     Slice& s = *out_;
     s.first[c] = static_cast<std::uint32_t>(s.entries.size());
     s.count[c] = 0;
@@ -335,6 +338,7 @@ class BlendGridBuilder {
     if (n == 0 || set_.nodes.empty()) return false;
     std::vector<Aabb>& boxes = sh_.boxes;
     const double k = sh_.k;
+    sh_.lowered = node_.lowered;
     boxes.resize(n);
     std::vector<double> sizes(n);
     Aabb bounds;
@@ -355,7 +359,7 @@ class BlendGridBuilder {
     dvec3 dims;
     double pad = 0;
     for (;;) {
-      pad = 1.25 * k + 0.5 * cell;
+      pad = 1.25 * k + std::max(0.5 * cell, 1.01 * node_.lowered);
       dims = glm::ceil((bounds.hi - bounds.lo + 2.0 * pad) / cell);
       if (dims.x * dims.y * dims.z <= max_cells) break;
       cell *= 1.05;

@@ -68,9 +68,14 @@ void buildInstanceGrid(ir::InstanceSet& set, const ir::Node& node) {
   if (ir::isSphereCloud(set, templ)) max_cells = std::min(max_cells, kMaxSphereCloudCells);
   double cell =
       std::max(std::cbrt(extent.x * extent.y * extent.z / std::min(kGridCellsPerInstance * double(n), max_cells)), typical);
+  // A bound the grid gives (a reach, the margin) must exceed what the nodes
+  // above may take off it (ir::Node::lowered: a round's radius above the
+  // set), or the field would cross 0 in empty space: every reach is more
+  // than `reach_floor`, a cell that cannot have one being crowded.
+  const double reach_floor = node.lowered, floor_target = node.lowered > 0 ? 1.01 * node.lowered : 0;
   glm::dvec3 dims;
   for (;;) {
-    g.margin = kReachInCells * cell;
+    g.margin = std::max(kReachInCells * cell, floor_target);
     dims = glm::ceil((bounds.hi - bounds.lo + 2.0 * g.margin) / cell);
     if (dims.x * dims.y * dims.z <= max_cells) break;
     cell *= 1.05;
@@ -167,7 +172,7 @@ void buildInstanceGrid(ir::InstanceSet& set, const ir::Node& node) {
         keep = list_max;
         while (keep > 0 && near[keep - 1].first >= r) --keep;
       }
-      if (r > 0) break;
+      if (r > reach_floor) break;
     }
     g.first[c] = static_cast<std::uint32_t>(g.entries.size());
     g.reach[c] = r;
@@ -175,7 +180,7 @@ void buildInstanceGrid(ir::InstanceSet& set, const ir::Node& node) {
     // steps in it would never leave it. (A small reach only makes small
     // steps: still right, unlike a hierarchy that runs out of visits and
     // returns a box distance.)
-    if (!(r > 0)) {
+    if (!(r > reach_floor)) {
       g.count[c] = ir::kGridCrowded;
       return;
     }
@@ -211,7 +216,8 @@ void buildInstanceGrid(ir::InstanceSet& set, const ir::Node& node) {
         const dvec3 lo = g.lo + dvec3(x, y, z) * cell;
         for (int o = 0; o < 8; ++o) {
           const dvec3 sub_lo = lo + dvec3(o & 1, (o >> 1) & 1, (o >> 2) & 1) * half;
-          listCell(sub + size_t(o), Aabb{sub_lo, sub_lo + half}, c, kReachInCells * half, true);
+          listCell(sub + size_t(o), Aabb{sub_lo, sub_lo + half}, c,
+                   std::max(kReachInCells * half, std::min(reach, floor_target)), true);
         }
       }
   if (g.entries.size() > ir::kGridMaxEntry) g = ir::InstanceGrid{};

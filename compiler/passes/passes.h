@@ -7,6 +7,7 @@
 //  rebaseToCamera: (compile only) a far scene moves to the camera's frame.
 //  deriveMarchLimits: max distance, step budget and hit epsilon per scene.
 #pragma once
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include "diag/diagnostics.h"
@@ -59,7 +60,10 @@ double stretchBelow(const ir::Node& n);
 inline bool boxCheckCandidate(const ir::Node& c, double cost_threshold) {
   return c.cost >= cost_threshold && c.bounds.finite();
 }
-inline double boxCheckMargin(const ir::Node& c) { return 0.1 * glm::length(c.bounds.halfSize()); }
+// (Beyond what the nodes above may take off it too: ir::Node::lowered.)
+inline double boxCheckMargin(const ir::Node& c) {
+  return std::max(0.1 * glm::length(c.bounds.halfSize()), 1.01 * c.lowered);
+}
 // Whether `n` hands its child's distance up unchanged: a translation, a
 // rotation, a reflection, a rigid transform. A hard union's cut (what it has so
 // far, which the emitter passes down to a nested hard union's box checks)
