@@ -759,8 +759,11 @@ void markLowered(ir::Node& n, double by, std::unordered_set<const ir::Node*>& se
     case ir::NodeKind::Subtract:
     case ir::NodeKind::Instances:
       // A smooth blend lowers (raises) the nearest value by at most 1.25 k
-      // (docs/language.md).
-      if (!n.smooth.isConst() || n.smooth.value > 0) below += 1.25 * std::fabs(n.smooth.range().hi);
+      // (docs/language.md); one child has nothing to blend with (a set's
+      // copies do).
+      if ((!n.smooth.isConst() || n.smooth.value > 0) &&
+          (n.children.size() > 1 || n.kind == ir::NodeKind::Instances))
+        below += 1.25 * std::fabs(n.smooth.range().hi);
       break;
     case ir::NodeKind::Scale: {
       // s child(p / s): the child's units are 1 / s of these.
