@@ -639,6 +639,51 @@ TEST_F(ManyPartsGpu, CarvedAndIntersectedSetsAreExact) {
   expectExact("a sphere intersected with a smooth blend of 5 x 60 parts", cut);
 }
 
+// Copies' own materials of every model (metal, glass, emissive, diffuse),
+// which live only in the set's data: the kernel keeps each model's code, and
+// the beauty image is the inline code's. Before, the kernel dropped the
+// models only copies used (they are on no node): metal copies drew black.
+TEST_F(ManyPartsGpu, CopiesOwnMaterialsOfEveryModelAreShaded) {
+  std::ostringstream s;
+  s << "camera(position: [0, 2, 9], target: [0, 0, 0], fov: 40)\nsun(direction: [0.3, 1, 0.4])\n"
+       "let gold = metal(albedo: [0.9, 0.7, 0.3], roughness: 0.2)\nlet clear = glass(ior: 1.5)\n"
+       "let lamp = emissive(color: [1, 0.8, 0.6], strength: 3)\nlet clay = diffuse(albedo: [0.7, 0.4, 0.3])\n"
+       "scene {\n  union {\n";
+  const char* mats[] = {"gold", "clear", "lamp", "clay"};
+  for (int i = 0; i < 64; ++i)
+    s << "    translate([" << (i % 8) - 3.5 << ", " << (i / 8) * 0.6 - 2.1 << ", " << 0.3 * (i % 3)
+      << "]) { sphere(radius: " << 0.22 + 0.01 * (i % 5) << ", material: " << mats[(i / 2) % 4] << ") }\n";
+  s << "  }\n}\n";
+  FloatImage images[2];
+  for (int threshold : {32, 0}) {
+    CompileOptions options;
+    options.instancing.threshold = threshold;
+    Diagnostics diags;
+    const CompiledScene c = compileSource("materials.sdf", s.str(), options, diags);
+    ASSERT_TRUE(c.ok) << diags.format();
+    EXPECT_EQ(c.emitted.stats.instance_sets, threshold ? 1 : 0);
+    for (const char* model : {"SDFC_HAS_METAL", "SDFC_HAS_GLASS", "SDFC_HAS_EMISSIVE", "SDFC_HAS_DIFFUSE"})
+      EXPECT_TRUE(c.emitted.stats.features.count(model)) << model << " threshold " << threshold;
+    RenderOverrides o;
+    o.width = 96;
+    o.height = 54;
+    o.spp = 16;
+    Renderer r(*context_, c);
+    images[threshold ? 0 : 1] = r.render(cameraFor(c.scene), renderSettingsFor(c, o)).color;
+  }
+  // The same paths through the same surfaces: equal up to float rounding.
+  double mean[2] = {0, 0}, worst = 0;
+  for (size_t i = 0; i < images[0].rgba.size(); ++i) {
+    if (i % 4 == 3) continue;
+    mean[0] += images[0].rgba[i];
+    mean[1] += images[1].rgba[i];
+    worst = std::max(worst, double(std::fabs(images[0].rgba[i] - images[1].rgba[i])));
+  }
+  EXPECT_NEAR(mean[0], mean[1], 0.01 * mean[1]);
+  std::printf("[ parts    ] own materials: sums %.1f (set) and %.1f (code), worst channel difference %.3g\n", mean[0],
+              mean[1], worst);
+}
+
 // `text`'s scene (one shape in `scene { }`) inside `op { ... }`.
 std::string wrapScene(const std::string& text, const std::string& op) {
   std::string s = text;

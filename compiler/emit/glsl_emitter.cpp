@@ -2023,6 +2023,18 @@ std::vector<bool> usedMaterials(const ir::Scene& scene, bool& unassigned) {
       if (m >= 0) used[m] = true;
       else unassigned = true;
     }
+    if (n.kind == ir::NodeKind::Instances) {
+      // A copy's own material is in the set's data, not on a node: each
+      // template once per distinct material its copies carry (without this
+      // the kernel lost the model of a material only copies use: metal
+      // parts of a set rendered black).
+      std::set<std::pair<int, int>> seen;
+      for (const ir::Instance& inst : n.instances->instances) {
+        const int mi = inst.material >= 0 ? inst.material : m;
+        if (seen.insert({mi, inst.templ}).second) walk(*n.children[inst.templ], mi);
+      }
+      return;
+    }
     for (const ir::NodeRef& c : n.children) walk(*c, m);
   };
   if (scene.root) walk(*scene.root, -1);
