@@ -639,7 +639,8 @@ TEST_F(ManyPartsGpu, CarvedAndIntersectedSetsAreExact) {
   expectExact("a sphere intersected with a smooth blend of 5 x 60 parts", cut);
 }
 
-// Copies' own materials of every model (metal, glass, emissive, diffuse),
+// Copies' own materials of every model (metal, glass, emissive, diffuse, a
+// colour field),
 // which live only in the set's data: the kernel keeps each model's code, and
 // the beauty image is the inline code's. Before, the kernel dropped the
 // models only copies used (they are on no node): metal copies drew black.
@@ -648,11 +649,12 @@ TEST_F(ManyPartsGpu, CopiesOwnMaterialsOfEveryModelAreShaded) {
   s << "camera(position: [0, 2, 9], target: [0, 0, 0], fov: 40)\nsun(direction: [0.3, 1, 0.4])\n"
        "let gold = metal(albedo: [0.9, 0.7, 0.3], roughness: 0.2)\nlet clear = glass(ior: 1.5)\n"
        "let lamp = emissive(color: [1, 0.8, 0.6], strength: 3)\nlet clay = diffuse(albedo: [0.7, 0.4, 0.3])\n"
+       "let tiles = diffuse(albedo: checker(a: [0.9, 0.9, 0.9], b: [0.1, 0.1, 0.6], size: 0.1))\n"
        "scene {\n  union {\n";
-  const char* mats[] = {"gold", "clear", "lamp", "clay"};
+  const char* mats[] = {"gold", "clear", "lamp", "clay", "tiles"};
   for (int i = 0; i < 64; ++i)
     s << "    translate([" << (i % 8) - 3.5 << ", " << (i / 8) * 0.6 - 2.1 << ", " << 0.3 * (i % 3)
-      << "]) { sphere(radius: " << 0.22 + 0.01 * (i % 5) << ", material: " << mats[(i / 2) % 4] << ") }\n";
+      << "]) { sphere(radius: " << 0.22 + 0.01 * (i % 5) << ", material: " << mats[(i / 2) % 5] << ") }\n";
   s << "  }\n}\n";
   FloatImage images[2];
   for (int threshold : {32, 0}) {
