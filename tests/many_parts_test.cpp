@@ -695,7 +695,7 @@ std::string wrapScene(const std::string& text, const std::string& op) {
 }
 
 // A set under what lowers its field (a round, a shell, a displace, a smooth
-// blend with another shape, and such under a scale): a bound the set gives
+// blend with another shape, a morph, and such under a scale or a twist): a bound the set gives
 // for parts it does not list (a grid cell's reach, a box of its hierarchy)
 // must stay above what is taken off, or the field crosses 0 in empty space.
 // Before, these drew 1,111 of 4,825 hit pixels off the surface (up to 8.6
@@ -713,6 +713,14 @@ TEST_F(ManyPartsGpu, OffsetsAboveASetNeverStopOnItsBounds) {
   // The parts at half size rounded by 0.05, twice as large: rounded by 0.1.
   expectExact("scale 2 of round 0.05 of scale 0.5 of 5 x 60 parts",
               wrapScene(wrapScene(wrapScene(hard, "scale(0.5)"), "round(radius: 0.05)"), "scale(2)"), 50);
+  // Known only after the bottom-up pass: a twist's stretch, and how deep
+  // the other shape of a morph goes (the set's grid is built again for them).
+  expectExact("round 0.1 of a twist of 5 x 60 parts", wrapScene(wrapScene(hard, "twist(rate: 20)"), "round(radius: 0.1)"),
+              50);
+  std::string morph = hard;
+  morph.replace(morph.find("scene {\n"), 8, "scene {\n  morph(t: 0.4) {\n  sphere(radius: 1.5)\n");
+  morph.insert(morph.rfind('}'), "}\n");
+  expectExact("a morph 0.4 of a sphere and 5 x 60 parts", morph, 50);  // 8 of 556 as inline code too
   std::string blend = hard;
   blend.replace(blend.find("scene {\n"), 8, "scene {\n  union(smooth: 0.3) {\n  sphere(radius: 0.5)\n");
   blend.insert(blend.rfind('}'), "}\n");

@@ -1450,9 +1450,10 @@ class SceneWriter {
       // a positive bound, never a hit.
       // Nor where what the nodes above take off (ir::Node::lowered: a round
       // of the set) could bring the bound to 0.
-      const std::string floor = n.lowered > 0 ? " && sm[sp] > " + glslFloat(1.01 * n.lowered) +
-                                                    (smooth ? " + 1.25 * k" : "")
-                                              : "";
+      const std::string floor = !(n.lowered < 1e30) ? " && false"
+                                : n.lowered > 0        ? " && sm[sp] > " + glslFloat(1.01 * n.lowered) +
+                                                      (smooth ? " + 1.25 * k" : "")
+                                                       : "";
       g.code << "    if (sm[sp] >= sd[sp] && sd[sp] > " << glslFloat(kFarBoxFactor) << " * distance(a.xyz, b.xyz)"
              << (smooth ? " && sm[sp] >= 2.5 * k" : "") << floor << ") {\n";
       g.code << "      " << best << " = min(" << best << ", sm[sp]" << (smooth ? " - 1.25 * k" : "") << ");\n";

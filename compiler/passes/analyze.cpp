@@ -110,6 +110,15 @@ class Analyzer {
  public:
   Analyzer(const ir::Scene& scene, Diagnostics& diags) : scene_(scene), diags_(diags) {}
 
+  // The grid of set n, for its ir::Node::lowered (built with a smaller one).
+  void rebuildGrid(ir::Node& n) {
+    ir::InstanceSet& set = *n.instances;
+    if (set.nodes.empty() || set.size() == 0) return;
+    set.grid = ir::InstanceGrid{};
+    buildGrid(n);
+  }
+
+
   void visit(ir::Node& n) {
     if (!done_.insert(&n).second) return;
     for (const ir::NodeRef& c : n.children) visit(*c);
@@ -310,20 +319,27 @@ class Analyzer {
     n.cost += 0.1 * static_cast<double>(n.children.size());
   }
 
+  void buildGrid(ir::Node& n) {
+    ir::InstanceSet& set = *n.instances;
+    // What is taken off above is beyond any reach: the hierarchy alone, exact.
+    if (!std::isfinite(n.lowered)) return;
+    if (n.smooth.isConst() && n.smooth.value == 0) {
+      buildInstanceGrid(set, n);
+    } else if (!scene_.uses_time) {
+      // Lists proven per cell from the members' values at its centre (at
+      // time 0: a scene that moves keeps the hierarchy alone).
+      const Evaluator eval(scene_);
+      buildBlendGrid(set, n, upper(n.smooth),
+                     [&](size_t i, const glm::dvec3& p) { return eval.instanceDistance(n, i, p); });
+    }
+  }
+
   void instances(ir::Node& n) {
     ir::InstanceSet& set = *n.instances;
     const bool smooth = !n.smooth.isConst() || n.smooth.value > 0;
     if (set.nodes.empty() && set.size() > 0) {
       buildInstanceHierarchy(set, n);
-      if (!smooth) {
-        buildInstanceGrid(set, n);
-      } else if (!scene_.uses_time) {
-        // Lists proven per cell from the members' values at its centre (at
-        // time 0: a scene that moves keeps the hierarchy alone).
-        const Evaluator eval(scene_);
-        buildBlendGrid(set, n, upper(n.smooth),
-                       [&](size_t i, const glm::dvec3& p) { return eval.instanceDistance(n, i, p); });
-      }
+      buildGrid(n);
     }
     n.bounds = set.nodes.empty() ? Aabb{} : set.nodes[0].box;
     if (smooth && n.bounds.finite()) n.bounds = n.bounds.grow(upper(n.smooth) / 4);
@@ -741,8 +757,18 @@ void clearLowered(ir::Node& n, std::unordered_set<const ir::Node*>& seen) {
   for (const ir::NodeRef& c : n.children) clearLowered(*c, seen);
 }
 
+// The deepest a field can be inside a shape within `b`: half its thinnest
+// side (an exact field or a bound, either no deeper than the true depth).
+double deepestInside(const Aabb& b) {
+  if (!b.finite()) return std::numeric_limits<double>::infinity();
+  if (b.empty()) return 0;
+  return 0.5 * std::min({b.hi.x - b.lo.x, b.hi.y - b.lo.y, b.hi.z - b.lo.z});
+}
+
 // ir::Node::lowered, top down: what each node above may take off its value.
-// A shared node (a `let` shape used twice) keeps the most of its uses.
+// A shared node (a `let` shape used twice) keeps the most of its uses. Run
+// before analyze's bottom-up pass (which builds the sets' grids) and again
+// after it, when the bounds and the deformations' stretches below are known.
 void markLowered(ir::Node& n, double by, std::unordered_set<const ir::Node*>& seen) {
   if (!seen.insert(&n).second && by <= n.lowered) return;
   n.lowered = std::max(n.lowered, by);
@@ -750,10 +776,33 @@ void markLowered(ir::Node& n, double by, std::unordered_set<const ir::Node*>& se
   switch (n.kind) {
     case ir::NodeKind::Round:
     case ir::NodeKind::Shell:
-    case ir::NodeKind::Displace:
-      // child - r, |child| - r, child + a noise (|noise| <= 1).
+      // child - r, |child| - r.
       below += std::max(std::fabs(n.amount.range().lo), std::fabs(n.amount.range().hi));
       break;
+    case ir::NodeKind::Displace:
+      // (child + a noise) / stretch, |noise| <= 1.
+      below = below * n.deform_lipschitz + std::max(std::fabs(n.amount.range().lo), std::fabs(n.amount.range().hi));
+      break;
+    case ir::NodeKind::Twist:
+    case ir::NodeKind::Bend:
+      // child / stretch.
+      below *= n.deform_lipschitz;
+      break;
+    case ir::NodeKind::Morph: {
+      // t a + (1 - t) b: a bound in a is brought down by the other's weight
+      // times how deep inside b can be, and divided by a's weight. Outside
+      // t in [0, 1], or with a weight near 0, nothing can be taken off.
+      const ir::Interval t = n.amount.range();
+      const double inf = std::numeric_limits<double>::infinity();
+      for (int i = 0; i < 2 && n.children.size() == 2; ++i) {
+        const double w_lo = i == 0 ? t.lo : 1 - t.hi, w_hi = i == 0 ? t.hi : 1 - t.lo;
+        const double other = w_lo >= 0 && w_hi <= 1 && w_lo > 0.01
+                                 ? (below + (1 - w_lo) * deepestInside(n.children[1 - i]->bounds)) / w_lo
+                                 : inf;
+        markLowered(*n.children[i], std::isfinite(other) ? other : inf, seen);
+      }
+      return;
+    }
     case ir::NodeKind::Union:
     case ir::NodeKind::Intersect:
     case ir::NodeKind::Subtract:
@@ -780,13 +829,16 @@ void markLowered(ir::Node& n, double by, std::unordered_set<const ir::Node*>& se
       below = n.scale > 0 ? below / n.scale : below;
       break;
     default:
-      // Twist and bend divide their child's field by a stretch that analyze
-      // finds below them (bottom up): an offset above a deformation above a
-      // set is not carried through them here (docs/design/large_scenes.md).
       break;
   }
-  if (!std::isfinite(below)) below = by;
+  if (std::isnan(below)) below = std::numeric_limits<double>::infinity();
   for (const ir::NodeRef& c : n.children) markLowered(*c, below, seen);
+}
+
+void collectSets(ir::Node& n, std::unordered_set<const ir::Node*>& seen, std::vector<ir::Node*>& out) {
+  if (!seen.insert(&n).second) return;
+  if (n.kind == ir::NodeKind::Instances) out.push_back(&n);
+  for (const ir::NodeRef& c : n.children) collectSets(*c, seen, out);
 }
 
 }  // namespace
@@ -799,6 +851,20 @@ void analyze(ir::Scene& scene, Diagnostics& diags) {
   markLowered(*scene.root, 0, seen);
   Analyzer analyzer(scene, diags);
   analyzer.visit(*scene.root);
+  // Again with the bounds and stretches the pass found: a set below a
+  // deformation or a morph may need more than its grid was built for.
+  std::vector<ir::Node*> sets;
+  seen.clear();
+  collectSets(*scene.root, seen, sets);
+  if (sets.empty()) return;
+  std::vector<double> built;
+  for (const ir::Node* n : sets) built.push_back(n->lowered);
+  seen.clear();
+  clearLowered(*scene.root, seen);
+  seen.clear();
+  markLowered(*scene.root, 0, seen);
+  for (size_t i = 0; i < sets.size(); ++i)
+    if (sets[i]->lowered > built[i]) analyzer.rebuildGrid(*sets[i]);
 }
 
 namespace {

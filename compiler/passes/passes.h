@@ -62,7 +62,7 @@ inline bool boxCheckCandidate(const ir::Node& c, double cost_threshold) {
 }
 // (Beyond what the nodes above may take off it too: ir::Node::lowered.)
 inline double boxCheckMargin(const ir::Node& c) {
-  return std::max(0.1 * glm::length(c.bounds.halfSize()), 1.01 * c.lowered);
+  return std::max(0.1 * glm::length(c.bounds.halfSize()), std::min(1.01 * c.lowered, 1e30));
 }
 // Whether `n` hands its child's distance up unchanged: a translation, a
 // rotation, a reflection, a rigid transform. A hard union's cut (what it has so
