@@ -652,9 +652,17 @@ TEST_F(ManyPartsGpu, CopiesOwnMaterialsOfEveryModelAreShaded) {
        "let tiles = diffuse(albedo: checker(a: [0.9, 0.9, 0.9], b: [0.1, 0.1, 0.6], size: 0.1))\n"
        "scene {\n  union {\n";
   const char* mats[] = {"gold", "clear", "lamp", "clay", "tiles"};
-  for (int i = 0; i < 64; ++i)
-    s << "    translate([" << (i % 8) - 3.5 << ", " << (i / 8) * 0.6 - 2.1 << ", " << 0.3 * (i % 3)
-      << "]) { sphere(radius: " << 0.22 + 0.01 * (i % 5) << ", material: " << mats[(i / 2) % 5] << ") }\n";
+  // Spheres and rotated boxes: a mixed set of rotations alone, whose records
+  // carry template and material in one float.
+  for (int i = 0; i < 64; ++i) {
+    const std::string m = std::string(", material: ") + mats[(i / 2) % 5] + ")";
+    s << "    translate([" << (i % 8) - 3.5 << ", " << (i / 8) * 0.6 - 2.1 << ", " << 0.3 * (i % 3) << "]) { ";
+    if (i % 3 == 0)
+      s << "rotate(axis: [1, 2, 0.5], degrees: " << 7 * i << ") { box(size: [0.4, 0.3, 0.35]" << m << " }";
+    else
+      s << "sphere(radius: " << 0.22 + 0.01 * (i % 5) << m;
+    s << " }\n";
+  }
   s << "  }\n}\n";
   FloatImage images[2];
   for (int threshold : {32, 0}) {
@@ -664,6 +672,7 @@ TEST_F(ManyPartsGpu, CopiesOwnMaterialsOfEveryModelAreShaded) {
     const CompiledScene c = compileSource("materials.sdf", s.str(), options, diags);
     ASSERT_TRUE(c.ok) << diags.format();
     EXPECT_EQ(c.emitted.stats.instance_sets, threshold ? 1 : 0);
+    if (threshold) EXPECT_NE(c.emitted.glsl.find("int w = int(r1.w);"), std::string::npos);
     for (const char* model : {"SDFC_HAS_METAL", "SDFC_HAS_GLASS", "SDFC_HAS_EMISSIVE", "SDFC_HAS_DIFFUSE"})
       EXPECT_TRUE(c.emitted.stats.features.count(model)) << model << " threshold " << threshold;
     RenderOverrides o;

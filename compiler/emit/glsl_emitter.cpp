@@ -509,9 +509,13 @@ class SceneWriter {
     // One parameter and no material of its own (a molecule's radii): it rides
     // in the offset's w, records of one vec4.
     bool param_in_w = false;
-    // Affine records of rotations alone (no scale, no material of their own):
-    // a unit quaternion, then (offset, template), 2 vec4 instead of 4.
+    // Affine records of rotations alone (no scale): a unit quaternion, then
+    // (offset, template), 2 vec4 instead of 4.
     bool rotor = false;
+    // Rotor records of copies with materials of their own: the fourth float
+    // is template + 256 (material + 1) (exact in float: at most 256
+    // templates and 65,535 materials).
+    bool rotor_material = false;
     // A mixed set (several templates): each record carries its template index,
     // in the affine placement's fourth vec4 (scale, material, template, 0)
     // where there is one (templ_in_placement), else after its parameters at
@@ -806,9 +810,13 @@ class SceneWriter {
     std::vector<std::optional<glm::dquat>> rotors;
     if (l.affine)
       for (const ir::InstanceTransform& t : set.transforms) rotors.push_back(rotorOf(t));
+    const bool packable = n.children.size() <= 256;
     l.rotor = l.affine && std::all_of(set.instances.begin(), set.instances.end(), [&](const ir::Instance& i) {
-      return i.material < 0 && (i.transform < 0 || rotors[i.transform].has_value());
+      return (i.material < 0 || (packable && i.material < 65535)) &&
+             (i.transform < 0 || rotors[i.transform].has_value());
     });
+    l.rotor_material = l.rotor && std::any_of(set.instances.begin(), set.instances.end(),
+                                              [](const ir::Instance& i) { return i.material >= 0; });
     l.param_vec4 = l.param_in_w ? 0 : (set.param_count + (l.mixed && !l.templ_in_placement ? 1 : 0) + 3) / 4;
     l.stride = (l.rotor ? 2 : l.affine ? 4 : 1) + l.param_vec4;
     // Indices are stored as float values: exact below 2^24.
@@ -824,7 +832,8 @@ class SceneWriter {
       if (l.rotor) {
         const glm::dquat r = inst.transform >= 0 ? *rotors[inst.transform] : glm::dquat(1, 0, 0, 0);
         pushVec4(float(r.x), float(r.y), float(r.z), float(r.w));
-        pushVec4(float(inst.offset.x), float(inst.offset.y), float(inst.offset.z), l.mixed ? float(inst.templ) : 0);
+        const float w = l.rotor_material ? float(inst.templ + 256 * (inst.material + 1)) : l.mixed ? float(inst.templ) : 0;
+        pushVec4(float(inst.offset.x), float(inst.offset.y), float(inst.offset.z), w);
       } else if (l.affine) {
         glm::dmat3 m(1.0);
         double scale = 1;
@@ -1337,6 +1346,7 @@ class SceneWriter {
       g.code << "  vec4 r0 = sd_data[rec], r1 = sd_data[rec + 1];\n";
       g.code << "  vec3 c = 2.0 * cross(r0.xyz, p);\n";
       g.code << "  vec3 q = p + r0.w * c + cross(r0.xyz, c) + r1.xyz;\n";
+      if (l.rotor_material) g.code << "  int w = int(r1.w);  // template + 256 (material + 1)\n";
     } else if (l.affine) {
       g.code << "  vec4 r0 = sd_data[rec], r1 = sd_data[rec + 1], r2 = sd_data[rec + 2], e = sd_data[rec + 3];\n";
       g.code << "  vec3 q = vec3(dot(r0.xyz, p) + r0.w, dot(r1.xyz, p) + r1.w, dot(r2.xyz, p) + r2.w);\n";
@@ -1348,7 +1358,9 @@ class SceneWriter {
       g.code << "  vec3 q = p + sd_data[rec].xyz;\n";
     }
     if (mat) {
-      if (l.param_in_w || l.rotor)
+      if (l.rotor_material)
+        g.code << "  float m = w >= 256 ? float((w >> 8) - 1) : inherited;\n";
+      else if (l.param_in_w || l.rotor)
         g.code << "  float m = inherited;\n";
       else
         g.code << "  float m = " << material << " >= 0.0 ? " << material << " : inherited;\n";
@@ -1387,7 +1399,12 @@ class SceneWriter {
       // One branch per template: lanes in lockstep run the branches some lane
       // takes, and a branch no lane takes is skipped.
       r = var(g, "part");
-      g.code << "  int t = int(" << (l.rotor ? std::string("r1.w") : l.templ_in_placement ? std::string("e.z") : slot(set.param_count)) << ");\n";
+      g.code << "  int t = "
+             << (l.rotor_material ? std::string("w & 255")
+                 : l.rotor        ? std::string("int(r1.w)")
+                 : l.templ_in_placement ? std::string("int(e.z)")
+                                        : "int(" + slot(set.param_count) + ")")
+             << ";\n";
       g.code << "  " << (mat ? "vec2 " : "float ") << r << ";\n";
       for (size_t t = 0; t < n.children.size(); ++t) {
         g.code << "  " << (t == 0 ? "" : "} else ") << (t + 1 < n.children.size() ? "if (t == " + std::to_string(t) + ") " : "") << "{\n";
