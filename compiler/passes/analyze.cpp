@@ -118,7 +118,6 @@ class Analyzer {
     buildGrid(n);
   }
 
-
   void visit(ir::Node& n) {
     if (!done_.insert(&n).second) return;
     for (const ir::NodeRef& c : n.children) visit(*c);
@@ -863,8 +862,10 @@ void analyze(ir::Scene& scene, Diagnostics& diags) {
   clearLowered(*scene.root, seen);
   seen.clear();
   markLowered(*scene.root, 0, seen);
+  // (A grid not built for want of a finite value, bounds unknown then, is built now.)
   for (size_t i = 0; i < sets.size(); ++i)
-    if (sets[i]->lowered > built[i]) analyzer.rebuildGrid(*sets[i]);
+    if (sets[i]->lowered > built[i] || (!std::isfinite(built[i]) && std::isfinite(sets[i]->lowered)))
+      analyzer.rebuildGrid(*sets[i]);
 }
 
 namespace {
