@@ -71,8 +71,10 @@ void buildInstanceGrid(ir::InstanceSet& set, const ir::Node& node) {
   // A bound the grid gives (a reach, the margin) must exceed what the nodes
   // above may take off it (ir::Node::lowered: a round's radius above the
   // set), or the field would cross 0 in empty space: every reach is more
-  // than `reach_floor`, a cell that cannot have one being crowded.
-  const double reach_floor = node.lowered, floor_target = node.lowered > 0 ? 1.01 * node.lowered : 0;
+  // than `reach_floor` (1% above, as the march confirms a hit within float
+  // error of 0), a cell that cannot have one being crowded; the reaches
+  // aimed for are above that.
+  const double reach_floor = 1.01 * node.lowered, floor_target = 1.02 * node.lowered;
   glm::dvec3 dims;
   for (;;) {
     g.margin = std::max(kReachInCells * cell, floor_target);
