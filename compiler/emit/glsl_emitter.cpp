@@ -117,21 +117,28 @@ float sdBound(vec3 p, vec3 center, vec3 half_size) {
 // kMixed when they differ.
 constexpr int kMixed = -2;
 
+// Set n's templates, each once per distinct material its copies carry (a
+// copy's own material is in the set's data, not on a node; a million copies
+// share a few): visit(template, material) until it returns false.
+template <typename Visit>
+void eachTemplateMaterial(const ir::Node& n, int inherited, Visit visit) {
+  std::set<std::pair<int, int>> seen;
+  for (const ir::Instance& inst : n.instances->instances) {
+    const int m = inst.material >= 0 ? inst.material : inherited;
+    if (seen.insert({m, inst.templ}).second && !visit(*n.children[inst.templ], m)) return;
+  }
+}
+
 int uniformMaterial(const ir::Node& n, int inherited) {
   const int mine = n.material >= 0 ? n.material : inherited;
   if (n.children.empty()) return mine;
   if (n.kind == ir::NodeKind::Instances) {
-    // Per distinct instance material, once (a million instances share a few).
-    std::set<std::pair<int, int>> seen;
     int common = kMixed - 1;
-    for (const ir::Instance& inst : n.instances->instances) {
-      const int m = inst.material >= 0 ? inst.material : mine;
-      if (!seen.insert({m, inst.templ}).second) continue;
-      const int u = uniformMaterial(*n.children[inst.templ], m);
-      if (common == kMixed - 1) common = u;
-      else if (u != common) return kMixed;
-      if (common == kMixed) return kMixed;
-    }
+    eachTemplateMaterial(n, mine, [&](const ir::Node& templ, int m) {
+      const int u = uniformMaterial(templ, m);
+      common = common == kMixed - 1 || u == common ? u : kMixed;
+      return common != kMixed;
+    });
     return common == kMixed - 1 ? mine : common;
   }
   int common = uniformMaterial(*n.children[0], mine);
@@ -2042,15 +2049,12 @@ std::vector<bool> usedMaterials(const ir::Scene& scene, bool& unassigned) {
       else unassigned = true;
     }
     if (n.kind == ir::NodeKind::Instances) {
-      // A copy's own material is in the set's data, not on a node: each
-      // template once per distinct material its copies carry (without this
-      // the kernel lost the model of a material only copies use: metal
-      // parts of a set rendered black).
-      std::set<std::pair<int, int>> seen;
-      for (const ir::Instance& inst : n.instances->instances) {
-        const int mi = inst.material >= 0 ? inst.material : m;
-        if (seen.insert({mi, inst.templ}).second) walk(*n.children[inst.templ], mi);
-      }
+      // Through the copies' own materials (without them the kernel lost the
+      // model of a material only copies use: metal parts of a set drew black).
+      eachTemplateMaterial(n, m, [&](const ir::Node& templ, int mi) {
+        walk(templ, mi);
+        return true;
+      });
       return;
     }
     for (const ir::NodeRef& c : n.children) walk(*c, m);

@@ -764,6 +764,9 @@ double deepestInside(const Aabb& b) {
   return 0.5 * std::min({b.hi.x - b.lo.x, b.hi.y - b.lo.y, b.hi.z - b.lo.z});
 }
 
+// The largest |x| of a scalar over time.
+double magnitude(const ir::Scalar& x) { return std::max(std::fabs(x.range().lo), std::fabs(x.range().hi)); }
+
 // ir::Node::lowered, top down: what each node above may take off its value.
 // A shared node (a `let` shape used twice) keeps the most of its uses. Run
 // before analyze's bottom-up pass (which builds the sets' grids) and again
@@ -776,11 +779,11 @@ void markLowered(ir::Node& n, double by, std::unordered_set<const ir::Node*>& se
     case ir::NodeKind::Round:
     case ir::NodeKind::Shell:
       // child - r, |child| - r.
-      below += std::max(std::fabs(n.amount.range().lo), std::fabs(n.amount.range().hi));
+      below += magnitude(n.amount);
       break;
     case ir::NodeKind::Displace:
       // (child + a noise) / stretch, |noise| <= 1.
-      below = below * n.deform_lipschitz + std::max(std::fabs(n.amount.range().lo), std::fabs(n.amount.range().hi));
+      below = below * n.deform_lipschitz + magnitude(n.amount);
       break;
     case ir::NodeKind::Twist:
     case ir::NodeKind::Bend:
@@ -811,7 +814,7 @@ void markLowered(ir::Node& n, double by, std::unordered_set<const ir::Node*>& se
       // copies do).
       if ((!n.smooth.isConst() || n.smooth.value > 0) &&
           (n.children.size() > 1 || n.kind == ir::NodeKind::Instances))
-        below += 1.25 * std::fabs(n.smooth.range().hi);
+        below += 1.25 * magnitude(n.smooth);
       break;
     case ir::NodeKind::Scale: {
       // s child(p / s): the child's units are 1 / s of these.
