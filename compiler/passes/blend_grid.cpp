@@ -21,6 +21,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstdint>
 #include <exception>
 #include <limits>
 #include <mutex>
@@ -34,10 +35,20 @@ namespace {
 
 using glm::dvec3;
 
-// Cells per instance, and the list length above which a cell is split into
-// octants (half the interval width): 4 and 8 took the least CPU time on
-// 1,000-part molecules and kit-bashes among 1-16 and 4-16.
+// Cells: kBlendCellsPerInstance per member, or where that grid can be listed
+// (buildBlendGrid) kSmallSetCellsPerInstance per member up to kSmallSetCells
+// in all. A cell lists every member whose interval over it (the cell's
+// diagonal wide) can come within k of the nearest, so finer cells list
+// fewer, for more building time (a list per cell) and memory. Round 14, CPU
+// ms a sample against 4 per member (bench/results/blend_cells.md): trees of
+// 100-1,000 twigs 0.53-0.76x, kit-bashes 0.80-0.92x, molecules 0.93-1.03x; at
+// 10,000 parts finer cells gained nothing and doubled the build (0.9 ->
+// 1.8 s), hence the cap.
+// kSplitAbove: the list length above which a cell is split into octants (half
+// the interval width); 8 took the least CPU time among 4-16.
 constexpr double kBlendCellsPerInstance = 4.0;
+constexpr double kSmallSetCellsPerInstance = 64.0;
+constexpr double kSmallSetCells = 32768;
 constexpr size_t kSplitAbove = 8;
 // Cell-centre evaluations a build may spend: per member and in all. A
 // 10,000-sphere molecule spends 450 per member, a kit-bash 470, a 1,000-twig
@@ -331,7 +342,9 @@ class BlendGridBuilder {
       : set_(set), node_(node), threads_(threads),
         sh_(set, k, distance_of, lipschitz, exact) {}
 
-  bool build() {
+  // Builds the grid at about `target` cells; false (the set left without a
+  // grid) where it cannot be listed within the budget (at most `budget`).
+  bool build(double target, size_t budget = SIZE_MAX) {
     ir::InstanceGrid& g = set_.grid;
     g = ir::InstanceGrid{};
     const size_t n = set_.size();
@@ -352,8 +365,8 @@ class BlendGridBuilder {
     std::nth_element(sizes.begin(), sizes.begin() + n / 2, sizes.end());
     const double typical = std::max(sizes[n / 2], 1e-9);
     const dvec3 extent = glm::max(bounds.hi - bounds.lo, dvec3(typical));
-    const double max_cells = std::min<double>(kBlendCellsPerInstance * double(n) + 4096, double(ir::kGridMaxEntry));
-    double cell = std::max(std::cbrt(extent.x * extent.y * extent.z / (kBlendCellsPerInstance * double(n))), 0.5 * typical);
+    const double max_cells = std::min<double>(target + 4096, double(ir::kGridMaxEntry));
+    double cell = std::max(std::cbrt(extent.x * extent.y * extent.z / target), 0.5 * typical);
     // The box is the bounds grown by 1.25 k plus half a cell: outside it every
     // member is that far, the blend at least half a cell (a positive bound).
     dvec3 dims;
@@ -369,7 +382,7 @@ class BlendGridBuilder {
     g.lo = bounds.lo - pad;
     g.margin = pad - 1.25 * k;
     g.blend = true;
-    sh_.budget = kEvaluationsPerMember * n + kEvaluationsAtLeast;
+    sh_.budget = std::min(budget, kEvaluationsPerMember * n + kEvaluationsAtLeast);
     // float32 rounding of the kernel's values (coordinates up to `scale`)
     // must not turn a proven drop or reset into a near miss.
     const dvec3 hi = g.lo + dims * cell;
@@ -379,6 +392,9 @@ class BlendGridBuilder {
     if (!listSlices(g)) return fail();
     return true;
   }
+
+  // Member evaluations the last build spent.
+  size_t evaluations() const { return sh_.evaluations.load(); }
 
  private:
   bool fail() {
@@ -458,7 +474,20 @@ bool buildBlendGrid(ir::InstanceSet& set, const ir::Node& node, double k,
     lipschitz.push_back(std::max(templ->lipschitz, 1.0));
     exact.push_back(templ->exact);
   }
-  return BlendGridBuilder(set, node, k, distance_of, lipschitz, exact, threads).build();
+  const double n = double(set.size());
+  const double fine = std::min(kSmallSetCellsPerInstance * n, kSmallSetCells), coarse = kBlendCellsPerInstance * n;
+  BlendGridBuilder first(set, node, k, distance_of, lipschitz, exact, threads);
+  if (!first.build(coarse)) return false;
+  // Then the finer grid, which may spend 4x the coarse one's evaluations
+  // (it took 1.2-2.1x on trees, kit-bashes and molecules of 100-1,000
+  // parts); a blend radius wide against its cells lists many members in
+  // each, and the coarse grid stays.
+  if (fine <= coarse) return true;
+  ir::InstanceGrid kept = set.grid;
+  if (BlendGridBuilder(set, node, k, distance_of, lipschitz, exact, threads).build(fine, 4 * first.evaluations()))
+    return true;
+  set.grid = std::move(kept);
+  return true;
 }
 
 }  // namespace sdfc
