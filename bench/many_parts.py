@@ -5,7 +5,7 @@ part count, written to bench/results/many_parts.md (and .json).
   bench/many_parts.py [--sdfc build/cli/sdfc] [--before OLD_SDFC]
                       [--families molecule,kitbash,tree,holes,city,chess]
                       [--counts 10,100,1000] [--smooth 0.05] [--repeats 3]
-                      [--size 320x180] [--spp 8] [--mesh-counts 1000]
+                      [--size 320x180] [--spp 8] [--min-sampling-s 1.0] [--mesh-counts 1000]
                       [--framing sphere|legacy]
   bench/many_parts.py --first-image [--before OLD_SDFC] [--counts 10000] [--repeats 3]
 
@@ -21,7 +21,8 @@ Per family and count:
     kernel with LLVM); peak RSS of that process (/usr/bin/time);
   - spp/s at --size and --spp with no denoiser (median of --repeats, the
     binaries interleaved when --before is given), and CPU ms per sample: the
-    process's CPU seconds at --spp less those of a 1 spp render of the same
+    process's CPU seconds at --spp (more where --spp samples for less than
+    --min-sampling-s of CPU) less those of a 1 spp render of the same
     scene (run beside it, both after a warm-up render fills Mesa's shader
     cache), over --spp - 1, so compiles, pipeline creation and the first
     draw's kernel compile are not counted; "process CPU ms/spp" is
@@ -170,6 +171,31 @@ def sampling(sdfc, scene, out, size, spp):
     return info["spp_per_s"], info["cpu_s"], one["cpu_s"]
 
 
+def family_order(family):
+    """A family's place on the page: bench/many_parts_scenes.py's order, whichever were measured."""
+    order = list(mps.FAMILIES)
+    return order.index(family) if family in order else len(order)
+
+
+def sampled_spp(todo, scene, out, args):
+    """The spp of a row's timed renders: --spp, or more where --spp samples
+    for less than --min-sampling-s of CPU (a 10-twig tree samples in 1-8 ms,
+    so at 8 spp its CPU difference was mostly the two processes' noise and
+    every ratio to it moved by 2-8x between runs). From the first binary's
+    one render, the same for every binary of the row."""
+    try:
+        _, cpu, cpu_one = sampling(todo[0][1], scene, out, args.size, args.spp)
+    except (RuntimeError, IndexError):
+        return args.spp
+    took = max(cpu - cpu_one, 1e-3)
+    if took >= args.min_sampling_s:
+        return args.spp
+    return min(MAX_SAMPLED_SPP, max(args.spp, math.ceil(args.spp * args.min_sampling_s / took)))
+
+
+MAX_SAMPLED_SPP = 512
+
+
 def primary_steps(sdfc, scene, dir_, size):
     path = os.path.join(dir_, "steps.pfm")
     info = sb.render(sdfc, scene, path, ["--size", size, "--spp", "1", "--view", "steps", "-Wno-bound"])
@@ -284,6 +310,8 @@ def main():
     ap.add_argument("--repeats", type=int, default=3)
     ap.add_argument("--size", default="320x180")
     ap.add_argument("--spp", type=int, default=8)
+    ap.add_argument("--min-sampling-s", type=float, default=1.0,
+                    help="render more than --spp where --spp samples for less CPU time than this")
     ap.add_argument("--mesh-counts", default="")
     ap.add_argument("--no-check", action="store_true", help="skip the float64 pixel check")
     ap.add_argument("--out", default=None, help="the page (default bench/results/many_parts.md, "
@@ -351,22 +379,22 @@ def main():
                     sb.render(exe, scene, os.path.join(dir_, "w.pfm"), ["--size", args.size, "--spp", "1", "-Wno-bound"])
                 except RuntimeError:
                     pass  # refused: the repeats below say why
+            spp = sampled_spp(todo, scene, os.path.join(dir_, "b.pfm"), args)
             for _ in range(args.repeats):
                 for name, exe in todo:
                     if name in refused:
                         continue
                     try:
-                        spp_s, cpu, cpu_one = sampling(exe, scene, os.path.join(dir_, "b.pfm"), args.size,
-                                                       args.spp)
+                        spp_s, cpu, cpu_one = sampling(exe, scene, os.path.join(dir_, "b.pfm"), args.size, spp)
                     except RuntimeError as e:  # e.g. an older binary's limit
                         refused[name] = str(e).splitlines()[1][:160] if len(str(e).splitlines()) > 1 else str(e)
                         continue
                     per[name]["spp"].append(spp_s)
-                    per[name]["cpu"].append(1000 * (cpu - cpu_one) / (args.spp - 1))
-                    per[name]["process"].append(1000 * cpu / args.spp)
+                    per[name]["cpu"].append(1000 * (cpu - cpu_one) / (spp - 1))
+                    per[name]["process"].append(1000 * cpu / spp)
             for name, exe in todo:
                 row = dict(family=fam, parts=n, binary=name, smooth=smooth, framing=args.framing,
-                           repeats=args.repeats)
+                           repeats=args.repeats, spp=spp)
                 if name in refused:
                     row["refused"] = refused[name]
                     rows.append(row)
@@ -401,7 +429,7 @@ def main():
     head_at = lines.index(head)
     body = []
     for r in sorted((r for r in rows if "mesh_s" not in r),
-                    key=lambda r: (families.index(r["family"]) if r["family"] in families else 99, r["parts"], r["binary"] != "after")):
+                    key=lambda r: (family_order(r["family"]), r["parts"], r["binary"] != "after")):
         body.append(row_line(r, args.size))
     end = head_at + 2
     while end < len(lines) and lines[end].startswith("| ") and "mesh" not in lines[end]:
@@ -409,6 +437,11 @@ def main():
     lines[head_at + 2:end] = body
     # Cost growth per family: spp/s of the smallest count over each count's.
     emit()
+    more = [f"{r['family']} {r['parts']}: {r['spp']}" for r in rows if r.get("spp", args.spp) > args.spp]
+    if more:
+        emit(f"Rows timed at more than {args.spp} spp (their {args.spp} spp sampled for less than "
+             f"{args.min_sampling_s:g} s of CPU; since 2026-12-07): " + ", ".join(dict.fromkeys(more)) + ".")
+        emit()
     emit("All rows (this run's and earlier resumed ones, each measured with the binaries of its own run) are in the .json beside this page.")
     emit()
     emit("Cost relative to the family's smallest count: CPU ms per sample; in brackets per hit pixel, "
@@ -416,7 +449,7 @@ def main():
     emit()
     for name, _ in binaries:
         # Every family on the page, resumed ones too.
-        for fam in dict.fromkeys(r["family"] for r in rows):
+        for fam in sorted(dict.fromkeys(r["family"] for r in rows), key=family_order):
             base = sorted((r for r in rows if r["family"] == fam and r["binary"] == name and "cpu_ms_per_sample" in r),
                           key=lambda r: r["parts"])
             if not base:
@@ -432,8 +465,7 @@ def main():
     with open(args.out, "w") as f:
         f.write("\n".join(lines) + "\n")
     # In family order, resumed rows among them (the headline keeps this order).
-    order = {fam: i for i, fam in enumerate(families)}
-    rows.sort(key=lambda r: order.get(r["family"], len(order)))
+    rows.sort(key=lambda r: family_order(r["family"]))
     with open(os.path.splitext(args.out)[0] + ".json", "w") as f:
         json.dump(rows, f, indent=1)
     print(f"wrote {args.out}")
