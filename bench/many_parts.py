@@ -177,6 +177,10 @@ def family_order(family):
     return order.index(family) if family in order else len(order)
 
 
+# The most samples a row's timed renders take (sampled_spp).
+MAX_SAMPLED_SPP = 512
+
+
 def sampled_spp(todo, scene, out, args):
     """The spp of a row's timed renders: --spp, or more where --spp samples
     for less than --min-sampling-s of CPU (a 10-twig tree samples in 1-8 ms,
@@ -191,9 +195,6 @@ def sampled_spp(todo, scene, out, args):
     if took >= args.min_sampling_s:
         return args.spp
     return min(MAX_SAMPLED_SPP, max(args.spp, math.ceil(args.spp * args.min_sampling_s / took)))
-
-
-MAX_SAMPLED_SPP = 512
 
 
 def primary_steps(sdfc, scene, dir_, size):
